@@ -1,0 +1,214 @@
+//! `vigil decode`: raw device bytes in, JSON Lines out, counters on stderr.
+//!
+//! Every device shares the same runner ([`run_decoder`]): it reads the input in chunks, feeds the
+//! device's sans-IO decoder, writes one JSON object per decoded message to stdout and, at the end,
+//! one JSON summary of the counters to stderr. Bad frames only show in the counters; the exit code
+//! is 0 whenever the input could be read.
+
+// The shared runner is used by every device file; until all are implemented some items are idle.
+#![allow(dead_code)]
+
+mod bahrs;
+mod modes;
+mod ttmrf;
+mod ttmrf_binary;
+mod ttmrf_text;
+mod vn200;
+mod watson;
+
+use std::fs::File;
+use std::io::{self, BufWriter, Read, Write};
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use bytes::BytesMut;
+use clap::{Args, ValueEnum};
+use serde::Serialize;
+use vigil_drivers::{DecodeStats, DeviceDecoder};
+
+/// Devices `vigil decode` understands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Device {
+    /// BAHRS baro-inertial AHRS (binary protocol 2.0).
+    Bahrs,
+    /// Watson AHRS-E304 (ASCII attitude string).
+    Watson,
+    /// VectorNav VN-200 (binary outputs and ASCII sentences).
+    Vn200,
+    /// Aerobits TT-Multi-RF (choose the protocol with --format).
+    Ttmrf,
+}
+
+/// Output protocols of the TT-Multi-RF.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TtFormat {
+    /// Detect per line/frame where unambiguous.
+    Auto,
+    /// AERO CSV lines.
+    Csv,
+    /// JSON objects.
+    Json,
+    /// MAVLink 1/2 frames.
+    Mavlink,
+    /// GDL90 frames.
+    Gdl90,
+    /// ASTERIX CAT021/CAT023 data blocks.
+    Asterix,
+    /// NMEA sentences from the GNSS.
+    Nmea,
+    /// AT command responses and state messages.
+    At,
+    /// Raw Mode S, HEX with extended fields.
+    Hex,
+    /// Raw Mode S, HEX without extended fields (AVR).
+    Hexd,
+    /// Raw Mode S, Beast binary.
+    Beast,
+}
+
+/// Arguments of `vigil decode`.
+#[derive(Debug, Args)]
+pub struct DecodeArgs {
+    /// Device whose byte stream the input is.
+    #[arg(long, value_enum)]
+    pub device: Device,
+    /// TT-Multi-RF output protocol (only with --device ttmrf).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub format: TtFormat,
+    /// Receiver position `LAT,LON` in degrees for Mode S surface and local CPR decoding.
+    #[arg(long = "ref", value_name = "LAT,LON")]
+    pub reference: Option<String>,
+    /// Input file, or `-` for standard input.
+    #[arg(default_value = "-")]
+    pub input: PathBuf,
+}
+
+/// Runs `vigil decode`.
+pub fn run(args: &DecodeArgs) -> Result<()> {
+    if args.device != Device::Ttmrf && args.format != TtFormat::Auto {
+        bail!("--format applies to --device ttmrf only");
+    }
+    if args.device != Device::Ttmrf && args.reference.is_some() {
+        bail!("--ref applies to --device ttmrf with a raw Mode S format only");
+    }
+    let mut input = open_input(&args.input)?;
+    let stdout = io::stdout();
+    let mut out = JsonLines::new(stdout.lock());
+    let result = match args.device {
+        Device::Bahrs => bahrs::decode(&mut input, &mut out),
+        Device::Watson => watson::decode(&mut input, &mut out),
+        Device::Vn200 => vn200::decode(&mut input, &mut out),
+        Device::Ttmrf => ttmrf::decode(args, &mut input, &mut out),
+    };
+    match result {
+        Ok(summary) => {
+            // A closed stdout (e.g. `| head`) is not an error of the input.
+            if let Err(e) = out.flush()
+                && e.kind() != io::ErrorKind::BrokenPipe
+            {
+                return Err(e).context("writing standard output");
+            }
+            eprintln!("{}", serde_json::to_string(&summary)?);
+            Ok(())
+        }
+        Err(e) if is_broken_pipe(&e) => Ok(()),
+        Err(e) => Err(e),
+    }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.downcast_ref::<io::Error>()
+        .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe)
+}
+
+fn open_input(path: &PathBuf) -> Result<Box<dyn Read>> {
+    if path.as_os_str() == "-" {
+        return Ok(Box::new(io::stdin().lock()));
+    }
+    let file = File::open(path).with_context(|| format!("cannot open input {}", path.display()))?;
+    Ok(Box::new(file))
+}
+
+/// The summary written to stderr at the end of a decode.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Always "summary", so a reader can tell it from message lines.
+    pub kind: &'static str,
+    /// Device name as given on the command line.
+    pub device: &'static str,
+    /// The decoder's counters.
+    #[serde(flatten)]
+    pub stats: DecodeStats,
+    /// Device-specific counters (may be null).
+    #[serde(skip_serializing_if = "serde_json::Value::is_null")]
+    pub extra: serde_json::Value,
+}
+
+impl Summary {
+    /// A summary without device-specific counters.
+    pub fn new(device: &'static str, stats: DecodeStats) -> Self {
+        Self {
+            kind: "summary",
+            device,
+            stats,
+            extra: serde_json::Value::Null,
+        }
+    }
+}
+
+/// JSON Lines writer over a buffered output.
+pub struct JsonLines<W: Write> {
+    out: BufWriter<W>,
+}
+
+impl<W: Write> JsonLines<W> {
+    fn new(out: W) -> Self {
+        Self {
+            out: BufWriter::with_capacity(1 << 16, out),
+        }
+    }
+
+    /// Writes one value as one line.
+    pub fn write<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<()> {
+        serde_json::to_writer(&mut self.out, value)?;
+        self.out.write_all(b"\n")?;
+        Ok(())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.out.flush()
+    }
+}
+
+/// Feeds all of `input` through `decoder`, handing each message to `emit`, and returns the
+/// decoder's final counters.
+pub fn run_decoder<D, W, F>(
+    decoder: &mut D,
+    input: &mut dyn Read,
+    out: &mut JsonLines<W>,
+    mut emit: F,
+) -> Result<DecodeStats>
+where
+    D: DeviceDecoder,
+    W: Write,
+    F: FnMut(D::Message, &mut JsonLines<W>) -> Result<()>,
+{
+    let mut buf = BytesMut::with_capacity(1 << 17);
+    let mut chunk = vec![0u8; 1 << 16];
+    loop {
+        let n = match input.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e).context("reading input"),
+        };
+        buf.extend_from_slice(&chunk[..n]);
+        while let Some(m) = decoder.decode(&mut buf) {
+            emit(m, out)?;
+        }
+    }
+    while let Some(m) = decoder.decode_eof(&mut buf) {
+        emit(m, out)?;
+    }
+    Ok(*decoder.stats())
+}

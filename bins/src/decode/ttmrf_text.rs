@@ -1,0 +1,16 @@
+//! `vigil decode --device ttmrf --format auto|csv|json|nmea|at`.
+
+use std::io::{Read, Write};
+
+use anyhow::{Result, bail};
+
+use super::{JsonLines, Summary, TtFormat};
+
+/// Decodes the TT-Multi-RF text protocols (not implemented yet).
+pub fn decode<W: Write>(
+    format: TtFormat,
+    _input: &mut dyn Read,
+    _out: &mut JsonLines<W>,
+) -> Result<Summary> {
+    bail!("decoding TT-Multi-RF {format:?} is not implemented yet")
+}

@@ -1,0 +1,1 @@
+//! TT-Multi-RF asterix protocol (to be implemented).

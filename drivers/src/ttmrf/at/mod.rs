@@ -1,0 +1,1 @@
+//! TT-Multi-RF at protocol (to be implemented).

@@ -1,0 +1,1 @@
+//! TT-Multi-RF csv protocol (to be implemented).

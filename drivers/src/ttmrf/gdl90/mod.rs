@@ -1,0 +1,1 @@
+//! TT-Multi-RF gdl90 protocol (to be implemented).

@@ -1,0 +1,1 @@
+//! TT-Multi-RF json protocol (to be implemented).

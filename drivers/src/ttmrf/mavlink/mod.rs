@@ -1,0 +1,1 @@
+//! TT-Multi-RF mavlink protocol (to be implemented).

@@ -1,0 +1,1 @@
+//! TT-Multi-RF nmea protocol (to be implemented).

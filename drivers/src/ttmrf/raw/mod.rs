@@ -1,0 +1,1 @@
+//! TT-Multi-RF raw protocol (to be implemented).

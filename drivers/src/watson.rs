@@ -1,0 +1,1 @@
+//! Watson Industries AHRS-E304 ASCII attitude string.
