@@ -21,15 +21,22 @@ pub trait DeviceDecoder {
     /// Decodes the next message from the front of `buf`, or returns `None` if more bytes are needed.
     fn decode(&mut self, buf: &mut BytesMut) -> Option<Self::Message>;
 
-    /// Decodes what is left at the end of a stream. The default discards the incomplete tail,
-    /// counting it as skipped; line-oriented decoders may override it.
+    /// Decodes what is left at the end of a stream, when no more bytes will come.
+    ///
+    /// The default treats a candidate frame that still waits for bytes as truncated: it drops that
+    /// candidate's first byte (counted as skipped) and rescans, so a complete frame hiding behind a
+    /// false or truncated header is still found; at the end every remaining byte is counted.
+    /// Line-oriented decoders may override it (e.g. to accept a last line without terminator).
     fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<Self::Message> {
-        if let Some(m) = self.decode(buf) {
-            return Some(m);
+        loop {
+            if let Some(m) = self.decode(buf) {
+                return Some(m);
+            }
+            if buf.is_empty() {
+                return None;
+            }
+            self.stats_mut().skip(buf, 1);
         }
-        let n = buf.len();
-        self.stats_mut().skip(buf, n);
-        None
     }
 
     /// The decoder's counters.

@@ -1,0 +1,199 @@
+//! BAHRS frame layout and CRC (BAHRS serial protocol 2.0, sections 2.1-2.3 and 6).
+//!
+//! ```text
+//!  byte  0    1    2      3      4     5 .. 5+LEN   .. +PAD_LEN     4 bytes
+//!       'N'  'E'  ver lo ver hi  type  payload       padding        CRC-32/MPEG-2, little-endian
+//!       \____________________ covered by the CRC ____________________/
+//! ```
+//!
+//! Decisions where the document is inconsistent (shared by every part of vigil):
+//! - The frame table puts a `uint16` protocol version at "position 3" and the type at "position 4",
+//!   which cannot both hold. We read the header as 'N', 'E', a little-endian u16 version (bytes 2-3,
+//!   0-based) and the type (byte 4): 5 header bytes. This is the only reading in which the version
+//!   is a u16 as the table says and the frame stays byte-aligned with the padding rule.
+//! - `PAD_LEN = 4 - (5 + LEN) % 4` is taken literally: 1 to 4 bytes, so a frame whose header and
+//!   payload already fill whole words still gets 4 padding bytes. Padding bytes are sent as zero
+//!   and not checked on receipt (the CRC covers them).
+//! - 0xF2, 0xF3 and 0xFF are not padded (section 5 remarks).
+//! - The CRC is stored little-endian, like every other multi-byte field (section 2.1).
+
+use crc::{CRC_32_MPEG_2, Crc, Table};
+
+/// First frame marker byte, ASCII 'N'.
+pub const MARKER_1: u8 = b'N';
+/// Second frame marker byte, ASCII 'E'.
+pub const MARKER_2: u8 = b'E';
+/// Protocol version identifier of document version 2.0 (section 6).
+pub const PROTOCOL_VERSION: u16 = 0x0003;
+/// Older protocol identifiers (document versions 0.1-1.1) that a real device may still send.
+pub const OLDER_VERSIONS: [u16; 2] = [0x0001, 0x0002];
+/// Header length: two markers, u16 version, u8 type.
+pub const HEADER_LEN: usize = 5;
+/// CRC length.
+pub const CRC_LEN: usize = 4;
+/// Longest frame of protocol 2.0 (0xF3: 5 + 33 + 4), so the decoder never waits for more bytes.
+pub const MAX_FRAME_LEN: usize = 42;
+
+/// CRC-32/MPEG-2 (poly 0x04C11DB7, init 0xFFFFFFFF, no reflection, no final XOR), slice-by-16.
+pub const CRC32_MPEG2: Crc<u32, Table<16>> = Crc::<u32, Table<16>>::new(&CRC_32_MPEG_2);
+
+/// Computes the CRC-32/MPEG-2 of `bytes`.
+#[inline]
+pub fn crc32_mpeg2(bytes: &[u8]) -> u32 {
+    CRC32_MPEG2.checksum(bytes)
+}
+
+/// Frame geometry of one message type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layout {
+    /// Payload length in bytes (LEN).
+    pub payload_len: usize,
+    /// Whether the frame is padded to whole 32-bit words.
+    pub padded: bool,
+}
+
+impl Layout {
+    /// Padding length: `4 - (5 + LEN) % 4` for padded types (1 to 4), 0 otherwise.
+    #[inline]
+    pub const fn pad_len(&self) -> usize {
+        if self.padded {
+            4 - (HEADER_LEN + self.payload_len) % 4
+        } else {
+            0
+        }
+    }
+
+    /// Total frame length: header, payload, padding and CRC.
+    #[inline]
+    pub const fn frame_len(&self) -> usize {
+        HEADER_LEN + self.payload_len + self.pad_len() + CRC_LEN
+    }
+}
+
+/// The layout of a protocol 2.0 message type, or `None` for types without a documented layout
+/// (the undocumented debug messages and anything else).
+#[inline]
+pub const fn layout(msg_type: u8) -> Option<Layout> {
+    let (payload_len, padded) = match msg_type {
+        0x01 => (15, true), // seq + 6 x i16 + u16 health
+        0x02 => (13, true), // seq + 5 x 16-bit + u16 health
+        0x03 => (15, true), // seq + 3 x u16 + u64
+        0x04 | 0x05 => (10, true),
+        0x06 => (9, true),
+        0x0F => (7, true),
+        0x1F => (14, true),
+        0xF0 | 0xF1 => (0, true),
+        0xF2 => (1, false),
+        0xF3 => (33, false),
+        0xFF => (2, false),
+        _ => return None,
+    };
+    Some(Layout {
+        payload_len,
+        padded,
+    })
+}
+
+/// Writes a complete frame (header, payload, zero padding, CRC) of `msg_type` to `out`.
+///
+/// `payload` must have the type's documented length; the message encoders guarantee it.
+pub fn write_frame(msg_type: u8, version: u16, payload: &[u8], out: &mut Vec<u8>) {
+    let pad = layout(msg_type).map_or(0, |l| l.pad_len());
+    let start = out.len();
+    out.extend_from_slice(&[MARKER_1, MARKER_2]);
+    out.extend_from_slice(&version.to_le_bytes());
+    out.push(msg_type);
+    out.extend_from_slice(payload);
+    out.extend(std::iter::repeat_n(0u8, pad));
+    let crc = crc32_mpeg2(&out[start..]);
+    out.extend_from_slice(&crc.to_le_bytes());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc_check_value_of_the_document() {
+        // Section 2.2: check = 0x0376E6E7 for "123456789".
+        assert_eq!(crc32_mpeg2(b"123456789"), 0x0376_E6E7);
+    }
+
+    #[test]
+    fn crc_of_a_single_zero_byte_by_hand() {
+        // Hand computation: init 0xFFFFFFFF, no reflection. Feeding 0x00 shifts the register left by
+        // 8 bits eight times with the top bit set each time; equivalently CRC(0x00) with init all ones
+        // equals CRC of 0xFF 0xFF 0xFF 0xFF 0x00 with init 0, which a bitwise reference gives.
+        fn bitwise(data: &[u8], init: u32) -> u32 {
+            let mut reg = init;
+            for &b in data {
+                reg ^= (b as u32) << 24;
+                for _ in 0..8 {
+                    reg = if reg & 0x8000_0000 != 0 {
+                        (reg << 1) ^ 0x04C1_1DB7
+                    } else {
+                        reg << 1
+                    };
+                }
+            }
+            reg
+        }
+        assert_eq!(bitwise(b"123456789", 0xFFFF_FFFF), 0x0376_E6E7);
+        for data in [
+            &b""[..],
+            &[0u8][..],
+            &[0xFF, 0x00, 0x4E][..],
+            b"NE\x03\x00\x06",
+        ] {
+            assert_eq!(crc32_mpeg2(data), bitwise(data, 0xFFFF_FFFF), "{data:?}");
+        }
+    }
+
+    #[test]
+    fn frame_lengths_by_hand() {
+        // 0x01: LEN 15, 5 + 15 = 20 is a multiple of 4, so PAD_LEN = 4 - 0 = 4; 5 + 15 + 4 + 4 = 28.
+        assert_eq!(layout(0x01).unwrap().pad_len(), 4);
+        assert_eq!(layout(0x01).unwrap().frame_len(), 28);
+        // 0x02: LEN 13, 18 % 4 = 2, PAD 2; 5 + 13 + 2 + 4 = 24.
+        assert_eq!(layout(0x02).unwrap().frame_len(), 24);
+        // 0x03: LEN 15 like 0x01: 28.
+        assert_eq!(layout(0x03).unwrap().frame_len(), 28);
+        // 0x04/0x05: LEN 10, 15 % 4 = 3, PAD 1; 20.
+        assert_eq!(layout(0x04).unwrap().frame_len(), 20);
+        assert_eq!(layout(0x05).unwrap().frame_len(), 20);
+        // 0x06: LEN 9, 14 % 4 = 2, PAD 2; 20.
+        assert_eq!(layout(0x06).unwrap().frame_len(), 20);
+        // 0x0F: LEN 7, 12 % 4 = 0, PAD 4; 20.
+        assert_eq!(layout(0x0F).unwrap().frame_len(), 20);
+        // 0x1F: LEN 14, 19 % 4 = 3, PAD 1; 24.
+        assert_eq!(layout(0x1F).unwrap().frame_len(), 24);
+        // 0xF0/0xF1: LEN 0, PAD 3; 12.
+        assert_eq!(layout(0xF0).unwrap().frame_len(), 12);
+        // Unpadded service messages.
+        assert_eq!(layout(0xF2).unwrap().frame_len(), 10);
+        assert_eq!(layout(0xF3).unwrap().frame_len(), 42);
+        assert_eq!(layout(0xFF).unwrap().frame_len(), 11);
+        assert_eq!(layout(0x10), None);
+        let max = (0..=255u8).filter_map(layout).map(|l| l.frame_len()).max();
+        assert_eq!(max, Some(MAX_FRAME_LEN));
+        // Header + payload + padding of padded types is a whole number of 32-bit words.
+        for t in [0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0F, 0x1F, 0xF0, 0xF1] {
+            let l = layout(t).unwrap();
+            assert_eq!(
+                (HEADER_LEN + l.payload_len + l.pad_len()) % 4,
+                0,
+                "type {t:#04x}"
+            );
+        }
+    }
+
+    #[test]
+    fn written_frame_by_hand() {
+        // 0xF1 (exit diagnostics): empty payload, 3 zero padding bytes, then the CRC.
+        let mut out = Vec::new();
+        write_frame(0xF1, PROTOCOL_VERSION, &[], &mut out);
+        assert_eq!(&out[..8], &[0x4E, 0x45, 0x03, 0x00, 0xF1, 0, 0, 0]);
+        let crc = crc32_mpeg2(&out[..8]);
+        assert_eq!(&out[8..], &crc.to_le_bytes());
+    }
+}
