@@ -5,9 +5,6 @@
 //! one JSON summary of the counters to stderr. Bad frames only show in the counters; the exit code
 //! is 0 whenever the input could be read.
 
-// The shared runner is used by every device file; until all are implemented some items are idle.
-#![allow(dead_code)]
-
 mod bahrs;
 mod modes;
 mod ttmrf;
