@@ -177,6 +177,26 @@ where
     decoded
 }
 
+/// The property every fuzz target checks on arbitrary `data`: decoding it whole, and decoding it in
+/// chunks whose size is taken from the data itself, give the same messages and counters, and every
+/// byte is accounted for. Panics (which the fuzzer reports) on any violation.
+pub fn check_arbitrary_input<D, F>(make: F, data: &[u8])
+where
+    D: DeviceDecoder,
+    D::Message: PartialEq + Debug,
+    F: Fn() -> D,
+{
+    let (whole, whole_stats) = decode_chunked(make(), data, &[data.len().max(1)]);
+    assert_accounting(&whole_stats, data.len());
+    let chunk = data.first().map_or(1, |&b| usize::from(b % 31) + 1);
+    let (chunked, chunked_stats) = decode_chunked(make(), data, &[chunk]);
+    assert_eq!(chunked, whole, "chunk size {chunk} changed the messages");
+    assert_eq!(
+        chunked_stats, whole_stats,
+        "chunk size {chunk} changed the counters"
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

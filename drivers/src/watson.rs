@@ -438,6 +438,12 @@ mod tests {
             let (_, stats) = decode_chunked(Decoder::new(), &bytes, &[1 + rng.below(80) as usize]);
             assert_accounting(&stats, bytes.len());
         }
+        for _ in 0..100 {
+            let mut bytes = clean.clone();
+            flip_bits(&mut bytes, rng.below(8) as usize, &mut rng);
+            bytes.truncate(rng.below(bytes.len() as u64 + 1) as usize);
+            crate::testkit::check_arbitrary_input(Decoder::new, &bytes);
+        }
         // Random ASCII made of the line's own alphabet is the hardest case for a text decoder.
         let alphabet = b"IiRr +-.0123456789\r\n";
         for _ in 0..100 {

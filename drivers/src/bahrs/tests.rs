@@ -578,6 +578,19 @@ fn random_input_never_panics() {
 }
 
 #[test]
+fn fuzz_property_on_mutated_streams() {
+    // The fuzz targets' property, run here on mutated real streams so CI exercises it too.
+    let clean = stream_of(&sample_messages());
+    let mut rng = XorShift::new(17);
+    for _ in 0..200 {
+        let mut bytes = clean.clone();
+        flip_bits(&mut bytes, rng.below(8) as usize, &mut rng);
+        bytes.truncate(rng.below(bytes.len() as u64 + 1) as usize);
+        crate::testkit::check_arbitrary_input(Decoder::new, &bytes);
+    }
+}
+
+#[test]
 fn corrupted_streams_keep_accounting() {
     let clean = stream_of(&sample_messages().repeat(20));
     let mut rng = XorShift::new(3);
