@@ -1,6 +1,6 @@
 //! vigil's fusion layer: every sample on GPS time, attitude and health cross-checks, the ownship
 //! state, the traffic picture and its threat geometry. It is a deterministic function of the decoded
 //! messages and their host receive times: no clock, no environment.
-//!
-//! (Filled in by the time-alignment, attitude and traffic issues.)
 #![deny(missing_docs)]
+
+pub mod time;

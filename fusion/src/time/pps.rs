@@ -1,0 +1,504 @@
+//! A device clock disciplined by PPS pulses: the map from a device's own counter (e.g. the BAHRS
+//! MCU microseconds) to GPS time, with an honest uncertainty.
+//!
+//! In the installation the BAHRS synchronisation input is wired to the VN-200 PPS, and the BAHRS
+//! reports the MCU time of each pulse (message 0x06). Each pulse therefore gives one pair
+//! (device ticks, GPS time of a whole second). The caller identifies the GPS second of each pulse
+//! (from the VN-200's TimeGps - TimeGpsPps around the same host time, see [`pulse_second`]); this
+//! module fits `t_gps = a + b * ticks` over a sliding window of pulses by least squares, rejects
+//! outliers (a pulse whose residual is far outside the fit, e.g. a mis-identified second), detects
+//! device resets (time going backwards, or a run of mutually consistent outliers) and re-locks.
+//!
+//! Uncertainty of a mapped time: the least-squares prediction interval (residual scatter, with a
+//! floor of the tick quantisation and pulse jitter) plus the drift uncertainty times the time since
+//! the last pulse. With a single pulse the rate is the nominal one with the configured maximum drift
+//! (+-50 ppm by default, as a uniform bound: 1 sigma = 50/sqrt(3) ppm).
+
+use std::collections::VecDeque;
+
+use super::ClockStatus;
+
+/// Parameters of a [`PpsClock`], with units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PpsClockConfig {
+    /// Nominal length of one device tick, ns (1000 for a microsecond counter).
+    pub tick_ns: f64,
+    /// Largest frequency error of the device clock, ppm (bound, not sigma).
+    pub max_drift_ppm: f64,
+    /// Pulses in the fitting window.
+    pub window: usize,
+    /// Pulses needed after a (re)start before the clock is "locked".
+    pub pulses_to_lock: usize,
+    /// Device-time gap after the last pulse beyond which the clock is "coasting", s.
+    pub coast_after_s: f64,
+    /// Device-time gap after the last pulse beyond which no time is given, s.
+    pub coast_limit_s: f64,
+    /// 1-sigma jitter of the device's pulse time stamp, ns.
+    pub pulse_jitter_ns: f64,
+    /// 1-sigma random wander of the clock rate between pulses, ppm.
+    pub rate_wander_ppm: f64,
+    /// A pulse whose residual against the prediction exceeds this (or 6 sigma, if larger) is an
+    /// outlier, ns.
+    pub outlier_ns: f64,
+    /// Consecutive mutually consistent outliers that mean the device clock restarted.
+    pub outliers_to_relock: usize,
+    /// How far device time may step backwards between observations before it counts as a reset
+    /// (time messages of different data streams interleave), s.
+    pub backwards_tolerance_s: f64,
+}
+
+impl Default for PpsClockConfig {
+    fn default() -> Self {
+        Self {
+            tick_ns: 1000.0,
+            max_drift_ppm: 50.0,
+            window: 16,
+            pulses_to_lock: 3,
+            coast_after_s: 1.5,
+            coast_limit_s: 30.0,
+            pulse_jitter_ns: 2000.0,
+            rate_wander_ppm: 0.05,
+            outlier_ns: 200_000.0,
+            outliers_to_relock: 3,
+            backwards_tolerance_s: 0.2,
+        }
+    }
+}
+
+/// What became of a pulse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PulseOutcome {
+    /// Taken into the fit.
+    Accepted,
+    /// Rejected as an outlier.
+    Outlier,
+    /// The device clock restarted: the fit was cleared and starts again from this pulse.
+    Relocked,
+}
+
+/// Why a device time could not be mapped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum MapError {
+    /// No pulse since start or since the last reset.
+    #[error("no synchronisation pulse yet")]
+    NoPulse,
+    /// The last pulse is longer ago than the coasting limit.
+    #[error("last synchronisation pulse too long ago")]
+    PulsesLost,
+    /// The device time lies before the pulses of the current fit (e.g. a sample from before a
+    /// device reset).
+    #[error("device time before the current clock model")]
+    BeforeModel,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Fit {
+    /// Reference tick (first pulse of the window).
+    tick0: u64,
+    /// GPS ns of the reference pulse.
+    gps0: i64,
+    /// Intercept, ns, relative to gps0 at tick0.
+    a: f64,
+    /// Slope, ns per tick.
+    b: f64,
+    /// Mean of x (ticks since tick0) of the window.
+    x_mean: f64,
+    /// Sum of squared deviations of x.
+    sxx: f64,
+    /// Residual standard deviation, ns (with its floor).
+    s: f64,
+    /// Pulses in the fit.
+    n: usize,
+    /// Tick of the last accepted pulse.
+    last_tick: u64,
+}
+
+/// A PPS-disciplined device clock model.
+#[derive(Debug, Clone)]
+pub struct PpsClock {
+    cfg: PpsClockConfig,
+    pulses: VecDeque<(u64, i64)>,
+    outliers: Vec<(u64, i64)>,
+    fit: Option<Fit>,
+    pulses_since_start: usize,
+    last_observed: Option<u64>,
+    /// Number of re-locks after a detected device reset.
+    pub relocks: u64,
+    /// Number of pulses rejected as outliers.
+    pub outliers_rejected: u64,
+}
+
+impl PpsClock {
+    /// A clock with no pulses yet.
+    pub fn new(cfg: PpsClockConfig) -> Self {
+        Self {
+            cfg,
+            pulses: VecDeque::with_capacity(cfg.window + 1),
+            outliers: Vec::with_capacity(cfg.outliers_to_relock),
+            fit: None,
+            pulses_since_start: 0,
+            last_observed: None,
+            relocks: 0,
+            outliers_rejected: 0,
+        }
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &PpsClockConfig {
+        &self.cfg
+    }
+
+    fn floor_sigma_ns(&self) -> f64 {
+        (self.cfg.tick_ns * self.cfg.tick_ns / 12.0 + self.cfg.pulse_jitter_ns.powi(2)).sqrt()
+    }
+
+    fn reset_with(&mut self, tick: u64, gps_ns: i64) {
+        self.pulses.clear();
+        self.outliers.clear();
+        self.fit = None;
+        self.pulses_since_start = 0;
+        self.last_observed = Some(tick);
+        self.push(tick, gps_ns);
+    }
+
+    fn push(&mut self, tick: u64, gps_ns: i64) {
+        if self.pulses.len() == self.cfg.window.max(2) {
+            self.pulses.pop_front();
+        }
+        self.pulses.push_back((tick, gps_ns));
+        self.pulses_since_start += 1;
+        self.refit();
+    }
+
+    fn refit(&mut self) {
+        let Some(&(tick0, gps0)) = self.pulses.front() else {
+            self.fit = None;
+            return;
+        };
+        let n = self.pulses.len();
+        let xs = self
+            .pulses
+            .iter()
+            .map(|&(t, _)| t.wrapping_sub(tick0) as f64);
+        let ys = self.pulses.iter().map(|&(_, g)| (g - gps0) as f64);
+        let x_mean = xs.clone().sum::<f64>() / n as f64;
+        let y_mean = ys.clone().sum::<f64>() / n as f64;
+        let sxx: f64 = xs.clone().map(|x| (x - x_mean).powi(2)).sum();
+        let sxy: f64 = xs
+            .clone()
+            .zip(ys.clone())
+            .map(|(x, y)| (x - x_mean) * (y - y_mean))
+            .sum();
+        let b = if n >= 2 && sxx > 0.0 {
+            sxy / sxx
+        } else {
+            self.cfg.tick_ns
+        };
+        let a = y_mean - b * x_mean;
+        let floor = self.floor_sigma_ns();
+        let s = if n >= 3 {
+            let ss: f64 = xs.zip(ys).map(|(x, y)| (y - a - b * x).powi(2)).sum();
+            (ss / (n - 2) as f64).sqrt().max(floor)
+        } else {
+            floor
+        };
+        let last_tick = self.pulses.back().map_or(tick0, |p| p.0);
+        self.fit = Some(Fit {
+            tick0,
+            gps0,
+            a,
+            b,
+            x_mean,
+            sxx,
+            s,
+            n,
+            last_tick,
+        });
+    }
+
+    /// Prediction and its 1-sigma for a tick, from the current fit (no gating).
+    fn predict(&self, fit: &Fit, tick: u64) -> (f64, f64) {
+        let x = tick as f64 - fit.tick0 as f64;
+        let y = fit.a + fit.b * x;
+        let since_last_s = (tick as f64 - fit.last_tick as f64) * self.cfg.tick_ns * 1e-9;
+        let dt_ns = since_last_s.abs() * 1e9;
+        let var = if fit.n >= 2 && fit.sxx > 0.0 {
+            fit.s * fit.s * (1.0 + 1.0 / fit.n as f64 + (x - fit.x_mean).powi(2) / fit.sxx)
+        } else {
+            // One pulse: nominal rate with a uniform frequency error bound.
+            let rate_sigma = self.cfg.max_drift_ppm * 1e-6 / 3f64.sqrt();
+            2.0 * fit.s * fit.s + (rate_sigma * dt_ns).powi(2)
+        };
+        let wander = self.cfg.rate_wander_ppm * 1e-6 * dt_ns;
+        (y, (var + wander * wander).sqrt())
+    }
+
+    /// Adds a pulse: the device time stamp of the pulse and the GPS time (ns) of the whole second
+    /// it marks.
+    pub fn add_pulse(&mut self, tick: u64, gps_ns: i64) -> PulseOutcome {
+        if self.pulses.back() == Some(&(tick, gps_ns)) {
+            // The same pulse reported twice: nothing new.
+            return PulseOutcome::Outlier;
+        }
+        let backwards = self.pulses.back().is_some_and(|&(t, _)| tick <= t);
+        if backwards && self.fit.is_some() {
+            self.relocks += 1;
+            self.reset_with(tick, gps_ns);
+            return PulseOutcome::Relocked;
+        }
+        self.observe(tick);
+        let Some(fit) = self.fit else {
+            self.reset_with(tick, gps_ns);
+            return PulseOutcome::Accepted;
+        };
+        let (pred, sigma) = self.predict(&fit, tick);
+        let resid = (gps_ns - fit.gps0) as f64 - pred;
+        if resid.abs() <= self.cfg.outlier_ns.max(6.0 * sigma) {
+            self.outliers.clear();
+            self.push(tick, gps_ns);
+            return PulseOutcome::Accepted;
+        }
+        self.outliers_rejected += 1;
+        self.outliers.push((tick, gps_ns));
+        if self.outliers.len() >= self.cfg.outliers_to_relock && self.outliers_consistent() {
+            let run = std::mem::take(&mut self.outliers);
+            self.relocks += 1;
+            self.reset_with(run[0].0, run[0].1);
+            for &(t, g) in &run[1..] {
+                self.push(t, g);
+            }
+            return PulseOutcome::Relocked;
+        }
+        if self.outliers.len() >= self.cfg.outliers_to_relock {
+            self.outliers.remove(0);
+        }
+        PulseOutcome::Outlier
+    }
+
+    /// True when the recent outliers agree with each other (a new clock, not scattered faults):
+    /// their GPS and device time differences agree within the drift bound plus the outlier limit.
+    fn outliers_consistent(&self) -> bool {
+        self.outliers.windows(2).all(|w| {
+            let dt_dev = (w[1].0 as f64 - w[0].0 as f64) * self.cfg.tick_ns;
+            let dt_gps = (w[1].1 - w[0].1) as f64;
+            dt_dev > 0.0
+                && (dt_gps - dt_dev).abs()
+                    <= self.cfg.max_drift_ppm * 1e-6 * dt_dev + self.cfg.outlier_ns
+        })
+    }
+
+    /// Notes a device time seen in the stream (from any time message). A step backwards beyond the
+    /// tolerance means the device restarted: the model is dropped until new pulses arrive, so no
+    /// sample of the new epoch is mapped through the old model. Returns true on such a reset.
+    pub fn observe(&mut self, tick: u64) -> bool {
+        let tol = (self.cfg.backwards_tolerance_s * 1e9 / self.cfg.tick_ns) as u64;
+        let reset = self
+            .last_observed
+            .is_some_and(|last| tick.saturating_add(tol) < last);
+        if reset && self.fit.is_some() {
+            self.pulses.clear();
+            self.outliers.clear();
+            self.fit = None;
+            self.pulses_since_start = 0;
+            self.relocks += 1;
+        }
+        self.last_observed = Some(match self.last_observed {
+            Some(last) if !reset => last.max(tick),
+            _ => tick,
+        });
+        reset
+    }
+
+    /// The state of the model for a sample at device time `tick`.
+    pub fn status(&self, tick: u64) -> ClockStatus {
+        match self.fit {
+            None => ClockStatus::Unlocked,
+            Some(fit) => {
+                let since = (tick as f64 - fit.last_tick as f64) * self.cfg.tick_ns * 1e-9;
+                if since > self.cfg.coast_limit_s {
+                    ClockStatus::Unlocked
+                } else if since > self.cfg.coast_after_s {
+                    ClockStatus::Coasting
+                } else if self.pulses_since_start < self.cfg.pulses_to_lock {
+                    ClockStatus::Locking
+                } else {
+                    ClockStatus::Locked
+                }
+            }
+        }
+    }
+
+    /// Maps a device time to GPS time (ns) with its 1-sigma (ns).
+    pub fn to_gps(&self, tick: u64) -> Result<(i64, f64), MapError> {
+        let fit = self.fit.ok_or(MapError::NoPulse)?;
+        let since = (tick as f64 - fit.last_tick as f64) * self.cfg.tick_ns * 1e-9;
+        if since > self.cfg.coast_limit_s {
+            return Err(MapError::PulsesLost);
+        }
+        // Samples shortly before the first pulse of the model are fine (e.g. the data just before
+        // the first pulse after a restart); far before means another clock epoch.
+        let before = (fit.tick0 as f64 - tick as f64) * self.cfg.tick_ns * 1e-9;
+        if before > self.cfg.coast_after_s {
+            return Err(MapError::BeforeModel);
+        }
+        let (y, sigma) = self.predict(&fit, tick);
+        Ok((fit.gps0 + y.round() as i64, sigma))
+    }
+
+    /// Current rate error of the device clock, ppm (positive: the device counts fast), if fitted
+    /// from at least two pulses.
+    pub fn drift_ppm(&self) -> Option<f64> {
+        self.fit
+            .filter(|f| f.n >= 2)
+            .map(|f| (self.cfg.tick_ns / f.b - 1.0) * 1e6)
+    }
+
+    /// Residual standard deviation of the current fit, ns.
+    pub fn residual_sigma_ns(&self) -> Option<f64> {
+        self.fit.map(|f| f.s)
+    }
+}
+
+/// The GPS time (ns) of the whole second a pulse marks, given an estimate of the GPS time at which
+/// the pulse occurred (e.g. the host receive time of its 0x06 mapped through the host clock, minus
+/// the message's transmission time). Rounds to the nearest second, so the estimate may be off by
+/// up to +-0.5 s.
+pub fn pulse_second(estimate_gps_ns: i64) -> i64 {
+    let s = super::gps::NS_PER_S;
+    (estimate_gps_ns + s / 2).div_euclid(s) * s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::gps::NS_PER_S;
+
+    /// A simulated MCU: starts at `offset_us` when GPS time is `gps_start_ns`, runs `drift_ppm`
+    /// fast.
+    fn mcu_tick(gps_ns: i64, gps_start_ns: i64, offset_us: u64, drift_ppm: f64) -> u64 {
+        offset_us + (((gps_ns - gps_start_ns) as f64) * (1.0 + drift_ppm * 1e-6) / 1000.0) as u64
+    }
+
+    #[test]
+    fn locks_and_maps_with_drift_by_hand() {
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        let g0 = 1_400_000_000 * NS_PER_S;
+        assert_eq!(c.to_gps(0), Err(MapError::NoPulse));
+        assert_eq!(c.status(0), ClockStatus::Unlocked);
+        // +40 ppm: 1 s of GPS time is 1 000 040 ticks.
+        for k in 0..10 {
+            let g = g0 + k * NS_PER_S;
+            assert_eq!(
+                c.add_pulse(mcu_tick(g, g0, 5_000_000, 40.0), g),
+                PulseOutcome::Accepted
+            );
+        }
+        assert!(
+            (c.drift_ppm().unwrap() - 40.0).abs() < 0.01,
+            "{:?}",
+            c.drift_ppm()
+        );
+        let t = g0 + 9 * NS_PER_S + 250_000_000; // 0.25 s after the last pulse
+        let tick = mcu_tick(t, g0, 5_000_000, 40.0);
+        assert_eq!(c.status(tick), ClockStatus::Locked);
+        let (est, sigma) = c.to_gps(tick).unwrap();
+        // Error within the tick quantisation (1 us) plus rounding.
+        assert!((est - t).abs() <= 1_500, "error {} ns", est - t);
+        assert!(sigma > 500.0 && sigma < 5_000.0, "sigma {sigma}");
+    }
+
+    #[test]
+    fn single_pulse_uses_nominal_rate_with_drift_bound() {
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        let g0 = 10 * NS_PER_S;
+        c.add_pulse(1_000_000, g0);
+        assert_eq!(c.status(1_000_000), ClockStatus::Locking);
+        let (est, sigma) = c.to_gps(1_500_000).unwrap();
+        assert_eq!(est, g0 + 500_000_000);
+        // 0.5 s x 50 ppm / sqrt(3) = 14.4 us of drift sigma, plus sqrt(2) x 2 us of jitter.
+        assert!((sigma - (14_433.8f64.powi(2) + 2.0 * 2_000.0f64.powi(2)).sqrt()).abs() < 50.0);
+    }
+
+    #[test]
+    fn outlier_pulse_is_rejected() {
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        for k in 0..5 {
+            c.add_pulse(1_000_000 * k as u64, k * NS_PER_S);
+        }
+        // A pulse attributed to the wrong second.
+        assert_eq!(c.add_pulse(5_000_000, 6 * NS_PER_S), PulseOutcome::Outlier);
+        assert_eq!(c.add_pulse(6_000_000, 6 * NS_PER_S), PulseOutcome::Accepted);
+        assert_eq!(c.to_gps(6_500_000).unwrap().0, 6 * NS_PER_S + 500_000_000);
+    }
+
+    #[test]
+    fn device_reset_is_detected_and_relocks() {
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        for k in 0..5i64 {
+            c.add_pulse(100_000_000 + 1_000_000 * k as u64, k * NS_PER_S);
+        }
+        // The MCU restarts: its time messages jump back to near zero.
+        assert!(c.observe(200_000));
+        assert_eq!(c.status(200_000), ClockStatus::Unlocked);
+        assert_eq!(c.to_gps(200_000), Err(MapError::NoPulse));
+        // The first pulse of the new epoch re-locks.
+        assert_eq!(c.add_pulse(700_000, 6 * NS_PER_S), PulseOutcome::Accepted);
+        assert_eq!(c.to_gps(900_000).unwrap().0, 6 * NS_PER_S + 200_000_000);
+        assert_eq!(c.relocks, 1);
+        // A pulse going backwards also re-locks at once.
+        let mut c2 = PpsClock::new(PpsClockConfig::default());
+        c2.add_pulse(5_000_000, 0);
+        c2.add_pulse(6_000_000, NS_PER_S);
+        assert_eq!(c2.add_pulse(300_000, 2 * NS_PER_S), PulseOutcome::Relocked);
+    }
+
+    #[test]
+    fn consistent_outliers_mean_a_new_clock() {
+        // The clock jumps forward by 0.3 s (a reset that did not go backwards): three consistent
+        // outliers re-lock; the samples in between were never mapped with a wrong "locked" time
+        // because the old model still fits the old epoch only.
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        for k in 0..5i64 {
+            c.add_pulse(1_000_000 * k as u64, k * NS_PER_S);
+        }
+        let jump = 300_000u64;
+        assert_eq!(
+            c.add_pulse(5_000_000 + jump, 5 * NS_PER_S),
+            PulseOutcome::Outlier
+        );
+        assert_eq!(
+            c.add_pulse(6_000_000 + jump, 6 * NS_PER_S),
+            PulseOutcome::Outlier
+        );
+        assert_eq!(
+            c.add_pulse(7_000_000 + jump, 7 * NS_PER_S),
+            PulseOutcome::Relocked
+        );
+        assert_eq!(
+            c.to_gps(7_500_000 + jump).unwrap().0,
+            7 * NS_PER_S + 500_000_000
+        );
+    }
+
+    #[test]
+    fn coasting_and_pulse_loss() {
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        for k in 0..5i64 {
+            c.add_pulse(1_000_000 * k as u64, k * NS_PER_S);
+        }
+        assert_eq!(c.status(4_000_000 + 1_000_000), ClockStatus::Locked);
+        assert_eq!(c.status(4_000_000 + 2_000_000), ClockStatus::Coasting);
+        let (_, s_near) = c.to_gps(4_500_000).unwrap();
+        let (_, s_far) = c.to_gps(4_000_000 + 20_000_000).unwrap();
+        assert!(s_far > s_near);
+        assert_eq!(c.to_gps(4_000_000 + 31_000_000), Err(MapError::PulsesLost));
+    }
+
+    #[test]
+    fn pulse_second_rounds_to_the_nearest_second() {
+        assert_eq!(pulse_second(5 * NS_PER_S + 3_000_000), 5 * NS_PER_S);
+        assert_eq!(pulse_second(5 * NS_PER_S - 3_000_000), 5 * NS_PER_S);
+        assert_eq!(pulse_second(5 * NS_PER_S + 499_000_000), 5 * NS_PER_S);
+        assert_eq!(pulse_second(5 * NS_PER_S + 501_000_000), 6 * NS_PER_S);
+    }
+}
