@@ -5,11 +5,15 @@
 //! - [`gps`]: GPS time, UTC, the leap-second table with its validity date, and placing a UTC time
 //!   of day (TT-Multi-RF `ts`, TS24h) on the right day;
 //! - [`pps`]: a device clock disciplined by PPS pulses (the BAHRS MCU clock through 0x06);
+//! - [`host`]: the host clock model (lower envelope of receive time minus GPS time);
 //! - [`seq`]: pairing data messages with their time messages by wrapping sequence counters.
 
 pub mod gps;
+pub mod host;
 pub mod pps;
 pub mod seq;
+#[cfg(test)]
+mod testrng;
 
 use serde::Serialize;
 

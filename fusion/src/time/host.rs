@@ -1,0 +1,284 @@
+//! The host clock model: host monotonic time -> GPS time, learned from messages whose GPS time is
+//! known (the VN-200's), for devices that carry no usable time of their own (the Watson, the
+//! TT-Multi-RF CSV and MAVLink outputs).
+//!
+//! Each reference message gives `d = host receive time - GPS time of its transmission`, which is the
+//! host-GPS clock offset plus a positive link delay (OS/USB latency). The caller removes what it
+//! knows (the frame's transmission time at its baud rate, the device's output delay) before calling
+//! [`HostClock::add`]. The minimum of `d` over a second of host time is the offset plus the smallest
+//! delay: a line fitted through those per-second minima (the lower envelope) follows the offset and
+//! the host crystal's drift. The mean excess of `d` over the envelope, and its spread, describe the
+//! delay distribution; assuming the other ports see the same kind of link (same USB adapter class),
+//! a message received at host time `h` was sent at about `h - envelope(h) - mean excess`, with the
+//! excess spread as its uncertainty.
+
+use std::collections::VecDeque;
+
+use super::ClockStatus;
+
+/// Parameters of a [`HostClock`], with units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HostClockConfig {
+    /// Length of one envelope bucket of host time, ns.
+    pub bucket_ns: i64,
+    /// Buckets kept for the envelope fit.
+    pub buckets: usize,
+    /// Buckets needed before the model is "locked" (2 give a "locking" model).
+    pub buckets_to_lock: usize,
+    /// Host time without references after which the model is "coasting", ns.
+    pub coast_after_ns: i64,
+    /// Host time without references after which the model gives no time, ns.
+    pub coast_limit_ns: i64,
+    /// 1-sigma of the host/GPS rate wander while coasting, ppm.
+    pub rate_sigma_ppm: f64,
+}
+
+impl Default for HostClockConfig {
+    fn default() -> Self {
+        Self {
+            bucket_ns: 1_000_000_000,
+            buckets: 30,
+            buckets_to_lock: 5,
+            coast_after_ns: 2_000_000_000,
+            coast_limit_ns: 120_000_000_000,
+            rate_sigma_ppm: 1.0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Bucket {
+    index: i64,
+    min_d: i64,
+    host_at_min: i64,
+    n: u32,
+    sum_d: f64,
+    sum_d2: f64,
+}
+
+/// Host-to-GPS clock model.
+#[derive(Debug, Clone)]
+pub struct HostClock {
+    cfg: HostClockConfig,
+    buckets: VecDeque<Bucket>,
+    last_host_ns: Option<i64>,
+    /// Envelope line: d = c0 + c1 * (host - h0), with h0 the first bucket's host time.
+    fit: Option<(i64, f64, f64, f64)>,
+    excess_mean_ns: f64,
+    excess_sigma_ns: f64,
+}
+
+impl HostClock {
+    /// A model with no references.
+    pub fn new(cfg: HostClockConfig) -> Self {
+        Self {
+            cfg,
+            buckets: VecDeque::with_capacity(cfg.buckets + 1),
+            last_host_ns: None,
+            fit: None,
+            excess_mean_ns: 0.0,
+            excess_sigma_ns: 0.0,
+        }
+    }
+
+    /// Adds a reference: a message received at `host_ns` whose transmission started at GPS time
+    /// `gps_ns` (after the caller removed its transmission time and known output delay).
+    pub fn add(&mut self, host_ns: i64, gps_ns: i64) {
+        let d = host_ns - gps_ns;
+        let index = host_ns.div_euclid(self.cfg.bucket_ns);
+        if self
+            .last_host_ns
+            .is_some_and(|last| host_ns < last - self.cfg.bucket_ns)
+        {
+            // Host time going backwards by more than a bucket: not a monotonic clock; start over.
+            self.buckets.clear();
+            self.fit = None;
+        }
+        self.last_host_ns = Some(self.last_host_ns.map_or(host_ns, |l| l.max(host_ns)));
+        match self.buckets.back_mut() {
+            Some(b) if b.index == index => {
+                if d < b.min_d {
+                    b.min_d = d;
+                    b.host_at_min = host_ns;
+                }
+                b.n += 1;
+                b.sum_d += d as f64;
+                b.sum_d2 += (d as f64).powi(2);
+                return;
+            }
+            _ => {}
+        }
+        // A new bucket: the previous one is complete, refit with it.
+        self.refit();
+        if self.buckets.len() == self.cfg.buckets {
+            self.buckets.pop_front();
+        }
+        self.buckets.push_back(Bucket {
+            index,
+            min_d: d,
+            host_at_min: host_ns,
+            n: 1,
+            sum_d: d as f64,
+            sum_d2: (d as f64).powi(2),
+        });
+    }
+
+    /// Fits the envelope through the bucket minima. Called when a new bucket starts, so every bucket
+    /// held is complete.
+    fn refit(&mut self) {
+        let complete: Vec<&Bucket> = self.buckets.iter().collect();
+        if complete.is_empty() {
+            return;
+        }
+        let h0 = complete[0].host_at_min;
+        let n = complete.len() as f64;
+        let xs: Vec<f64> = complete
+            .iter()
+            .map(|b| (b.host_at_min - h0) as f64)
+            .collect();
+        let ys: Vec<f64> = complete.iter().map(|b| b.min_d as f64).collect();
+        let x_mean = xs.iter().sum::<f64>() / n;
+        let y_mean = ys.iter().sum::<f64>() / n;
+        let sxx: f64 = xs.iter().map(|x| (x - x_mean).powi(2)).sum();
+        let slope = if complete.len() >= 2 && sxx > 0.0 {
+            xs.iter()
+                .zip(&ys)
+                .map(|(x, y)| (x - x_mean) * (y - y_mean))
+                .sum::<f64>()
+                / sxx
+        } else {
+            0.0
+        };
+        let c0 = y_mean - slope * x_mean;
+        // Scatter of the minima around the line: part of the mapping uncertainty.
+        let scatter = if complete.len() >= 3 {
+            let ss: f64 = xs
+                .iter()
+                .zip(&ys)
+                .map(|(x, y)| (y - c0 - slope * x).powi(2))
+                .sum();
+            (ss / (n - 2.0)).sqrt()
+        } else {
+            0.0
+        };
+        // Excess delay over the envelope: mean and spread of d - min per bucket, pooled.
+        let (mut cnt, mut sum, mut sum2) = (0.0, 0.0, 0.0);
+        for b in &complete {
+            let m = b.min_d as f64;
+            cnt += f64::from(b.n);
+            sum += b.sum_d - m * f64::from(b.n);
+            sum2 += b.sum_d2 - 2.0 * m * b.sum_d + m * m * f64::from(b.n);
+        }
+        if cnt > 0.0 {
+            self.excess_mean_ns = sum / cnt;
+            self.excess_sigma_ns = (sum2 / cnt - self.excess_mean_ns.powi(2)).max(0.0).sqrt();
+        }
+        self.fit = Some((h0, c0, slope, scatter));
+    }
+
+    /// State of the model at host time `now_ns`.
+    pub fn status(&self, now_ns: i64) -> ClockStatus {
+        let Some(last) = self.last_host_ns else {
+            return ClockStatus::Unlocked;
+        };
+        if self.fit.is_none() || self.buckets.len() < 2 {
+            return ClockStatus::Unlocked;
+        }
+        let since = now_ns - last;
+        if since > self.cfg.coast_limit_ns {
+            ClockStatus::Unlocked
+        } else if since > self.cfg.coast_after_ns {
+            ClockStatus::Coasting
+        } else if self.buckets.len() < self.cfg.buckets_to_lock {
+            ClockStatus::Locking
+        } else {
+            ClockStatus::Locked
+        }
+    }
+
+    /// GPS time (ns) at which a message received at host time `host_ns` was sent, with its
+    /// 1-sigma (ns), or `None` while the model is unlocked.
+    pub fn to_gps(&self, host_ns: i64) -> Option<(i64, f64)> {
+        if self.status(host_ns) == ClockStatus::Unlocked {
+            return None;
+        }
+        let (h0, c0, slope, scatter) = self.fit?;
+        let d = c0 + slope * (host_ns - h0) as f64;
+        let since = (host_ns - self.last_host_ns?).max(0) as f64;
+        let drift = self.cfg.rate_sigma_ppm * 1e-6 * since;
+        let sigma = (self.excess_sigma_ns.powi(2) + scatter.powi(2) + drift.powi(2)).sqrt();
+        Some((host_ns - (d + self.excess_mean_ns).round() as i64, sigma))
+    }
+
+    /// Mean link delay above the minimum, ns (what the model assumes every port adds).
+    pub fn excess_delay_ns(&self) -> f64 {
+        self.excess_mean_ns
+    }
+
+    /// Host clock rate relative to GPS, ppm (positive: the host clock runs fast).
+    pub fn drift_ppm(&self) -> Option<f64> {
+        self.fit.map(|(_, _, slope, _)| slope * 1e6)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::testrng::Lcg;
+
+    const S: i64 = 1_000_000_000;
+    const MS: i64 = 1_000_000;
+
+    /// References at 200 Hz from a host clock offset by `offset` and running `ppm` fast, with a
+    /// delay uniform in [0.5, 1.5] ms.
+    fn feed(clock: &mut HostClock, seconds: i64, offset: i64, ppm: f64, rng: &mut Lcg) {
+        for k in 0..seconds * 200 {
+            let gps = 1_000 * S + k * 5 * MS;
+            let delay = MS / 2 + (rng.unit() * MS as f64) as i64;
+            let host = offset + gps + ((gps - 1_000 * S) as f64 * ppm * 1e-6) as i64 + delay;
+            clock.add(host, gps);
+        }
+    }
+
+    #[test]
+    fn learns_offset_drift_and_delay() {
+        let mut c = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(1);
+        assert_eq!(c.status(0), ClockStatus::Unlocked);
+        let offset = 123_456_789_000;
+        feed(&mut c, 20, offset, 30.0, &mut rng);
+        // Drift: 30 ppm, fitted from minima that sit within a few us of 0.5 ms.
+        assert!(
+            (c.drift_ppm().unwrap() - 30.0).abs() < 1.0,
+            "{:?}",
+            c.drift_ppm()
+        );
+        // Mean excess delay over the minimum: uniform [0.5, 1.5] ms has mean 1.0 ms, minimum
+        // ~0.5 ms, so about 0.5 ms; sigma = 1 ms / sqrt(12) = 0.289 ms.
+        assert!(
+            (c.excess_delay_ns() - 500_000.0).abs() < 30_000.0,
+            "{}",
+            c.excess_delay_ns()
+        );
+        // A message sent at GPS 1019.5 s, received with the mean delay.
+        let gps = 1_019_500 * MS;
+        let host = offset + gps + ((gps - 1_000 * S) as f64 * 30e-6) as i64 + MS;
+        let (est, sigma) = c.to_gps(host).unwrap();
+        assert!((est - gps).abs() < 50_000, "error {} ns", est - gps);
+        assert!((sigma - 288_675.0).abs() < 30_000.0, "sigma {sigma}");
+        assert_eq!(c.status(host), ClockStatus::Locked);
+    }
+
+    #[test]
+    fn coasts_then_unlocks_without_references() {
+        let mut c = HostClock::new(HostClockConfig::default());
+        feed(&mut c, 10, 0, 0.0, &mut Lcg(2));
+        let last = 1_010 * S;
+        assert_eq!(c.status(last + S), ClockStatus::Locked);
+        assert_eq!(c.status(last + 10 * S), ClockStatus::Coasting);
+        let (_, s1) = c.to_gps(last + S).unwrap();
+        let (_, s2) = c.to_gps(last + 60 * S).unwrap();
+        assert!(s2 > s1);
+        assert_eq!(c.to_gps(last + 200 * S), None);
+    }
+}
