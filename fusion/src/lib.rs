@@ -3,4 +3,6 @@
 //! messages and their host receive times: no clock, no environment.
 #![deny(missing_docs)]
 
+pub mod geometry;
 pub mod time;
+pub mod units;

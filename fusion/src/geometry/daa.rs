@@ -1,0 +1,300 @@
+//! DO-365 (Phase I) well-clear geometry of one intruder against the ownship: closest point of
+//! approach, modified tau, the well-clear volume now and over a lookahead, and the alert level.
+//!
+//! Definitions used (s: relative horizontal position of the intruder, v: relative horizontal
+//! velocity (intruder minus ownship), r = |s|, dz: intruder altitude minus ownship altitude, vz: its
+//! rate):
+//! - time to horizontal CPA `tcpa = -s.v / |v|^2` when closing (`s.v < 0`), else 0;
+//! - horizontal miss distance `HMD = |s + v tcpa|`;
+//! - modified tau `tau_mod = (DMOD^2 - r^2) / (s.v)`, defined only when closing and `r > DMOD`
+//!   (DMOD = DTHR); undefined when diverging or already inside DMOD;
+//! - the DWC volume holds at a state when `|dz| <= ZTHR` (TCOA threshold 0, so the vertical test is
+//!   on the separation itself) and either `r <= DTHR` or (`HMD <= DTHR` and
+//!   `0 <= tau_mod <= TTHR`);
+//! - thresholds: DTHR = 0.66 NM = 1222.32 m (4010 ft, not 4000), ZTHR = 450 ft, TTHR = 35 s;
+//! - alert levels: 3 warning = DWC volume within 25 s; 2 corrective = DWC volume within 55 s;
+//!   1 preventive = the volume with ZTHR 700 ft within 55 s; 0 otherwise.
+//!
+//! Predicted loss of well-clear is found exactly on the straight-line projection: each clause of
+//! the volume is an interval of time (the tau clause is a quadratic inequality), so the intervals
+//! within the lookahead come out in closed form, with no time stepping.
+
+use nalgebra::Vector2;
+
+use crate::units::{M_PER_FT, M_PER_NM};
+
+/// Well-clear thresholds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Thresholds {
+    /// Horizontal distance threshold (and DMOD), m.
+    pub dthr_m: f64,
+    /// Vertical separation threshold, m.
+    pub zthr_m: f64,
+    /// Modified tau threshold, s.
+    pub tthr_s: f64,
+}
+
+impl Thresholds {
+    /// DO-365 DWC: DTHR 0.66 NM, ZTHR 450 ft, TTHR 35 s.
+    pub const DWC: Thresholds = Thresholds {
+        dthr_m: 0.66 * M_PER_NM,
+        zthr_m: 450.0 * M_PER_FT,
+        tthr_s: 35.0,
+    };
+    /// The preventive-alert volume: as DWC with ZTHR 700 ft.
+    pub const PREVENTIVE: Thresholds = Thresholds {
+        dthr_m: 0.66 * M_PER_NM,
+        zthr_m: 700.0 * M_PER_FT,
+        tthr_s: 35.0,
+    };
+}
+
+/// Lookahead of the loss-of-well-clear prediction, s.
+pub const LOOKAHEAD_S: f64 = 180.0;
+/// Alerting times, s: warning, corrective and preventive.
+pub const WARNING_TIME_S: f64 = 25.0;
+/// Corrective and preventive alerting time, s.
+pub const ALERT_TIME_S: f64 = 55.0;
+
+/// Relative state of an intruder in the ownship's local tangent plane (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relative {
+    /// Horizontal position of the intruder relative to the ownship, east and north, m.
+    pub s: Vector2<f64>,
+    /// Horizontal velocity of the intruder relative to the ownship, east and north, m/s.
+    pub v: Vector2<f64>,
+    /// Intruder altitude minus ownship altitude, m.
+    pub dz_m: f64,
+    /// Rate of `dz_m`, m/s.
+    pub vz_mps: f64,
+}
+
+/// A closed time interval, s from now.
+pub type Interval = (f64, f64);
+
+/// Up to two disjoint intervals, in time order (the most the well-clear volume can produce on
+/// straight lines), held without allocation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Intervals {
+    len: usize,
+    items: [Interval; 2],
+}
+
+impl Intervals {
+    fn push(&mut self, iv: Interval) {
+        if self.len < 2 {
+            self.items[self.len] = iv;
+            self.len += 1;
+        }
+    }
+
+    /// The intervals as a slice.
+    pub fn as_slice(&self) -> &[Interval] {
+        &self.items[..self.len]
+    }
+
+    /// The first interval.
+    pub fn first(&self) -> Option<Interval> {
+        self.as_slice().first().copied()
+    }
+}
+
+/// The geometry of one encounter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    /// Horizontal distance, m.
+    pub horizontal_distance_m: f64,
+    /// Vertical separation (intruder above ownship positive), m.
+    pub vertical_separation_m: f64,
+    /// Range rate (horizontal), m/s; negative when closing.
+    pub range_rate_mps: f64,
+    /// Time to horizontal CPA, s (0 when diverging).
+    pub tcpa_s: f64,
+    /// Horizontal miss distance at CPA, m.
+    pub hmd_m: f64,
+    /// Modified tau, s; `None` when diverging or inside DMOD.
+    pub tau_mod_s: Option<f64>,
+    /// The DWC volume holds now.
+    pub well_clear_violated_now: bool,
+    /// First interval of predicted loss of well-clear within the lookahead.
+    pub loss_of_well_clear_interval_s: Option<Interval>,
+    /// Alert level 0-3.
+    pub alert_level: u8,
+}
+
+impl Relative {
+    /// Horizontal distance, m.
+    pub fn range_m(&self) -> f64 {
+        self.s.norm()
+    }
+
+    /// Time to horizontal CPA, s; 0 when diverging or not moving relative to each other.
+    pub fn tcpa_s(&self) -> f64 {
+        let sv = self.s.dot(&self.v);
+        let vv = self.v.norm_squared();
+        if sv < 0.0 && vv > 0.0 { -sv / vv } else { 0.0 }
+    }
+
+    /// Horizontal miss distance at CPA, m.
+    pub fn hmd_m(&self) -> f64 {
+        (self.s + self.v * self.tcpa_s()).norm()
+    }
+
+    /// Modified tau with DMOD = `dmod_m`, s; `None` when not closing or already inside DMOD.
+    pub fn tau_mod_s(&self, dmod_m: f64) -> Option<f64> {
+        let sv = self.s.dot(&self.v);
+        let r2 = self.s.norm_squared();
+        (sv < 0.0 && r2 > dmod_m * dmod_m).then(|| (dmod_m * dmod_m - r2) / sv)
+    }
+
+    /// The state `t` seconds ahead on straight lines.
+    pub fn at(&self, t: f64) -> Relative {
+        Relative {
+            s: self.s + self.v * t,
+            dz_m: self.dz_m + self.vz_mps * t,
+            ..*self
+        }
+    }
+
+    /// Whether the well-clear volume `th` holds now.
+    pub fn violates(&self, th: &Thresholds) -> bool {
+        if self.dz_m.abs() > th.zthr_m {
+            return false;
+        }
+        let r = self.range_m();
+        r <= th.dthr_m
+            || (self.hmd_m() <= th.dthr_m
+                && self.tau_mod_s(th.dthr_m).is_some_and(|t| t <= th.tthr_s))
+    }
+
+    /// The intervals within `[0, lookahead_s]` during which the volume `th` holds, in order.
+    pub fn violation_intervals(&self, th: &Thresholds, lookahead_s: f64) -> Intervals {
+        let mut out = Intervals::default();
+        let Some(vertical) = within(self.dz_m, self.vz_mps, th.zthr_m) else {
+            return out;
+        };
+        // Clause 1: r(t) <= DTHR  <=>  |v|^2 t^2 + 2 s.v t + |s|^2 - DTHR^2 <= 0.
+        let vv = self.v.norm_squared();
+        let sv = self.s.dot(&self.v);
+        let ss = self.s.norm_squared();
+        let d2 = th.dthr_m * th.dthr_m;
+        let near = quadratic_le_zero(vv, 2.0 * sv, ss - d2);
+        // Clause 2: HMD <= DTHR and 0 <= tau_mod(t) <= TTHR, while closing (t < tcpa) and outside
+        // DMOD. tau_mod(t) <= T  <=>  r(t)^2 - D^2 <= -T s(t).v  (s(t).v < 0)
+        //                        <=>  |v|^2 t^2 + (2 s.v + T |v|^2) t + |s|^2 + T s.v - D^2 <= 0.
+        // tau_mod >= 0 holds whenever it is defined. HMD is the same at every t before CPA.
+        let mut tau = None;
+        if vv > 0.0 && sv < 0.0 && self.hmd_m() <= th.dthr_m {
+            let tcpa = -sv / vv;
+            let t = th.tthr_s;
+            if let Some((a, b)) = quadratic_le_zero(vv, 2.0 * sv + t * vv, ss + t * sv - d2) {
+                let b = b.min(tcpa);
+                if a <= b {
+                    tau = Some((a, b));
+                }
+            }
+        }
+        // Union of the two clauses (sorted, merged), then intersected with the vertical interval
+        // and the lookahead.
+        let pieces: [Option<Interval>; 2] = match (near, tau) {
+            (Some(x), Some(y)) => {
+                let (x, y) = if x.0 <= y.0 { (x, y) } else { (y, x) };
+                if y.0 <= x.1 {
+                    [Some((x.0, x.1.max(y.1))), None]
+                } else {
+                    [Some(x), Some(y)]
+                }
+            }
+            (x, y) => [x.or(y), None],
+        };
+        for (a, b) in pieces.into_iter().flatten() {
+            let lo = a.max(vertical.0).max(0.0);
+            let hi = b.min(vertical.1).min(lookahead_s);
+            if lo <= hi {
+                out.push((lo, hi));
+            }
+        }
+        out
+    }
+
+    /// Time until the volume `th` is first entered within the lookahead (0 if it holds now).
+    pub fn time_to_violation_s(&self, th: &Thresholds, lookahead_s: f64) -> Option<f64> {
+        self.violation_intervals(th, lookahead_s)
+            .first()
+            .map(|iv| iv.0)
+    }
+
+    /// The DO-365 Phase I alert level (0-3) of this state, with no history.
+    pub fn alert_level(&self) -> u8 {
+        self.alert_level_from(self.time_to_violation_s(&Thresholds::DWC, ALERT_TIME_S))
+    }
+
+    /// The alert level given the time to the DWC volume (from any lookahead of at least 55 s).
+    fn alert_level_from(&self, time_to_dwc_s: Option<f64>) -> u8 {
+        match time_to_dwc_s {
+            Some(t) if t <= WARNING_TIME_S => 3,
+            Some(t) if t <= ALERT_TIME_S => 2,
+            _ if self
+                .time_to_violation_s(&Thresholds::PREVENTIVE, ALERT_TIME_S)
+                .is_some() =>
+            {
+                1
+            }
+            _ => 0,
+        }
+    }
+
+    /// Every quantity of the encounter.
+    pub fn geometry(&self) -> Geometry {
+        let r = self.range_m();
+        let intervals = self.violation_intervals(&Thresholds::DWC, LOOKAHEAD_S);
+        Geometry {
+            horizontal_distance_m: r,
+            vertical_separation_m: self.dz_m,
+            range_rate_mps: if r > 0.0 {
+                self.s.dot(&self.v) / r
+            } else {
+                -self.v.norm()
+            },
+            tcpa_s: self.tcpa_s(),
+            hmd_m: self.hmd_m(),
+            tau_mod_s: self.tau_mod_s(Thresholds::DWC.dthr_m),
+            well_clear_violated_now: self.violates(&Thresholds::DWC),
+            loss_of_well_clear_interval_s: intervals.first(),
+            alert_level: self.alert_level_from(intervals.first().map(|iv| iv.0)),
+        }
+    }
+}
+
+/// Times at which `|z + vz t| <= zthr`, as one interval (unbounded ends as +-infinity), or `None`.
+fn within(z: f64, vz: f64, zthr: f64) -> Option<Interval> {
+    if vz == 0.0 {
+        return (z.abs() <= zthr).then_some((f64::NEG_INFINITY, f64::INFINITY));
+    }
+    let t1 = (-zthr - z) / vz;
+    let t2 = (zthr - z) / vz;
+    Some((t1.min(t2), t1.max(t2)))
+}
+
+/// The interval where `a t^2 + b t + c <= 0`, for `a >= 0`. With `a = 0` the linear case: an
+/// unbounded interval or none.
+fn quadratic_le_zero(a: f64, b: f64, c: f64) -> Option<Interval> {
+    if a <= 0.0 {
+        return if b == 0.0 {
+            (c <= 0.0).then_some((f64::NEG_INFINITY, f64::INFINITY))
+        } else if b > 0.0 {
+            Some((f64::NEG_INFINITY, -c / b))
+        } else {
+            Some((-c / b, f64::INFINITY))
+        };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let sq = disc.sqrt();
+    // Numerically stable roots.
+    let q = -0.5 * (b + b.signum() * sq);
+    let (r1, r2) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
+    Some((r1.min(r2), r1.max(r2)))
+}
