@@ -169,10 +169,12 @@ impl Relative {
 
     /// The intervals within `[0, lookahead_s]` during which the volume `th` holds, in order.
     pub fn violation_intervals(&self, th: &Thresholds, lookahead_s: f64) -> Intervals {
-        let mut out = Intervals::default();
-        let Some(vertical) = within(self.dz_m, self.vz_mps, th.zthr_m) else {
-            return out;
-        };
+        self.clip(&self.horizontal_intervals(th), th.zthr_m, lookahead_s)
+    }
+
+    /// The (unclipped) times at which the horizontal part of the volume `th` holds: the union of
+    /// its two clauses, sorted and merged.
+    fn horizontal_intervals(&self, th: &Thresholds) -> [Option<Interval>; 2] {
         // Clause 1: r(t) <= DTHR  <=>  |v|^2 t^2 + 2 s.v t + |s|^2 - DTHR^2 <= 0.
         let vv = self.v.norm_squared();
         let sv = self.s.dot(&self.v);
@@ -182,9 +184,10 @@ impl Relative {
         // Clause 2: HMD <= DTHR and 0 <= tau_mod(t) <= TTHR, while closing (t < tcpa) and outside
         // DMOD. tau_mod(t) <= T  <=>  r(t)^2 - D^2 <= -T s(t).v  (s(t).v < 0)
         //                        <=>  |v|^2 t^2 + (2 s.v + T |v|^2) t + |s|^2 + T s.v - D^2 <= 0.
-        // tau_mod >= 0 holds whenever it is defined. HMD is the same at every t before CPA.
+        // tau_mod >= 0 holds whenever it is defined. HMD is the same at every t before CPA, and
+        // HMD^2 = |s|^2 - (s.v)^2 / |v|^2.
         let mut tau = None;
-        if vv > 0.0 && sv < 0.0 && self.hmd_m() <= th.dthr_m {
+        if vv > 0.0 && sv < 0.0 && ss - sv * sv / vv <= d2 {
             let tcpa = -sv / vv;
             let t = th.tthr_s;
             if let Some((a, b)) = quadratic_le_zero(vv, 2.0 * sv + t * vv, ss + t * sv - d2) {
@@ -194,9 +197,7 @@ impl Relative {
                 }
             }
         }
-        // Union of the two clauses (sorted, merged), then intersected with the vertical interval
-        // and the lookahead.
-        let pieces: [Option<Interval>; 2] = match (near, tau) {
+        match (near, tau) {
             (Some(x), Some(y)) => {
                 let (x, y) = if x.0 <= y.0 { (x, y) } else { (y, x) };
                 if y.0 <= x.1 {
@@ -206,8 +207,16 @@ impl Relative {
                 }
             }
             (x, y) => [x.or(y), None],
+        }
+    }
+
+    /// Intersects horizontal intervals with the vertical one (`|dz| <= zthr_m`) and the lookahead.
+    fn clip(&self, horizontal: &[Option<Interval>; 2], zthr_m: f64, lookahead_s: f64) -> Intervals {
+        let mut out = Intervals::default();
+        let Some(vertical) = within(self.dz_m, self.vz_mps, zthr_m) else {
+            return out;
         };
-        for (a, b) in pieces.into_iter().flatten() {
+        for &(a, b) in horizontal.iter().flatten() {
             let lo = a.max(vertical.0).max(0.0);
             let hi = b.min(vertical.1).min(lookahead_s);
             if lo <= hi {
@@ -226,16 +235,22 @@ impl Relative {
 
     /// The DO-365 Phase I alert level (0-3) of this state, with no history.
     pub fn alert_level(&self) -> u8 {
-        self.alert_level_from(self.time_to_violation_s(&Thresholds::DWC, ALERT_TIME_S))
+        let h = self.horizontal_intervals(&Thresholds::DWC);
+        self.alert_level_from(
+            &h,
+            self.clip(&h, Thresholds::DWC.zthr_m, ALERT_TIME_S).first(),
+        )
     }
 
-    /// The alert level given the time to the DWC volume (from any lookahead of at least 55 s).
-    fn alert_level_from(&self, time_to_dwc_s: Option<f64>) -> u8 {
-        match time_to_dwc_s {
-            Some(t) if t <= WARNING_TIME_S => 3,
-            Some(t) if t <= ALERT_TIME_S => 2,
+    /// The alert level from the horizontal intervals (the DWC and preventive volumes share them:
+    /// they differ only in ZTHR) and the first DWC interval of any lookahead of at least 55 s.
+    fn alert_level_from(&self, h: &[Option<Interval>; 2], first_dwc: Option<Interval>) -> u8 {
+        match first_dwc {
+            Some((t, _)) if t <= WARNING_TIME_S => 3,
+            Some((t, _)) if t <= ALERT_TIME_S => 2,
             _ if self
-                .time_to_violation_s(&Thresholds::PREVENTIVE, ALERT_TIME_S)
+                .clip(h, Thresholds::PREVENTIVE.zthr_m, ALERT_TIME_S)
+                .first()
                 .is_some() =>
             {
                 1
@@ -247,7 +262,8 @@ impl Relative {
     /// Every quantity of the encounter.
     pub fn geometry(&self) -> Geometry {
         let r = self.range_m();
-        let intervals = self.violation_intervals(&Thresholds::DWC, LOOKAHEAD_S);
+        let h = self.horizontal_intervals(&Thresholds::DWC);
+        let first = self.clip(&h, Thresholds::DWC.zthr_m, LOOKAHEAD_S).first();
         Geometry {
             horizontal_distance_m: r,
             vertical_separation_m: self.dz_m,
@@ -259,9 +275,11 @@ impl Relative {
             tcpa_s: self.tcpa_s(),
             hmd_m: self.hmd_m(),
             tau_mod_s: self.tau_mod_s(Thresholds::DWC.dthr_m),
-            well_clear_violated_now: self.violates(&Thresholds::DWC),
-            loss_of_well_clear_interval_s: intervals.first(),
-            alert_level: self.alert_level_from(intervals.first().map(|iv| iv.0)),
+            // Inside the volume now exactly when the first interval starts at 0 (intervals are
+            // clipped at 0, so a volume holding now starts there).
+            well_clear_violated_now: first.is_some_and(|iv| iv.0 == 0.0),
+            loss_of_well_clear_interval_s: first,
+            alert_level: self.alert_level_from(&h, first),
         }
     }
 }
