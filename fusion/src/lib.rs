@@ -3,6 +3,7 @@
 //! messages and their host receive times: no clock, no environment.
 #![deny(missing_docs)]
 
+pub mod attitude;
 pub mod geometry;
 pub mod time;
 pub mod units;

@@ -1,0 +1,166 @@
+//! Fault isolation with three attitude sources, by pairwise verdicts.
+//!
+//! Pairs: BAHRS-VN200, BAHRS-Watson, VN200-Watson. Per axis:
+//! - both pairs containing one unit fail and the third pair passes: that unit is isolated;
+//! - exactly one pair fails (the others pass or were not compared): detected, not isolated;
+//! - two pairs fail but the third was not compared: detected, not isolated (nothing confirms that
+//!   the other two agree);
+//! - all three pairs fail: multiple fault (no consistent pair);
+//! - heading only: the BAHRS and the Watson are both magnetic. When they agree with each other and
+//!   both disagree with a healthy VN-200 (true heading), the likely cause is a magnetic disturbance
+//!   (or a wrong declination), not a VN-200 fault, and it is reported as such.
+
+use serde::Serialize;
+
+/// An attitude source.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Unit {
+    /// The BAHRS baro-inertial AHRS.
+    Bahrs,
+    /// The VN-200 GNSS/INS.
+    Vn200,
+    /// The Watson AHRS-E304.
+    Watson,
+}
+
+/// Outcome of one pairwise comparison.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PairVerdict {
+    /// Compared and consistent.
+    Pass,
+    /// Compared and inconsistent (after persistence).
+    Fail,
+    /// Not compared (a gate closed: invalid, stale or frozen input).
+    NotCompared,
+}
+
+/// The three pairwise verdicts of one axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Pairs {
+    /// BAHRS against VN-200.
+    pub bahrs_vn200: PairVerdict,
+    /// BAHRS against Watson.
+    pub bahrs_watson: PairVerdict,
+    /// VN-200 against Watson.
+    pub vn200_watson: PairVerdict,
+}
+
+/// What the pairwise verdicts of an axis say.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind", content = "unit")]
+pub enum Isolation {
+    /// No pair failed.
+    NoFault,
+    /// Fewer than one pair could be compared.
+    NotCompared,
+    /// A disagreement was detected but cannot be pinned on one unit.
+    DetectedNotIsolated,
+    /// One unit is isolated as faulty.
+    Isolated(Unit),
+    /// No consistent pair: more than one unit is wrong.
+    MultipleFault,
+    /// Heading only: the two magnetic units agree against a healthy VN-200.
+    MagneticDisturbance,
+}
+
+/// Isolates per the rules of the module. `heading` selects the magnetic rule, which needs
+/// `vn200_healthy` (INS tracking without error bits).
+pub fn isolate(p: &Pairs, heading: bool, vn200_healthy: bool) -> Isolation {
+    use PairVerdict::{Fail, NotCompared, Pass};
+    let all = [p.bahrs_vn200, p.bahrs_watson, p.vn200_watson];
+    let fails = all.iter().filter(|v| **v == Fail).count();
+    let compared = all.iter().filter(|v| **v != NotCompared).count();
+    if compared == 0 {
+        return Isolation::NotCompared;
+    }
+    match fails {
+        0 => Isolation::NoFault,
+        1 => Isolation::DetectedNotIsolated,
+        3 => Isolation::MultipleFault,
+        _ => {
+            // Two pairs failed: the unit they share is suspect if the third pair passed.
+            let (suspect, third) = if p.vn200_watson != Fail {
+                (Unit::Bahrs, p.vn200_watson)
+            } else if p.bahrs_watson != Fail {
+                (Unit::Vn200, p.bahrs_watson)
+            } else {
+                (Unit::Watson, p.bahrs_vn200)
+            };
+            match (third, suspect) {
+                (Pass, Unit::Vn200) if heading && vn200_healthy => Isolation::MagneticDisturbance,
+                (Pass, u) => Isolation::Isolated(u),
+                _ => Isolation::DetectedNotIsolated,
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PairVerdict::{Fail, NotCompared as Nc, Pass};
+    use super::*;
+
+    fn p(bv: PairVerdict, bw: PairVerdict, vw: PairVerdict) -> Pairs {
+        Pairs {
+            bahrs_vn200: bv,
+            bahrs_watson: bw,
+            vn200_watson: vw,
+        }
+    }
+
+    #[test]
+    fn every_combination_of_verdicts() {
+        // All 27 combinations, with the expected outcome written out from the rules.
+        let verdicts = [Pass, Fail, Nc];
+        for bv in verdicts {
+            for bw in verdicts {
+                for vw in verdicts {
+                    let got = isolate(&p(bv, bw, vw), false, true);
+                    let fails = [bv, bw, vw].iter().filter(|v| **v == Fail).count();
+                    let compared = [bv, bw, vw].iter().filter(|v| **v != Nc).count();
+                    let expected = if compared == 0 {
+                        Isolation::NotCompared
+                    } else {
+                        match (fails, bv, bw, vw) {
+                            (0, ..) => Isolation::NoFault,
+                            (1, ..) => Isolation::DetectedNotIsolated,
+                            (3, ..) => Isolation::MultipleFault,
+                            (2, Fail, Fail, Pass) => Isolation::Isolated(Unit::Bahrs),
+                            (2, Fail, Pass, Fail) => Isolation::Isolated(Unit::Vn200),
+                            (2, Pass, Fail, Fail) => Isolation::Isolated(Unit::Watson),
+                            (2, ..) => Isolation::DetectedNotIsolated, // third not compared
+                            _ => unreachable!(),
+                        }
+                    };
+                    assert_eq!(got, expected, "{bv:?} {bw:?} {vw:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn magnetic_disturbance_on_heading() {
+        let vn_odd_one_out = p(Fail, Pass, Fail);
+        assert_eq!(
+            isolate(&vn_odd_one_out, true, true),
+            Isolation::MagneticDisturbance
+        );
+        // An unhealthy VN-200 is simply isolated.
+        assert_eq!(
+            isolate(&vn_odd_one_out, true, false),
+            Isolation::Isolated(Unit::Vn200)
+        );
+        // On roll or pitch there is no magnetic excuse.
+        assert_eq!(
+            isolate(&vn_odd_one_out, false, true),
+            Isolation::Isolated(Unit::Vn200)
+        );
+        // BAHRS isolated on heading stays a BAHRS fault.
+        assert_eq!(
+            isolate(&p(Fail, Fail, Pass), true, true),
+            Isolation::Isolated(Unit::Bahrs)
+        );
+    }
+}

@@ -1,0 +1,8 @@
+//! Attitude and health cross-check (building blocks): angles on the circle and slerp, detection
+//! thresholds from a false-alarm probability, persistence with hysteresis, and three-source fault
+//! isolation. The per-sample comparison that uses them arrives with the attitude issue.
+
+pub mod angles;
+pub mod isolation;
+pub mod persistence;
+pub mod stats;
