@@ -5,5 +5,7 @@
 
 pub mod attitude;
 pub mod geometry;
+pub mod ownship;
 pub mod time;
+pub mod traffic;
 pub mod units;

@@ -100,7 +100,7 @@ impl Intervals {
 }
 
 /// The geometry of one encounter.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Geometry {
     /// Horizontal distance, m.
     pub horizontal_distance_m: f64,

@@ -1,0 +1,260 @@
+use vigil_drivers::traffic::{AddressType, Link, Protocol, TrafficReport};
+
+use super::*;
+use crate::ownship::{Ownship, PositionSource};
+use crate::traffic::track::AddressSpace;
+use crate::units::{M_PER_FT, MPS_PER_KT};
+
+const S: i64 = 1_000_000_000;
+
+fn own() -> Ownship {
+    Ownship {
+        t_gps_ns: 0,
+        lat_deg: 47.0,
+        lon_deg: 8.0,
+        alt_pressure_m: Some(1000.0),
+        alt_geometric_m: Some(1050.0),
+        track_deg: 0.0,
+        ground_speed_mps: 0.0,
+        vertical_rate_mps: 0.0,
+        heading_deg: 90.0,
+        position_sigma_m: 2.0,
+        source: PositionSource::External,
+    }
+}
+
+fn report(address: u32, lat: f64, lon: f64) -> TrafficReport {
+    TrafficReport {
+        link: Link::Adsb1090,
+        protocol: Protocol::RawModeS,
+        address,
+        address_type: AddressType::Icao,
+        lat_deg: Some(lat),
+        lon_deg: Some(lon),
+        alt_pressure_m: Some(1000.0),
+        track_deg: Some(180.0),
+        ground_speed_mps: Some(100.0 * MPS_PER_KT),
+        vertical_rate_mps: Some(0.0),
+        nac_p: Some(9),
+        ..Default::default()
+    }
+}
+
+#[test]
+fn merges_links_and_keeps_address_spaces_apart() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(0, &report(0xABCDEF, 47.1, 8.0));
+    let uat = TrafficReport {
+        link: Link::Uat978,
+        protocol: Protocol::Json,
+        ..report(0xABCDEF, 47.1, 8.0)
+    };
+    m.update(S / 2, &uat);
+    let tisb = TrafficReport {
+        address_type: AddressType::TisbIcao,
+        ..report(0xABCDEF, 47.1, 8.0)
+    };
+    m.update(S, &tisb);
+    // The same number as a FLARM random id is another aircraft.
+    let flarm = TrafficReport {
+        link: Link::Flarm,
+        address_type: AddressType::FlarmRandom,
+        ..report(0xABCDEF, 47.2, 8.0)
+    };
+    m.update(S, &flarm);
+    assert_eq!(m.len(), 2);
+    let t = m
+        .track(&TargetKey {
+            space: AddressSpace::Icao,
+            address: 0xABCDEF,
+        })
+        .unwrap();
+    assert_eq!(t.sources.len(), 2, "ADS-B (raw, also relayed) and UAT JSON");
+    let pic = m.picture(2 * S, &own());
+    assert_eq!(pic.len(), 2);
+}
+
+#[test]
+fn extrapolates_along_velocity() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(0, &report(1, 47.1, 8.0));
+    let pic = m.picture(10 * S, &own());
+    // 100 kt south for 10 s = 514.4 m; the meridian radius at 47.1 deg is about 6 367 800 m, so
+    // 514.4 m is 0.0046284 deg.
+    let moved = 47.1 - pic[0].lat_deg;
+    assert!(
+        (moved - 514.444 / 6_367_800.0f64 * 180.0 / std::f64::consts::PI).abs() < 2e-6,
+        "{moved}"
+    );
+    assert!((pic[0].lon_deg - 8.0).abs() < 1e-12);
+    assert!((pic[0].age_s - 10.0).abs() < 1e-12);
+}
+
+#[test]
+fn times_out_and_evicts_by_policy() {
+    let p = TrafficParams {
+        capacity: 3,
+        ..Default::default()
+    };
+    let mut m = TrackManager::new(p);
+    m.set_ownship(own());
+    // Three fresh tracks at 10, 20 and 30 km north.
+    for (i, km) in [10.0, 20.0, 30.0].iter().enumerate() {
+        m.update(0, &report(i as u32 + 1, 47.0 + km / 111.2, 8.0));
+    }
+    // A fourth arrives 1 s later: nothing stale, so the farthest (30 km, address 3) goes.
+    m.update(S, &report(4, 47.05, 8.0));
+    assert_eq!(m.stats().tracks_evicted, 1);
+    assert!(
+        m.track(&TargetKey {
+            space: AddressSpace::Icao,
+            address: 3
+        })
+        .is_none()
+    );
+    // Refresh 2 and 4; 1 becomes stale (> 5 s); a fifth evicts the stale one, although nearer.
+    m.update(7 * S, &report(2, 47.18, 8.0));
+    m.update(7 * S, &report(4, 47.05, 8.0));
+    m.update(7 * S, &report(5, 47.3, 8.0));
+    assert!(
+        m.track(&TargetKey {
+            space: AddressSpace::Icao,
+            address: 1
+        })
+        .is_none()
+    );
+    assert_eq!(m.stats().tracks_evicted, 2);
+    // Timeout: 20 s after the last report every track goes, counted.
+    let pic = m.picture(28 * S, &own());
+    assert!(pic.is_empty());
+    assert_eq!(m.stats().tracks_timed_out, 3);
+}
+
+#[test]
+fn altitude_like_with_like() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(0, &report(1, 47.05, 8.0));
+    let geo_only = TrafficReport {
+        alt_pressure_m: None,
+        alt_geometric_m: Some(1100.0),
+        ..report(2, 47.06, 8.0)
+    };
+    m.update(0, &geo_only);
+    let none = TrafficReport {
+        alt_pressure_m: None,
+        ..report(3, 47.07, 8.0)
+    };
+    m.update(0, &none);
+    let pic = m.picture(0, &own());
+    let by = |a: u32| pic.iter().find(|t| t.key.address == a).unwrap();
+    assert_eq!(by(1).altitude_kind, AltitudeKind::Pressure);
+    assert_eq!(by(1).geometry.unwrap().vertical_separation_m, 0.0);
+    assert_eq!(by(2).altitude_kind, AltitudeKind::Geometric);
+    // 1100 m geometric against the ownship's 1050 m geometric, not its 1000 m pressure altitude.
+    assert!((by(2).geometry.unwrap().vertical_separation_m - 50.0).abs() < 1e-9);
+    assert_eq!(by(3).altitude_kind, AltitudeKind::None);
+    assert!(by(3).geometry.is_none());
+}
+
+#[test]
+fn plausibility_flags() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.set_ownship(own());
+    // Impossible speed: 900 kt.
+    let fast = TrafficReport {
+        ground_speed_mps: Some(900.0 * MPS_PER_KT),
+        ..report(1, 47.1, 8.0)
+    };
+    m.update(0, &fast);
+    // Position jump: 20 km in 1 s from the same source.
+    m.update(0, &report(2, 47.1, 8.0));
+    m.update(S, &report(2, 47.28, 8.0));
+    // Two sources 5 km apart at the same time.
+    m.update(0, &report(3, 47.1, 8.0));
+    let flarm = TrafficReport {
+        link: Link::Flarm,
+        protocol: Protocol::Csv,
+        ..report(3, 47.145, 8.0)
+    };
+    m.update(0, &flarm);
+    // Altitude jump: 3000 ft in 1 s.
+    m.update(0, &report(4, 47.1, 8.0));
+    m.update(
+        S,
+        &TrafficReport {
+            alt_pressure_m: Some(1000.0 + 3000.0 * M_PER_FT),
+            ..report(4, 47.1, 8.0)
+        },
+    );
+    // Spoofing: -30 dBm from a position 200 km away (the free-space maximum there is -82 dBm).
+    m.update(
+        0,
+        &TrafficReport {
+            signal_dbm: Some(-30.0),
+            ..report(5, 48.8, 8.0)
+        },
+    );
+    // A clean target for contrast, with a plausible signal at 11 km.
+    m.update(
+        0,
+        &TrafficReport {
+            signal_dbm: Some(-70.0),
+            ..report(6, 47.1, 8.0)
+        },
+    );
+    let pic = m.picture(S, &own());
+    let flags = |a: u32| pic.iter().find(|t| t.key.address == a).unwrap().flags;
+    assert!(flags(1).impossible_speed);
+    assert!(flags(2).position_jump && !flags(2).inconsistent_sources);
+    assert!(flags(3).inconsistent_sources);
+    assert!(flags(4).altitude_jump);
+    assert!(flags(5).range_vs_signal);
+    assert!(!flags(6).any());
+    // Flags never drop a target.
+    assert_eq!(pic.len(), 6);
+}
+
+#[test]
+fn priority_order_and_relative_bearing() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    // A far target, a near co-altitude converging one, and one far above.
+    m.update(0, &report(1, 47.3, 8.0));
+    m.update(0, &report(2, 47.02, 8.0));
+    m.update(
+        0,
+        &TrafficReport {
+            alt_pressure_m: Some(3000.0),
+            ..report(3, 47.01, 8.0)
+        },
+    );
+    let mut pic = Vec::new();
+    for k in 0..3 {
+        pic = m.picture(k * S, &own());
+    }
+    // Target 2 (2.2 km north, closing at 100 kt, co-altitude) alerts at level 3 after 2 of 4.
+    assert_eq!(pic[0].key.address, 2);
+    assert_eq!(pic[0].alert_level, 3);
+    assert!(pic[0].raw_alert_level == 3);
+    // Ownship heading 90: a target due north is at -90 relative.
+    assert!(
+        (pic[0].bearing_true_deg - 0.0).abs() < 1e-6
+            || (pic[0].bearing_true_deg - 360.0).abs() < 1e-6
+    );
+    assert!((pic[0].bearing_relative_deg + 90.0).abs() < 1e-6);
+    // Then by range among non-alerting targets.
+    assert_eq!(pic[1].key.address, 3);
+    assert_eq!(pic[2].key.address, 1);
+}
+
+#[test]
+fn flarm_alarm_level_is_carried() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    let r = TrafficReport {
+        link: Link::Flarm,
+        address_type: AddressType::FlarmFixed,
+        flarm_alarm_level: Some(2),
+        ..report(9, 47.01, 8.0)
+    };
+    m.update(0, &r);
+    assert_eq!(m.picture(0, &own())[0].flarm_alarm_level, Some(2));
+}
