@@ -6,8 +6,10 @@
 //!   of day (TT-Multi-RF `ts`, TS24h) on the right day;
 //! - [`pps`]: a device clock disciplined by PPS pulses (the BAHRS MCU clock through 0x06);
 //! - [`host`]: the host clock model (lower envelope of receive time minus GPS time);
+//! - [`bahrs`]: the BAHRS aligner built from them;
 //! - [`seq`]: pairing data messages with their time messages by wrapping sequence counters.
 
+pub mod bahrs;
 pub mod gps;
 pub mod host;
 pub mod pps;

@@ -345,6 +345,12 @@ impl PpsClock {
         Ok((fit.gps0 + y.round() as i64, sigma))
     }
 
+    /// The clock epoch: increases at every detected device reset or re-lock. Device times paired
+    /// in one epoch must not be mapped through the model of another.
+    pub fn epoch(&self) -> u64 {
+        self.relocks
+    }
+
     /// Current rate error of the device clock, ppm (positive: the device counts fast), if fitted
     /// from at least two pulses.
     pub fn drift_ppm(&self) -> Option<f64> {

@@ -1,0 +1,510 @@
+//! BAHRS samples on GPS time.
+//!
+//! - 0x06 (time of the latest synchronisation pulse) gives the MCU time of a PPS edge. The GPS
+//!   second of that edge is identified from the host clock model (learned from the VN-200): the
+//!   host receive time of the 0x06, minus its transmission time, mapped to GPS, rounded to the
+//!   nearest second (it arrives milliseconds after the edge, far inside +-0.5 s).
+//! - Those pairs feed a [`PpsClock`] (MCU microseconds -> GPS ns with drift).
+//! - 0x01/0x02 are paired with their 0x05/0x04 by sequence counter ([`SeqMatcher`]) and mapped
+//!   through the clock. 0x03 carries its own MCU time.
+//! - A sample whose time message never comes is emitted "not aligned: no time message"; a sample
+//!   waiting for the clock is held for at most `clock_wait_s`, then emitted "not aligned: clock
+//!   unlocked"; a device reset (MCU time going backwards) starts a new clock epoch, and samples of
+//!   the old epoch still waiting are emitted "not aligned: outside clock epoch" rather than mapped
+//!   through the new model.
+
+use std::collections::VecDeque;
+
+use vigil_drivers::bahrs::{Message, frame::layout};
+
+use super::host::HostClock;
+use super::pps::{PpsClock, PpsClockConfig, pulse_second};
+use super::seq::SeqMatcher;
+use super::{Aligned, AlignedTime, ClockStatus, NotAligned, TimeSource};
+
+/// Parameters of the BAHRS aligner.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BahrsAlignerConfig {
+    /// Serial baud rate of the BAHRS port (the protocol document does not state one; set it per
+    /// installation), bit/s. Used for the transmission time of 0x06.
+    pub baud: u32,
+    /// How long a data message waits for its time message, s.
+    pub pair_hold_s: f64,
+    /// How long a timed sample waits for the clock model, s.
+    pub clock_wait_s: f64,
+    /// The MCU clock model.
+    pub clock: PpsClockConfig,
+}
+
+impl Default for BahrsAlignerConfig {
+    fn default() -> Self {
+        Self {
+            baud: 115_200,
+            pair_hold_s: 0.5,
+            clock_wait_s: 2.0,
+            clock: PpsClockConfig::default(),
+        }
+    }
+}
+
+/// Counters of the BAHRS aligner.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+pub struct BahrsAlignerStats {
+    /// Pulses accepted into the clock model.
+    pub pulses_used: u64,
+    /// Pulses whose GPS second could not be identified (host clock not established).
+    pub pulses_unidentified: u64,
+    /// Pulses rejected as outliers.
+    pub pulses_rejected: u64,
+    /// Time messages flagged invalid by the device (zero sequence and zero time).
+    pub invalid_time_messages: u64,
+    /// Samples emitted without a time.
+    pub not_aligned: u64,
+}
+
+/// Most samples held while the clock model is unavailable (2 s of 0x01 + 0x02 + 0x03 at default
+/// rates is 302); the oldest is released unaligned beyond that.
+const WAIT_CAPACITY: usize = 512;
+
+struct Waiting {
+    msg: Message,
+    ticks: u64,
+    epoch: u64,
+    host_ns: i64,
+}
+
+/// Aligns a BAHRS message stream.
+pub struct BahrsAligner {
+    cfg: BahrsAlignerConfig,
+    clock: PpsClock,
+    inertial: SeqMatcher<Message>,
+    navigation: SeqMatcher<Message>,
+    waiting: VecDeque<Waiting>,
+    stats: BahrsAlignerStats,
+}
+
+impl BahrsAligner {
+    /// An aligner with no clock model yet.
+    pub fn new(cfg: BahrsAlignerConfig) -> Self {
+        let hold = (cfg.pair_hold_s * 1e9) as i64;
+        Self {
+            cfg,
+            clock: PpsClock::new(cfg.clock),
+            inertial: SeqMatcher::new(hold, 256),
+            navigation: SeqMatcher::new(hold, 256),
+            waiting: VecDeque::with_capacity(WAIT_CAPACITY),
+            stats: BahrsAlignerStats::default(),
+        }
+    }
+
+    /// Counters.
+    pub fn stats(&self) -> &BahrsAlignerStats {
+        &self.stats
+    }
+
+    /// The MCU clock model.
+    pub fn clock(&self) -> &PpsClock {
+        &self.clock
+    }
+
+    /// Transmission time of a frame of `msg_type` at the configured baud rate (10 bits per byte),
+    /// ns.
+    fn tx_ns(&self, msg_type: u8) -> i64 {
+        let len = layout(msg_type).map_or(0, |l| l.frame_len()) as i64;
+        len * 10 * 1_000_000_000 / i64::from(self.cfg.baud.max(1))
+    }
+
+    /// Takes one decoded message, received (first byte) at host time `host_ns`; returns every
+    /// sample that became final.
+    pub fn handle(
+        &mut self,
+        msg: Message,
+        host_ns: i64,
+        host: &HostClock,
+    ) -> Vec<Aligned<Message>> {
+        let mut out = Vec::new();
+        match msg {
+            Message::Inertial(m) => {
+                let paired = self.inertial.push_data(m.seq, host_ns, msg);
+                self.place_paired(paired, &mut out);
+            }
+            Message::Navigation(m) => {
+                let paired = self.navigation.push_data(m.seq, host_ns, msg);
+                self.place_paired(paired, &mut out);
+            }
+            Message::InertialTime(t) | Message::NavigationTime(t) => {
+                if !t.is_valid() {
+                    self.stats.invalid_time_messages += 1;
+                } else {
+                    self.observe(t.mcu_time_us, &mut out);
+                    let matcher = if matches!(msg, Message::InertialTime(_)) {
+                        &mut self.inertial
+                    } else {
+                        &mut self.navigation
+                    };
+                    if let Some(p) = matcher.push_time(t.data_seq, host_ns, t.mcu_time_us) {
+                        self.place_paired(vec![p], &mut out);
+                    }
+                }
+            }
+            Message::Accuracy(a) => {
+                self.observe(a.mcu_time_us, &mut out);
+                self.place(msg, a.mcu_time_us, host_ns, &mut out);
+            }
+            Message::SyncPulseTime(p) => {
+                self.observe(p.mcu_time_us, &mut out);
+                // The pulse edge precedes the 0x06's first byte; its transmission ends at host_ns
+                // plus its length, so the first byte left the device at about host_ns - latency.
+                // The host model maps a receive time to the send time of the message's start.
+                match host.to_gps(host_ns) {
+                    Some((gps_sent, _)) => {
+                        let second = pulse_second(gps_sent - self.tx_ns(0x06));
+                        match self.clock.add_pulse(p.mcu_time_us, second) {
+                            super::pps::PulseOutcome::Outlier => self.stats.pulses_rejected += 1,
+                            _ => self.stats.pulses_used += 1,
+                        }
+                        self.retry_waiting(&mut out);
+                    }
+                    None => self.stats.pulses_unidentified += 1,
+                }
+                out.push(self.host_timed(msg, host_ns, host));
+            }
+            // Versions and service messages carry no device time: host clock.
+            _ => out.push(self.host_timed(msg, host_ns, host)),
+        }
+        out
+    }
+
+    /// Releases what waited too long at host time `now_ns` (call periodically and at the end).
+    pub fn expire(&mut self, now_ns: i64) -> Vec<Aligned<Message>> {
+        let mut out = Vec::new();
+        let expired: Vec<_> = self
+            .inertial
+            .expire(now_ns)
+            .into_iter()
+            .chain(self.navigation.expire(now_ns))
+            .collect();
+        self.place_paired(expired, &mut out);
+        let wait_ns = (self.cfg.clock_wait_s * 1e9) as i64;
+        while self
+            .waiting
+            .front()
+            .is_some_and(|w| now_ns - w.host_ns > wait_ns)
+        {
+            if let Some(w) = self.waiting.pop_front() {
+                self.stats.not_aligned += 1;
+                out.push(Aligned {
+                    message: w.msg,
+                    time: Err(NotAligned::ClockUnlocked),
+                });
+            }
+        }
+        out
+    }
+
+    /// Releases everything still held (end of stream).
+    pub fn flush(&mut self) -> Vec<Aligned<Message>> {
+        let mut out = Vec::new();
+        let rest: Vec<_> = self
+            .inertial
+            .flush()
+            .into_iter()
+            .chain(self.navigation.flush())
+            .collect();
+        self.place_paired(rest, &mut out);
+        for w in std::mem::take(&mut self.waiting) {
+            self.stats.not_aligned += 1;
+            out.push(Aligned {
+                message: w.msg,
+                time: Err(NotAligned::ClockUnlocked),
+            });
+        }
+        out
+    }
+
+    fn observe(&mut self, ticks: u64, out: &mut Vec<Aligned<Message>>) {
+        if self.clock.observe(ticks) {
+            // A new clock epoch: what waits from the old one cannot be mapped any more.
+            for w in std::mem::take(&mut self.waiting) {
+                self.stats.not_aligned += 1;
+                out.push(Aligned {
+                    message: w.msg,
+                    time: Err(NotAligned::OutsideClockEpoch),
+                });
+            }
+        }
+    }
+
+    fn place_paired(
+        &mut self,
+        paired: Vec<super::seq::Paired<Message>>,
+        out: &mut Vec<Aligned<Message>>,
+    ) {
+        for p in paired {
+            match p.device_ticks {
+                Some(ticks) => self.place(p.data, ticks, p.host_ns, out),
+                None => {
+                    self.stats.not_aligned += 1;
+                    out.push(Aligned {
+                        message: p.data,
+                        time: Err(NotAligned::NoTimeMessage),
+                    });
+                }
+            }
+        }
+    }
+
+    /// Maps a timed sample, or holds it until the clock can.
+    fn place(&mut self, msg: Message, ticks: u64, host_ns: i64, out: &mut Vec<Aligned<Message>>) {
+        let epoch = self.clock.epoch();
+        match self.clock.to_gps(ticks) {
+            Ok((t, sigma)) => out.push(Aligned {
+                message: msg,
+                time: Ok(AlignedTime {
+                    t_gps_ns: t,
+                    sigma_ns: sigma,
+                    source: TimeSource::PpsDisciplined,
+                    status: self.clock.status(ticks),
+                }),
+            }),
+            Err(super::pps::MapError::BeforeModel) => {
+                self.stats.not_aligned += 1;
+                out.push(Aligned {
+                    message: msg,
+                    time: Err(NotAligned::OutsideClockEpoch),
+                });
+            }
+            Err(_) => {
+                if self.waiting.len() >= WAIT_CAPACITY
+                    && let Some(w) = self.waiting.pop_front()
+                {
+                    self.stats.not_aligned += 1;
+                    out.push(Aligned {
+                        message: w.msg,
+                        time: Err(NotAligned::ClockUnlocked),
+                    });
+                }
+                self.waiting.push_back(Waiting {
+                    msg,
+                    ticks,
+                    epoch,
+                    host_ns,
+                });
+            }
+        }
+    }
+
+    fn retry_waiting(&mut self, out: &mut Vec<Aligned<Message>>) {
+        let epoch = self.clock.epoch();
+        let waiting = std::mem::take(&mut self.waiting);
+        for w in waiting {
+            if w.epoch != epoch {
+                self.stats.not_aligned += 1;
+                out.push(Aligned {
+                    message: w.msg,
+                    time: Err(NotAligned::OutsideClockEpoch),
+                });
+            } else {
+                self.place(w.msg, w.ticks, w.host_ns, out);
+            }
+        }
+    }
+
+    /// A message without device time, placed by the host clock (its transmission time removed).
+    fn host_timed(&self, msg: Message, host_ns: i64, host: &HostClock) -> Aligned<Message> {
+        let time = host
+            .to_gps(host_ns)
+            .map(|(t, sigma)| AlignedTime {
+                t_gps_ns: t - self.tx_ns(msg.type_id()),
+                sigma_ns: sigma,
+                source: TimeSource::HostClock,
+                status: host.status(host_ns),
+            })
+            .ok_or(NotAligned::HostClockUnknown);
+        Aligned { message: msg, time }
+    }
+
+    /// Status of the MCU clock model for a sample at MCU time `ticks`.
+    pub fn clock_status(&self, ticks: u64) -> ClockStatus {
+        self.clock.status(ticks)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use vigil_drivers::bahrs::{DataTime, Inertial, InertialHealth, SyncPulseTime};
+
+    use super::*;
+    use crate::time::host::HostClockConfig;
+    use crate::time::testrng::Lcg;
+
+    const MS: i64 = 1_000_000;
+    const S: i64 = 1_000_000_000;
+    const G0: i64 = 1_400_000_000 * S;
+
+    /// A BAHRS with an MCU clock `offset_us` at G0, running `ppm` fast, restarting at `reset_at`.
+    struct Mcu {
+        offset_us: u64,
+        ppm: f64,
+        reset_at: Option<i64>,
+    }
+
+    impl Mcu {
+        fn ticks(&self, gps: i64) -> u64 {
+            let (start, off) = match self.reset_at {
+                Some(r) if gps >= r => (r, 0),
+                _ => (G0, self.offset_us),
+            };
+            off + ((gps - start) as f64 * (1.0 + self.ppm * 1e-6) / 1000.0) as u64
+        }
+    }
+
+    /// Runs `seconds` of a BAHRS at 100 Hz inertial with PPS, a VN-200-fed host clock, and returns
+    /// (aligned samples, truth GPS time per sample index).
+    fn run(mcu: &Mcu, seconds: i64, seq_restart_at: Option<i64>) -> Vec<(i64, Aligned<Message>)> {
+        let host_offset = 777 * S;
+        let mut rng = Lcg(3);
+        let mut host = HostClock::new(HostClockConfig::default());
+        let mut al = BahrsAligner::new(BahrsAlignerConfig::default());
+        let mut out = Vec::new();
+        let lat = |rng: &mut Lcg| MS / 2 + (rng.unit() * MS as f64) as i64;
+        let mut seq: u32 = 0;
+        for k in 0..seconds * 100 {
+            let gps = G0 + k * 10 * MS;
+            // VN-200 references at 100 Hz into the host clock.
+            host.add(gps + host_offset + lat(&mut rng), gps);
+            if seq_restart_at == Some(gps) {
+                seq = 0;
+            }
+            let s = seq as u8;
+            seq += 1;
+            let ticks = mcu.ticks(gps);
+            let data = Message::Inertial(Inertial {
+                seq: s,
+                specific_force_raw: [(k % 30_000) as i16, 0, 0],
+                angular_rate_raw: [0; 3],
+                health: InertialHealth(0),
+            });
+            let rx = gps + host_offset + 2 * MS + lat(&mut rng);
+            for a in al.handle(data, rx, &host) {
+                out.push(a);
+            }
+            let time = Message::InertialTime(DataTime {
+                seq: s,
+                data_seq: s,
+                mcu_time_us: ticks,
+            });
+            out.extend(al.handle(time, rx + MS, &host));
+            if k % 100 == 0 {
+                let pulse = Message::SyncPulseTime(SyncPulseTime {
+                    seq: 0,
+                    mcu_time_us: ticks,
+                });
+                out.extend(al.handle(pulse, gps + host_offset + 3 * MS + lat(&mut rng), &host));
+            }
+            out.extend(al.expire(rx));
+        }
+        out.extend(al.flush());
+        out.into_iter()
+            .filter_map(|a| match a.message {
+                Message::Inertial(i) => {
+                    Some((G0 + i64::from(i.specific_force_raw[0]) * 10 * MS, a))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn aligns_within_tens_of_microseconds_with_honest_sigma() {
+        let mcu = Mcu {
+            offset_us: 123_456_789,
+            ppm: 37.0,
+            reset_at: None,
+        };
+        let samples = run(&mcu, 30, None);
+        assert_eq!(samples.len(), 3000, "every sample emitted once");
+        let mut errors = Vec::new();
+        let mut within_2s = 0usize;
+        for (truth, a) in &samples {
+            if *truth < G0 + 10 * S {
+                continue;
+            }
+            let t = a.time.as_ref().expect("aligned after the first 10 s");
+            assert_eq!(t.source, TimeSource::PpsDisciplined);
+            assert_eq!(t.status, ClockStatus::Locked);
+            let e = (t.t_gps_ns - truth).abs();
+            errors.push(e);
+            if (e as f64) <= 2.0 * t.sigma_ns {
+                within_2s += 1;
+            }
+        }
+        errors.sort_unstable();
+        let p99 = errors[errors.len() * 99 / 100];
+        eprintln!(
+            "bahrs alignment: p99 error {p99} ns, max {} ns, {within_2s}/{} within 2 sigma",
+            errors[errors.len() - 1],
+            errors.len()
+        );
+        assert!(p99 <= 50_000, "p99 error {p99} ns");
+        assert!(
+            within_2s * 100 >= errors.len() * 95,
+            "{within_2s} of {}",
+            errors.len()
+        );
+    }
+
+    #[test]
+    fn samples_before_the_first_pulse_wait_then_align() {
+        let mcu = Mcu {
+            offset_us: 5_000_000,
+            ppm: -20.0,
+            reset_at: None,
+        };
+        let samples = run(&mcu, 6, None);
+        // The host clock needs 2 s of references before it can identify a pulse; samples of the
+        // first 2 s wait (bounded) and are then either aligned or marked, never dropped.
+        assert_eq!(samples.len(), 600);
+        let aligned = samples.iter().filter(|(_, a)| a.time.is_ok()).count();
+        eprintln!("aligned {aligned} of 600");
+        assert!(aligned >= 350, "{aligned}");
+        for (truth, a) in &samples {
+            if let Ok(t) = &a.time {
+                assert!(
+                    (t.t_gps_ns - truth).abs() as f64 <= 5.0 * t.sigma_ns,
+                    "claimed {t:?} truth {truth}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn device_reset_relocks_without_wrong_times() {
+        // The MCU restarts at t = 20.005 s (its clock from 0 and its counters from 0).
+        let reset = G0 + 20 * S + 5 * MS;
+        let mcu = Mcu {
+            offset_us: 900_000_000,
+            ppm: 10.0,
+            reset_at: Some(reset),
+        };
+        let samples = run(&mcu, 30, Some(reset + 5 * MS));
+        assert_eq!(samples.len(), 3000);
+        let mut relocked_at = None;
+        for (truth, a) in &samples {
+            if let Ok(t) = &a.time {
+                let e = (t.t_gps_ns - truth).abs();
+                // Never a wrong time: every claimed time is within 5 sigma, and nothing claimed
+                // "locked" is off by more than 100 us.
+                assert!(e as f64 <= 5.0 * t.sigma_ns, "truth {truth} claimed {t:?}");
+                if t.status == ClockStatus::Locked {
+                    assert!(e <= 100_000, "locked but off by {e} ns");
+                }
+                if *truth > reset && relocked_at.is_none() {
+                    relocked_at = Some(*truth);
+                }
+            }
+        }
+        // Re-locked (times given again) within 5 s of the reset.
+        assert!(relocked_at.unwrap() - reset < 5 * S, "{:?}", relocked_at);
+    }
+}
