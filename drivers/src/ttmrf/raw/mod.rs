@@ -108,3 +108,13 @@ pub enum RawFrame {
 pub(crate) fn mode_ac_code(v: u16) -> Option<Squawk> {
     (v & 0x8888 == 0).then_some(Squawk(v))
 }
+
+/// Bytes as upper-case hex (for output and logs; allocates).
+pub fn encode_hex_string(bytes: &[u8]) -> String {
+    use std::fmt::Write;
+    let mut s = String::with_capacity(bytes.len() * 2);
+    for b in bytes {
+        let _ = write!(s, "{b:02X}");
+    }
+    s
+}
