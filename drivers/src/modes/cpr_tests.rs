@@ -198,3 +198,118 @@ fn local_is_ambiguous_beyond_half_a_zone() {
     let (lat, _) = local(e, false, 54.0, 10.0).unwrap();
     assert!((lat - 56.0).abs() < 1e-3, "{lat}");
 }
+
+/// (lat, lon) of a decode, asserted within `tol` degrees of the published value.
+fn near(got: (f64, f64), want: (f64, f64), tol: f64) {
+    assert!(
+        (got.0 - want.0).abs() < tol && (got.1 - want.1).abs() < tol,
+        "{got:?} vs {want:?}"
+    );
+}
+
+#[test]
+fn pymodes_published_airborne_vectors() {
+    // pyModeS tests/test_cpr.py (values given to 1e-3 there, to 5 decimals).
+    let e = frame_of("8D40058B58C901375147EFD09357");
+    let o = frame_of("8D40058B58C904A87F402D3B8C59");
+    near(
+        global_airborne(e, o, true).unwrap(),
+        (49.81755, 6.08442),
+        1e-5,
+    );
+    near(
+        global_airborne(e, o, false).unwrap(),
+        (49.82410, 6.06785),
+        1e-5,
+    );
+    near(
+        local(e, false, 49.0, 6.0).unwrap(),
+        (49.82410, 6.06785),
+        1e-5,
+    );
+    near(
+        local(o, false, 49.0, 6.0).unwrap(),
+        (49.81755, 6.08442),
+        1e-5,
+    );
+    // "Numerical challenge": a reference right on a zone boundary.
+    let f = frame_of("8D06A15358BF17FF7D4A84B47B95");
+    near(
+        local(f, false, 30.508_474_576_271_183, 7.2 * 5.0 + 3e-15).unwrap(),
+        (30.50540, 33.44787),
+        1e-5,
+    );
+    // A pair whose latitudes fall in NL 23 and 24: rejected.
+    let e = CprFrame {
+        odd: false,
+        lat: 8192,
+        lon: 0,
+    };
+    let o = CprFrame {
+        odd: true,
+        lat: 114_688,
+        lon: 0,
+    };
+    assert_eq!(global_airborne(e, o, false), Err(CprError::ZoneMismatch));
+}
+
+#[test]
+fn pymodes_published_surface_vectors() {
+    // pyModeS tests/test_cpr.py: real DF18 surface pair of 3A23FF at Toulouse (LFBO).
+    let e = frame_of("903A23FF426A38565950432EBF95");
+    let o = frame_of("903A23FF426A4E65F7487A775D17");
+    near(
+        global_surface(e, o, true, 43.63, 1.37).unwrap(),
+        (43.62646, 1.37476),
+        1e-5,
+    );
+    near(
+        global_surface(e, o, false, 43.63, 1.37).unwrap(),
+        (43.62648, 1.37462),
+        1e-5,
+    );
+    near(
+        local(o, true, 43.63, 1.37).unwrap(),
+        (43.62646, 1.37476),
+        1e-5,
+    );
+    // The reference picks the hemisphere and the 90-degree quadrant.
+    near(
+        global_surface(e, o, true, -43.5, 1.37).unwrap(),
+        (-46.37354, 1.44350),
+        1e-5,
+    );
+    near(
+        global_surface(e, o, true, 43.63, -178.63).unwrap(),
+        (43.62646, -178.62524),
+        1e-5,
+    );
+    near(
+        global_surface(e, o, true, 43.63, 91.37).unwrap(),
+        (43.62646, 91.37476),
+        1e-5,
+    );
+    // Sao Paulo pair (southern hemisphere, west), odd newer: within 0.05 deg of the receiver.
+    let e = frame_of("8FE48C033A9FA184B934E744C6FD");
+    let o = frame_of("8FE48C033A9FA68F7C3D39B1C2F0");
+    near(
+        global_surface(e, o, true, -23.426_544_8, -46.481_625_8).unwrap(),
+        (-23.4265, -46.4816),
+        0.05,
+    );
+    // Synthetic pair straddling NL 54/53: rejected.
+    let e = CprFrame {
+        odd: false,
+        lat: 28_672,
+        lon: 0,
+    };
+    let o = CprFrame {
+        odd: true,
+        lat: 122_880,
+        lon: 0,
+    };
+    assert_eq!(
+        global_surface(e, o, false, 50.0, 0.0),
+        Err(CprError::ZoneMismatch)
+    );
+}

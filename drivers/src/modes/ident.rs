@@ -143,6 +143,15 @@ mod tests {
     }
 
     #[test]
+    fn ezy85mh() {
+        // pyModeS tests: 8D406B902015A678D4D220AA4BDA -> TC 4, category 0, "EZY85MH".
+        let (f, _) = hex_frame("8D406B902015A678D4D220AA4BDA");
+        let id = Identification::decode(me_of(&f));
+        assert_eq!((id.typecode, id.category), (4, 0));
+        assert_eq!(id.callsign.as_str(), "EZY85MH");
+    }
+
+    #[test]
     fn encode_round_trip_and_refusals() {
         let v = Callsign::encode("ezy12ab").unwrap();
         assert_eq!(Callsign::from_bits48(v).as_str(), "EZY12AB");
