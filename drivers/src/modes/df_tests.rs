@@ -264,3 +264,60 @@ fn random_frames_never_panic() {
     // AP formats accept anything (their address is unverifiable): some frames pass.
     assert!(accepted > 0);
 }
+
+#[test]
+fn pymodes_published_surveillance_vectors() {
+    // pyModeS tests/test_surv.py: DF4 20001718029FCD -> 36 000 ft; DF5 2A00516D492B80 -> FS 2,
+    // squawk 0356.
+    let m = dec("20001718029FCD").unwrap();
+    assert!(matches!(
+        m.content,
+        Content::Surveillance {
+            altitude_ft: Some(36_000),
+            ..
+        }
+    ));
+    let m = dec("2A00516D492B80").unwrap();
+    let Content::Surveillance {
+        status: 2,
+        squawk: Some(s),
+        ..
+    } = m.content
+    else {
+        panic!("{m:?}")
+    };
+    assert_eq!(s.to_string(), "0356");
+    // Synthetic headers from the same file, parity built for address 400940: AC 0x1030 ->
+    // 25 000 ft, AC 0 -> unknown, ID 0x0808 -> 1200, ID 0x0AA2 -> 7500.
+    let build = |header: u32| {
+        let mut f = [0u8; 7];
+        f[..4].copy_from_slice(&header.to_be_bytes());
+        crate::modes::crc::set_parity(&mut f, 0x40_0940);
+        decode(&f, DecodeOptions::default()).unwrap()
+    };
+    let m = build(0x2000_1030);
+    assert_eq!(m.icao, 0x40_0940);
+    assert!(matches!(
+        m.content,
+        Content::Surveillance {
+            altitude_ft: Some(25_000),
+            ..
+        }
+    ));
+    assert!(matches!(
+        build(0x2000_0000).content,
+        Content::Surveillance {
+            altitude_ft: None,
+            ..
+        }
+    ));
+    for (h, sq) in [(0x2800_0808, "1200"), (0x2800_0AA2, "7500")] {
+        let Content::Surveillance {
+            squawk: Some(s), ..
+        } = build(h).content
+        else {
+            panic!()
+        };
+        assert_eq!(s.to_string(), sq);
+    }
+}

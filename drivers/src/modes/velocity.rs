@@ -168,6 +168,32 @@ mod tests {
     }
 
     #[test]
+    fn pymodes_published_vectors() {
+        // pyModeS tests/test_bds09.py. Subtype 3 with heading 0 (its parity field is zero, so
+        // only the ME field is used): 100 kt IAS, heading 0, +1024 ft/min.
+        let (f, _) = hex_frame("8D4841409B04000CA04400000000");
+        let v = Velocity::decode(me_of(&f)).unwrap();
+        assert_eq!((v.airspeed_kt, v.airspeed_true), (Some(100), false));
+        assert_eq!(v.heading_deg, Some(0.0));
+        assert_eq!(v.vertical_rate_fpm, Some(1024));
+        // Vertical-rate sign bits on real frames.
+        for (hex, vr) in [
+            ("8D3461CF9908388930080F948EA1", 64),
+            ("8D3461CF9908558E100C1071EB67", 128),
+            ("8D3461CF99085A8F10400F80E6AC", 960),
+            ("8D394C0F990C4932780838866883", -64),
+        ] {
+            let (f, _) = hex_frame(hex);
+            assert_eq!(crate::modes::crc::syndrome(&f), 0, "{hex}");
+            assert_eq!(
+                Velocity::decode(me_of(&f)).unwrap().vertical_rate_fpm,
+                Some(vr),
+                "{hex}"
+            );
+        }
+    }
+
+    #[test]
     fn supersonic_and_unavailable() {
         // Subtype 2: V_ew raw 101 east -> 400 kt, V_ns raw 0 -> unavailable, VR raw 0.
         let me = (19u64 << 51) | (2 << 48) | (101 << 32);
