@@ -175,7 +175,8 @@ pub struct Update {
     /// NIC for this position frame.
     pub nic: Option<u8>,
     /// Traffic report, when the frame updated position or velocity of an aircraft whose
-    /// position is known (and reports are enabled).
+    /// position is known and no older than [`TrackerConfig::local_max_age_s`] (and reports
+    /// are enabled).
     pub report: Option<TrafficReport>,
 }
 
@@ -373,7 +374,12 @@ impl Tracker {
             }
             Me::Other { .. } => {}
         }
-        if cfg.emit_reports && moved && a.position.is_some() {
+        // A report never carries a stale position: the last position must be no older than
+        // `local_max_age_s` (always true without receive times).
+        let fresh = a
+            .last_pos
+            .is_some_and(|l| Self::within_static(l.t, t, cfg.local_max_age_s));
+        if cfg.emit_reports && moved && fresh {
             up.report = Some(report(key, a, msg, meta));
         }
         if up.cpr_rejected {
@@ -467,7 +473,9 @@ impl Tracker {
     }
 }
 
-/// Builds the common traffic report from what the tracker knows.
+/// Builds the common traffic report from what the tracker knows. `signal_dbm` holds HEX SIGS
+/// (dBm) when the frame has it, else the Beast RSSI in dBFS (the receiver's own unit, as the
+/// report's field allows); altitudes, speeds and rates are converted to SI.
 fn report(key: u32, a: &Aircraft, msg: &ModeS, meta: &RxMeta) -> TrafficReport {
     const FT: f64 = 0.3048;
     const KT: f64 = 1852.0 / 3600.0;

@@ -118,3 +118,67 @@ pub fn encode_hex_string(bytes: &[u8]) -> String {
     }
     s
 }
+
+/// [`tokio_util::codec::Encoder`] writing HEX lines (with extended fields) or HEXd lines, for
+/// the simulator and loopback tests.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct HexEncoder {
+    /// Append `(SIGS,SIGQ,TS1s,TS24h)` (HEX) rather than nothing (HEXd).
+    pub extended: bool,
+}
+
+impl tokio_util::codec::Encoder<&RawFrame> for HexEncoder {
+    type Error = std::io::Error;
+
+    fn encode(&mut self, item: &RawFrame, dst: &mut bytes::BytesMut) -> Result<(), Self::Error> {
+        hex::encode_hex(item, self.extended, dst);
+        Ok(())
+    }
+}
+
+/// [`tokio_util::codec::Encoder`] writing Beast frames. UAT frames have no Beast form and are
+/// refused with an `InvalidInput` error.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BeastEncoder;
+
+impl tokio_util::codec::Encoder<&RawFrame> for BeastEncoder {
+    type Error = std::io::Error;
+
+    fn encode(&mut self, item: &RawFrame, dst: &mut bytes::BytesMut) -> Result<(), Self::Error> {
+        if beast::encode_beast(item, dst) {
+            Ok(())
+        } else {
+            Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "uat frames have no beast encoding",
+            ))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tokio_util::codec::Encoder;
+
+    #[test]
+    fn encoders_frame_as_the_free_functions() {
+        let f = RawFrame::ModeAc(ModeAcFrame {
+            code: Squawk(0x7700),
+            meta: RxMeta::default(),
+        });
+        let mut out = bytes::BytesMut::new();
+        HexEncoder { extended: false }.encode(&f, &mut out).unwrap();
+        assert_eq!(&out[..], b"*7700;\r\n");
+        out.clear();
+        BeastEncoder.encode(&f, &mut out).unwrap();
+        assert_eq!(&out[..], &[0x1A, 0x31, 0, 0, 0, 0, 0, 0, 0xFF, 0x77, 0x00]);
+        let u = RawFrame::Uat(UatFrame {
+            uplink: false,
+            bytes: vec![0; 18],
+            meta: RxMeta::default(),
+        });
+        assert!(BeastEncoder.encode(&u, &mut out).is_err());
+        assert_eq!(encode_hex_string(&[0x8D, 0x0A]), "8D0A");
+    }
+}
