@@ -59,15 +59,28 @@ pub fn parse_hex_frame(hex: &str) -> Option<([u8; 14], usize)> {
     Some((f, h.len() / 2))
 }
 
+/// Hex digit values by byte (0xFF = not a hex digit).
+static HEX_LUT: [u8; 256] = {
+    let mut t = [0xFFu8; 256];
+    let mut i = 0;
+    while i < 10 {
+        t[b'0' as usize + i] = i as u8;
+        i += 1;
+    }
+    let mut i = 0;
+    while i < 6 {
+        t[b'A' as usize + i] = 10 + i as u8;
+        t[b'a' as usize + i] = 10 + i as u8;
+        i += 1;
+    }
+    t
+};
+
 /// Value of one hex digit.
 #[inline]
 pub(crate) fn hex_val(c: u8) -> Option<u8> {
-    match c {
-        b'0'..=b'9' => Some(c - b'0'),
-        b'A'..=b'F' => Some(c - b'A' + 10),
-        b'a'..=b'f' => Some(c - b'a' + 10),
-        _ => None,
-    }
+    let v = HEX_LUT[usize::from(c)];
+    (v != 0xFF).then_some(v)
 }
 
 /// Test helper: a frame from hex, panicking on bad input.

@@ -178,8 +178,21 @@ impl DeviceDecoder for HexDecoder {
                 self.stats.skip(buf, n);
                 continue;
             }
+            // One pass over the line: its end, and any start byte inside it (which means the
+            // line holds a broken frame followed by another: only the broken part is dropped).
             let window = &buf[..buf.len().min(MAX_LINE)];
-            let Some(nl) = window.iter().position(|&b| b == b'\n') else {
+            let mut nl = None;
+            let mut next_start = None;
+            for (i, &b) in window.iter().enumerate().skip(1) {
+                if b == b'\n' {
+                    nl = Some(i);
+                    break;
+                }
+                if next_start.is_none() && is_start(b) {
+                    next_start = Some(i);
+                }
+            }
+            let Some(nl) = nl else {
                 if buf.len() >= MAX_LINE {
                     self.stats.malformed += 1;
                     self.stats.skip(buf, 1);
@@ -187,9 +200,6 @@ impl DeviceDecoder for HexDecoder {
                 }
                 return None;
             };
-            // A start character inside the line means the line holds a broken frame followed
-            // by another: drop the broken part only.
-            let next_start = buf[1..nl].iter().position(|&b| is_start(b)).map(|p| p + 1);
             let end = next_start.unwrap_or(nl);
             match parse_line(&buf[..end]) {
                 Some(f) if next_start.is_none() => {
