@@ -16,6 +16,13 @@
 //! 2. local: else, against the aircraft's last good position of the same kind if no older than
 //!    [`TrackerConfig::local_max_age_s`], or for surface frames against the receiver.
 //! 3. else none.
+//!
+//! A decoded position is then checked for plausibility (a pair that straddles an NL boundary
+//! is already refused by [`cpr::global_airborne`]): an airborne position farther than
+//! [`TrackerConfig::max_range_m`] from a known receiver, or farther from the aircraft's recent
+//! last position than [`TrackerConfig::jump_slack_m`] + [`TrackerConfig::max_speed_mps`] x the
+//! elapsed time, is rejected and counted (`cpr_rejections`); a rejected global pair is not
+//! tried again.
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -44,6 +51,13 @@ pub struct TrackerConfig {
     pub receiver: Option<(f64, f64)>,
     /// Build a [`TrafficReport`] on frames that update position or velocity.
     pub emit_reports: bool,
+    /// Fastest plausible ground speed, m/s: a new position farther from the aircraft's recent
+    /// last position than `jump_slack_m` + this speed x elapsed time is rejected.
+    pub max_speed_mps: f64,
+    /// Distance always allowed between consecutive positions, m (CPR and timing noise).
+    pub jump_slack_m: f64,
+    /// Farthest plausible airborne target from the receiver (when it is known), m.
+    pub max_range_m: f64,
 }
 
 impl Default for TrackerConfig {
@@ -54,6 +68,9 @@ impl Default for TrackerConfig {
             local_max_age_s: 30.0,
             receiver: None,
             emit_reports: true,
+            max_speed_mps: 1000.0,
+            jump_slack_m: 5.0 * 1852.0,
+            max_range_m: 600_000.0,
         }
     }
 }
@@ -447,6 +464,13 @@ impl Tracker {
         let Some(((lat_deg, lon_deg), method)) = result else {
             return false;
         };
+        if !Self::plausible(cfg, a.last_pos, surface, t, (lat_deg, lon_deg)) {
+            up.cpr_rejected = true;
+            if method == PositionMethod::Global {
+                a.cpr[kind][1 - this] = None;
+            }
+            return false;
+        }
         let pos = Position {
             lat_deg,
             lon_deg,
@@ -457,6 +481,38 @@ impl Tracker {
         a.position = Some(pos);
         up.position = Some(pos);
         true
+    }
+
+    /// Plausibility of a new position: within range of the receiver (airborne) and reachable
+    /// from the aircraft's recent last position of the same kind at `max_speed_mps`. A
+    /// mis-paired CPR decode lands a whole zone (hundreds of km) away, which this catches.
+    fn plausible(
+        cfg: &TrackerConfig,
+        last: Option<LastPos>,
+        surface: bool,
+        t: Option<f64>,
+        p: (f64, f64),
+    ) -> bool {
+        if !surface
+            && let Some(r) = cfg.receiver
+            && distance_m(r, p) > cfg.max_range_m
+        {
+            return false;
+        }
+        match last {
+            Some(l) if l.pos.surface == surface => match (l.t, t) {
+                (Some(a), Some(b)) if Self::within_static(l.t, t, cfg.local_max_age_s) => {
+                    let mut dt = (a - b).abs();
+                    if dt > 43_200.0 {
+                        dt = (86_400.0 - dt).abs();
+                    }
+                    distance_m((l.pos.lat_deg, l.pos.lon_deg), p)
+                        <= cfg.jump_slack_m + cfg.max_speed_mps * dt
+                }
+                _ => true,
+            },
+            _ => true,
+        }
     }
 
     fn within_static(a: Option<f64>, b: Option<f64>, limit: f64) -> bool {
@@ -471,6 +527,17 @@ impl Tracker {
             _ => true,
         }
     }
+}
+
+/// Great-circle distance between two (lat_deg, lon_deg) points on a sphere of the WGS-84
+/// mean radius, m (good to 0.5 %, plenty for plausibility checks).
+fn distance_m(a: (f64, f64), b: (f64, f64)) -> f64 {
+    const R: f64 = 6_371_008.8;
+    let (p1, p2) = (a.0.to_radians(), b.0.to_radians());
+    let dp = p2 - p1;
+    let dl = (b.1 - a.1).to_radians();
+    let h = (dp / 2.0).sin().powi(2) + p1.cos() * p2.cos() * (dl / 2.0).sin().powi(2);
+    2.0 * R * h.sqrt().min(1.0).asin()
 }
 
 /// Builds the common traffic report from what the tracker knows. `signal_dbm` holds HEX SIGS

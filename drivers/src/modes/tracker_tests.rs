@@ -265,3 +265,40 @@ fn random_valid_squitters_never_panic() {
     assert!(tr.len() <= 8);
     assert!(tr.evictions > 0);
 }
+
+#[test]
+fn implausible_positions_are_rejected() {
+    // A fix at 45 N 7 E, then 2 s later a pair whose decode lands 2 deg (222 km) away: not
+    // reachable at 1000 m/s in 2 s.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, true, false), at(0.5))
+            .position
+            .is_some()
+    );
+    feed(&mut tr, &pos_frame(7, 11, 47.0, 7.0, false, false), at(2.0));
+    let u = feed(&mut tr, &pos_frame(7, 11, 47.0, 7.0, true, false), at(2.5));
+    assert!(u.position.is_none() && u.cpr_rejected);
+    // Out of range of the receiver (about 890 km away).
+    let cfg = TrackerConfig {
+        receiver: Some((52.0, 4.0)),
+        ..TrackerConfig::default()
+    };
+    let mut tr = Tracker::new(cfg);
+    feed(&mut tr, &pos_frame(8, 11, 45.0, 7.0, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(8, 11, 45.0, 7.0, true, false), at(0.5))
+            .position
+            .is_none()
+    );
+    assert_eq!(tr.cpr_rejections, 1);
+    // Within range: accepted. Hand check of the distance: 1 deg of latitude = 111.2 km.
+    feed(&mut tr, &pos_frame(9, 11, 51.0, 4.0, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(9, 11, 51.0, 4.0, true, false), at(0.5))
+            .position
+            .is_some()
+    );
+    assert!((distance_m((51.0, 4.0), (52.0, 4.0)) - 111_195.0).abs() < 10.0);
+}
