@@ -425,3 +425,61 @@ fn pymodes_sample_addresses_and_typecodes() {
     assert_eq!(rows, 2000);
     assert!(positions > 100, "{positions}");
 }
+
+#[test]
+fn track_of_71be34_against_its_kml() {
+    // beastblackbox's KML reconstruction of 71BE34 (lon,lat,alt_m per decoded position) from
+    // its extract of the capture: every position we decode from the extract, in order.
+    let (Some(bin), Some(kml)) = (
+        shared_data("adsb/71be34_beast.bin"),
+        shared_data("adsb/71be34_track.kml"),
+    ) else {
+        return;
+    };
+    let kml = std::fs::read_to_string(kml).unwrap();
+    let coords = kml
+        .split("<coordinates>")
+        .nth(1)
+        .unwrap()
+        .split("</coordinates>")
+        .next()
+        .unwrap();
+    let want: Vec<(f64, f64, f64)> = coords
+        .split_whitespace()
+        .map(|t| {
+            let v: Vec<f64> = t.split(',').map(|x| x.parse().unwrap()).collect();
+            (v[0], v[1], v[2])
+        })
+        .collect();
+    assert!(want.len() > 50);
+    let mut dec = ModesDecoder::beast(TrackerConfig::default(), DecodeOptions::default());
+    let got: Vec<(f64, f64, f64)> = decode_slice(&mut dec, &std::fs::read(bin).unwrap())
+        .into_iter()
+        .filter_map(|m| match m {
+            ModesMessage::ModeS(o) => {
+                let p = o.position?;
+                let Content::Extended {
+                    me: Me::AirbornePosition(a),
+                    ..
+                } = o.msg.content
+                else {
+                    return None;
+                };
+                Some((
+                    p.lon_deg,
+                    p.lat_deg,
+                    f64::from(a.altitude_baro_ft?) * 0.3048,
+                ))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(got.len(), want.len());
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(
+            (g.0 - w.0).abs() < 6e-6 && (g.1 - w.1).abs() < 6e-6,
+            "{i}: {g:?} vs {w:?}"
+        );
+        assert!((g.2 - w.2).abs() < 0.05, "{i}: {g:?} vs {w:?}");
+    }
+}
