@@ -275,6 +275,12 @@ impl Tracker {
             },
             _ => (msg.icao, AddressType::Icao),
         };
+        if msg.df == 18 && msg.content == Content::NotDecoded {
+            // Coarse TIS-B / management: the address field may be a track number, so it must
+            // not vouch for AP replies; accepted (parity checked) but not tracked.
+            up.accepted = true;
+            return up;
+        }
         if msg.parity == Parity::AddressParity {
             let Some(a) = self.table.get_mut(&key) else {
                 return up;
