@@ -501,7 +501,7 @@ impl Tracker {
     ) -> bool {
         if !surface
             && let Some(r) = cfg.receiver
-            && distance_m(r, p) > cfg.max_range_m
+            && !within_distance(r, p, cfg.max_range_m)
         {
             return false;
         }
@@ -512,8 +512,11 @@ impl Tracker {
                     if dt > 43_200.0 {
                         dt = (86_400.0 - dt).abs();
                     }
-                    distance_m((l.pos.lat_deg, l.pos.lon_deg), p)
-                        <= cfg.jump_slack_m + cfg.max_speed_mps * dt
+                    within_distance(
+                        (l.pos.lat_deg, l.pos.lon_deg),
+                        p,
+                        cfg.jump_slack_m + cfg.max_speed_mps * dt,
+                    )
                 }
                 _ => true,
             },
@@ -544,6 +547,20 @@ fn distance_m(a: (f64, f64), b: (f64, f64)) -> f64 {
     let dl = (b.1 - a.1).to_radians();
     let h = (dp / 2.0).sin().powi(2) + p1.cos() * p2.cos() * (dl / 2.0).sin().powi(2);
     2.0 * R * h.sqrt().min(1.0).asin()
+}
+
+/// `distance_m(a, b) <= limit_m`, without trigonometry in the usual case: the flat-earth
+/// distance with the longitude difference taken at the equator's scale is never shorter than
+/// the great-circle distance (for the short distances where it decides), so when it is within
+/// the limit the answer is yes; otherwise the exact distance decides.
+fn within_distance(a: (f64, f64), b: (f64, f64), limit_m: f64) -> bool {
+    const M_PER_DEG: f64 = 111_195.08;
+    let dlat = (a.0 - b.0).abs() * M_PER_DEG;
+    let dlon = ((a.1 - b.1 + 540.0).rem_euclid(360.0) - 180.0).abs() * M_PER_DEG;
+    if dlat * dlat + dlon * dlon <= limit_m * limit_m {
+        return true;
+    }
+    distance_m(a, b) <= limit_m
 }
 
 /// Builds the common traffic report from what the tracker knows. `signal_dbm` holds HEX SIGS

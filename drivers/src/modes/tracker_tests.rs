@@ -302,3 +302,24 @@ fn implausible_positions_are_rejected() {
     );
     assert!((distance_m((51.0, 4.0), (52.0, 4.0)) - 111_195.0).abs() < 10.0);
 }
+
+#[test]
+fn fast_distance_check_agrees_with_the_exact_one() {
+    let mut rng = crate::testkit::XorShift::new(12);
+    for _ in 0..20_000 {
+        let a = (
+            rng.below(1_780_000) as f64 / 1e4 - 89.0,
+            rng.below(3_600_000) as f64 / 1e4 - 180.0,
+        );
+        let b = (
+            (a.0 + (rng.below(2000) as f64 - 1000.0) / 1e3).clamp(-90.0, 90.0),
+            a.1 + (rng.below(2000) as f64 - 1000.0) / 1e3,
+        );
+        let limit = rng.below(200_000) as f64;
+        assert_eq!(
+            within_distance(a, b, limit),
+            distance_m(a, b) <= limit,
+            "{a:?} {b:?} {limit}"
+        );
+    }
+}
