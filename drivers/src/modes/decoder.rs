@@ -46,7 +46,7 @@ pub struct ModesCounters {
 /// One decoded Mode S frame with what the tracker made of it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModesOutput {
-    /// The raw frame and its receive metadata.
+    /// The raw frame as received (before any opt-in correction) and its receive metadata.
     pub frame: ModeSFrame,
     /// The decoded frame.
     pub msg: ModeS,
