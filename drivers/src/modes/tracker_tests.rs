@@ -1,0 +1,325 @@
+//! Tracker tests: CPR pairing rules, local decoding, surface reference, NIC supplements, the
+//! address check of AP frames, eviction, and the traffic report.
+
+use super::*;
+use crate::modes::df::{DecodeOptions, decode};
+use crate::modes::encode::{self, AirbornePositionFields, OperationalStatusFields};
+use crate::modes::hex_frame;
+
+fn at(t: f64) -> RxMeta {
+    RxMeta {
+        ts_utc_ns: Some((t * 1e9) as u64),
+        ..RxMeta::default()
+    }
+}
+
+fn feed(tr: &mut Tracker, f: &[u8], meta: RxMeta) -> Update {
+    let m = decode(f, DecodeOptions::default()).expect("valid frame");
+    tr.update(&m, &meta)
+}
+
+fn pos_frame(icao: u32, tc: u8, lat: f64, lon: f64, odd: bool, nic_b: bool) -> [u8; 14] {
+    encode::airborne_position(
+        icao,
+        &AirbornePositionFields {
+            typecode: tc,
+            surveillance_status: 0,
+            nic_b,
+            altitude_ft: Some(10_000),
+            lat_deg: lat,
+            lon_deg: lon,
+            odd,
+        },
+    )
+    .unwrap()
+}
+
+fn surface_frame(icao: u32, lat: f64, lon: f64, odd: bool) -> [u8; 14] {
+    let c = crate::modes::cpr::encode(lat, lon, odd, true);
+    let me = (6u64 << 51)
+        | (20 << 44)
+        | (1 << 43)
+        | (64 << 36)
+        | (u64::from(odd) << 34)
+        | (u64::from(c.lat) << 17)
+        | u64::from(c.lon);
+    encode::df17(5, icao, me)
+}
+
+#[test]
+fn riddle_pair_gives_the_published_position() {
+    let mut tr = Tracker::new(TrackerConfig::default());
+    let (odd, _) = hex_frame("8D40621D58C386435CC412692AD6");
+    let (even, _) = hex_frame("8D40621D58C382D690C8AC2863A7");
+    let u = feed(&mut tr, &odd, at(100.0));
+    assert!(u.accepted && u.position.is_none());
+    let u = feed(&mut tr, &even, at(102.0));
+    let p = u.position.unwrap();
+    assert_eq!(p.method, PositionMethod::Global);
+    assert!((p.lat_deg - 52.257_20).abs() < 1e-5 && (p.lon_deg - 3.919_37).abs() < 1e-5);
+    // TC 11, version unknown (0): NIC 8.
+    assert_eq!(u.nic, Some(8));
+    let a = tr.aircraft(0x40_621D).unwrap();
+    assert_eq!(a.altitude_baro_ft, Some(38_000));
+}
+
+#[test]
+fn pairing_window_and_times() {
+    let mut tr = Tracker::new(TrackerConfig::default());
+    let e = pos_frame(1, 11, 45.0, 7.0, false, false);
+    let o = pos_frame(1, 11, 45.001, 7.001, true, false);
+    feed(&mut tr, &e, at(0.0));
+    // 10.5 s later: outside the window, no reference: nothing.
+    assert!(feed(&mut tr, &o, at(10.5)).position.is_none());
+    // Midnight wrap: 86399.5 and 5.0 s are 5.5 s apart.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &e, at(86_399.5));
+    assert!(feed(&mut tr, &o, at(5.0)).position.is_some());
+    // Without times, consecutive frames pair.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &e, RxMeta::default());
+    let p = feed(&mut tr, &o, RxMeta::default()).position.unwrap();
+    assert!((p.lat_deg - 45.001).abs() < 1e-4);
+    // Then one frame alone decodes locally against the last position.
+    let e2 = pos_frame(1, 11, 45.01, 7.01, false, false);
+    let mut tr2 = tr.clone();
+    let p = feed(&mut tr2, &e2, RxMeta::default()).position.unwrap();
+    assert!((p.lat_deg - 45.01).abs() < 1e-4 && (p.lon_deg - 7.01).abs() < 1e-4);
+    assert_eq!(
+        p.method,
+        PositionMethod::Global,
+        "a pair is still available"
+    );
+    let mut tr3 = Tracker::new(TrackerConfig::default());
+    feed(&mut tr3, &e, at(0.0));
+    feed(&mut tr3, &o, at(1.0));
+    let p = feed(&mut tr3, &e2, at(20.0)).position.unwrap();
+    assert_eq!(p.method, PositionMethod::LocalAircraft);
+    assert!((p.lat_deg - 45.01).abs() < 1e-4);
+    // Too old a reference (> 30 s) and no pair: nothing.
+    assert!(feed(&mut tr3, &o, at(60.0)).position.is_none());
+}
+
+#[test]
+fn zone_mismatch_is_rejected_and_counted() {
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(
+        &mut tr,
+        &pos_frame(2, 11, 10.46, 20.0, false, false),
+        at(0.0),
+    );
+    let u = feed(
+        &mut tr,
+        &pos_frame(2, 11, 10.48, 20.0, true, false),
+        at(1.0),
+    );
+    assert!(u.position.is_none() && u.cpr_rejected);
+    assert_eq!(tr.cpr_rejections, 1);
+}
+
+#[test]
+fn surface_and_airborne_never_pair() {
+    let cfg = TrackerConfig {
+        receiver: Some((51.99, 4.375)),
+        ..TrackerConfig::default()
+    };
+    let mut tr = Tracker::new(cfg);
+    feed(&mut tr, &pos_frame(3, 11, 52.3, 4.7, false, false), at(0.0));
+    // A surface odd frame right after: decoded locally against the receiver, not paired.
+    let u = feed(&mut tr, &surface_frame(3, 52.3206, 4.7347, true), at(1.0));
+    let p = u.position.unwrap();
+    assert_eq!(p.method, PositionMethod::LocalReceiver);
+    assert!(p.surface);
+    assert!((p.lat_deg - 52.3206).abs() < 1e-4 && (p.lon_deg - 4.7347).abs() < 1e-4);
+    // The even surface frame completes a surface pair: global with the receiver reference.
+    let p = feed(&mut tr, &surface_frame(3, 52.3207, 4.7348, false), at(2.0))
+        .position
+        .unwrap();
+    assert_eq!(p.method, PositionMethod::Global);
+    assert!((p.lat_deg - 52.3207).abs() < 1e-4 && (p.lon_deg - 4.7348).abs() < 1e-4);
+    assert!(tr.aircraft(3).unwrap().on_ground);
+    // Without a receiver or a previous position, a surface pair cannot be decoded.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &surface_frame(4, 52.3206, 4.7347, true), at(1.0));
+    assert!(
+        feed(&mut tr, &surface_frame(4, 52.3206, 4.7347, false), at(2.0))
+            .position
+            .is_none()
+    );
+}
+
+#[test]
+fn nic_uses_the_supplements() {
+    let mut tr = Tracker::new(TrackerConfig::default());
+    let e = pos_frame(5, 11, 45.0, 7.0, false, true);
+    assert_eq!(feed(&mut tr, &e, at(0.0)).nic, Some(8));
+    let os = encode::operational_status(
+        5,
+        &OperationalStatusFields {
+            version: 2,
+            nic_a: true,
+            nac_p: 9,
+            sil: 3,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    feed(&mut tr, &os, at(0.5));
+    // TC 11, v2, NIC-A 1 (TC 31), NIC-B 1 (ME bit 8): NIC 9 (Rc < 75 m).
+    assert_eq!(feed(&mut tr, &e, at(1.0)).nic, Some(9));
+    assert_eq!(
+        feed(&mut tr, &pos_frame(5, 11, 45.0, 7.0, true, false), at(1.5)).nic,
+        Some(8)
+    );
+    let a = tr.aircraft(5).unwrap();
+    assert_eq!((a.version, a.nac_p, a.sil), (Some(2), Some(9), Some(3)));
+}
+
+#[test]
+fn address_parity_needs_a_known_address() {
+    let mut tr = Tracker::new(TrackerConfig::default());
+    let (df5, _) = hex_frame("282018154A9D59"); // AP -> 400159, squawk 1017
+    assert!(!feed(&mut tr, &df5[..7], at(0.0)).accepted);
+    let (df11, _) = hex_frame("5F4001594B0FBB"); // DF11 400159
+    assert!(feed(&mut tr, &df11[..7], at(0.1)).accepted);
+    assert!(feed(&mut tr, &df5[..7], at(0.2)).accepted);
+    assert_eq!(
+        tr.aircraft(0x40_0159).unwrap().squawk.unwrap().to_string(),
+        "1017"
+    );
+}
+
+#[test]
+fn bounded_table_evicts_the_least_recently_heard() {
+    let mut tr = Tracker::new(TrackerConfig {
+        capacity: 2,
+        ..TrackerConfig::default()
+    });
+    let f = |a| encode::df11(5, a, 0).unwrap();
+    feed(&mut tr, &f(1), at(0.0));
+    feed(&mut tr, &f(2), at(1.0));
+    feed(&mut tr, &f(1), at(2.0)); // 1 heard again: 2 is now the oldest
+    feed(&mut tr, &f(3), at(3.0));
+    assert_eq!(tr.len(), 2);
+    assert_eq!(tr.evictions, 1);
+    assert!(tr.aircraft(1).is_some() && tr.aircraft(3).is_some() && tr.aircraft(2).is_none());
+}
+
+#[test]
+fn traffic_report_once_located() {
+    let mut tr = Tracker::new(TrackerConfig::default());
+    let id = encode::identification(6, 4, 3, "TEST12").unwrap();
+    feed(&mut tr, &id, at(0.0));
+    let v = encode::velocity_ground(6, 0, 100, Some(-1024), true, 2).unwrap();
+    // Velocity before any position: no report.
+    assert!(feed(&mut tr, &v, at(0.1)).report.is_none());
+    feed(&mut tr, &pos_frame(6, 11, 45.0, 7.0, false, false), at(0.2));
+    let r = feed(&mut tr, &pos_frame(6, 11, 45.0, 7.0, true, false), at(0.3))
+        .report
+        .unwrap();
+    assert_eq!(r.protocol, crate::traffic::Protocol::RawModeS);
+    assert_eq!(r.address_hex(), "000006");
+    assert_eq!(r.callsign.as_deref(), Some("TEST12"));
+    assert_eq!(r.emitter_category, Some(3));
+    assert!((r.lat_deg.unwrap() - 45.0).abs() < 1e-4);
+    assert!((r.alt_pressure_m.unwrap() - 3048.0).abs() < 1e-9);
+    assert!((r.ground_speed_mps.unwrap() - 100.0 * 1852.0 / 3600.0).abs() < 1e-9);
+    assert!((r.vertical_rate_mps.unwrap() + 1024.0 * 0.00508).abs() < 1e-9);
+    assert_eq!(r.track_deg, Some(0.0));
+    assert_eq!(r.nac_v, Some(2));
+    assert_eq!(
+        r.source_time,
+        Some(crate::traffic::SourceTime::NsSinceUtcMidnight(300_000_000))
+    );
+}
+
+#[test]
+fn random_valid_squitters_never_panic() {
+    // Arbitrary ME fields with correct parity exercise every register decoder, CPR and the
+    // tracker on values no real transmitter sends; a tiny table forces evictions too.
+    let mut rng = crate::testkit::XorShift::new(77);
+    let cfg = TrackerConfig {
+        capacity: 8,
+        receiver: Some((10.0, 20.0)),
+        ..TrackerConfig::default()
+    };
+    let mut tr = Tracker::new(cfg);
+    for i in 0..50_000u32 {
+        let icao = (rng.below(16) as u32) * 0x1_0101;
+        let me = rng.next_u64() & 0xFF_FFFF_FFFF_FFFF;
+        let f = encode::df17((rng.below(8)) as u8, icao, me);
+        let meta = if i % 3 == 0 {
+            RxMeta::default()
+        } else {
+            at(f64::from(i) * 0.01)
+        };
+        let u = feed(&mut tr, &f, meta);
+        assert!(u.accepted);
+        if let Some(p) = u.position {
+            assert!(
+                (-90.0..=90.0).contains(&p.lat_deg) && (-180.0..180.0).contains(&p.lon_deg),
+                "{p:?}"
+            );
+        }
+    }
+    assert!(tr.len() <= 8);
+    assert!(tr.evictions > 0);
+}
+
+#[test]
+fn implausible_positions_are_rejected() {
+    // A fix at 45 N 7 E, then 2 s later a pair whose decode lands 2 deg (222 km) away: not
+    // reachable at 1000 m/s in 2 s.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, true, false), at(0.5))
+            .position
+            .is_some()
+    );
+    feed(&mut tr, &pos_frame(7, 11, 47.0, 7.0, false, false), at(2.0));
+    let u = feed(&mut tr, &pos_frame(7, 11, 47.0, 7.0, true, false), at(2.5));
+    assert!(u.position.is_none() && u.cpr_rejected);
+    // Out of range of the receiver (about 890 km away).
+    let cfg = TrackerConfig {
+        receiver: Some((52.0, 4.0)),
+        ..TrackerConfig::default()
+    };
+    let mut tr = Tracker::new(cfg);
+    feed(&mut tr, &pos_frame(8, 11, 45.0, 7.0, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(8, 11, 45.0, 7.0, true, false), at(0.5))
+            .position
+            .is_none()
+    );
+    assert_eq!(tr.cpr_rejections, 1);
+    // Within range: accepted. Hand check of the distance: 1 deg of latitude = 111.2 km.
+    feed(&mut tr, &pos_frame(9, 11, 51.0, 4.0, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(9, 11, 51.0, 4.0, true, false), at(0.5))
+            .position
+            .is_some()
+    );
+    assert!((distance_m((51.0, 4.0), (52.0, 4.0)) - 111_195.0).abs() < 10.0);
+}
+
+#[test]
+fn fast_distance_check_agrees_with_the_exact_one() {
+    let mut rng = crate::testkit::XorShift::new(12);
+    for _ in 0..20_000 {
+        let a = (
+            rng.below(1_780_000) as f64 / 1e4 - 89.0,
+            rng.below(3_600_000) as f64 / 1e4 - 180.0,
+        );
+        let b = (
+            (a.0 + (rng.below(2000) as f64 - 1000.0) / 1e3).clamp(-90.0, 90.0),
+            a.1 + (rng.below(2000) as f64 - 1000.0) / 1e3,
+        );
+        let limit = rng.below(200_000) as f64;
+        assert_eq!(
+            within_distance(a, b, limit),
+            distance_m(a, b) <= limit,
+            "{a:?} {b:?} {limit}"
+        );
+    }
+}
