@@ -33,7 +33,7 @@ mod tests {
     fn crc16_icd_snippet(data: &[u8]) -> u16 {
         let mut crc: u16 = 0;
         for &b in data {
-            crc = (crc >> 8) | (crc << 8);
+            crc = crc.rotate_left(8); // the byte swap of the snippet
             crc ^= u16::from(b);
             crc ^= (crc & 0xff) >> 4;
             crc ^= crc << 12;
