@@ -1,4 +1,5 @@
 //! Binary message tests: the ICD's figures, Table 2.2 against each type's fields, hand-built
+#![allow(clippy::excessive_precision)] // values transcribed from the ICD figures
 //! messages for every type of every group, extension words, variable-length types, and
 //! round trips.
 
