@@ -1,6 +1,7 @@
 //! Stream decoder tests: real captures (with the expectations of their README), interleaved
 //! ASCII and binary, false syncs, corrupted CRCs, truncation, split packets, every split point
 //! and random input.
+#![allow(clippy::excessive_precision)] // values transcribed from the captures' README
 
 use super::*;
 use crate::testkit::{
@@ -325,17 +326,19 @@ fn random_input_never_panics() {
 #[test]
 fn split_packets_reassemble() {
     // A body of ~700 bytes: GNSS SatInfo with 80 satellites = 2 + 640 bytes.
-    let mut g = crate::vn200::binary::GnssGroup::default();
-    g.sat_info = Some(crate::vn200::binary::SatInfo {
-        reserved: 0,
-        sats: (0..80)
-            .map(|k| crate::vn200::binary::SatInfoEntry {
-                sv_id: k,
-                cno_dbhz: 40,
-                ..Default::default()
-            })
-            .collect(),
-    });
+    let g = crate::vn200::binary::GnssGroup {
+        sat_info: Some(crate::vn200::binary::SatInfo {
+            reserved: 0,
+            sats: (0..80)
+                .map(|k| crate::vn200::binary::SatInfoEntry {
+                    sv_id: k,
+                    cno_dbhz: 40,
+                    ..Default::default()
+                })
+                .collect(),
+        }),
+        ..Default::default()
+    };
     let msg = BinaryOutput {
         gnss: Some(g),
         ..Default::default()
