@@ -138,7 +138,7 @@ impl AsciiRecord for f32 {
         f.f32()
     }
     fn format(&self, out: &mut String) {
-        out.push_str(&format!(",{self:+}"));
+        out.push_str(&format!(",{self}"));
     }
 }
 
@@ -147,7 +147,7 @@ impl AsciiRecord for f64 {
         f.f64()
     }
     fn format(&self, out: &mut String) {
-        out.push_str(&format!(",{self:+}"));
+        out.push_str(&format!(",{self}"));
     }
 }
 

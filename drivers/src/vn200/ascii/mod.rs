@@ -9,9 +9,9 @@
 //! - [`Measurement`]: the measurement registers, also sent as async outputs (Register 6).
 //! - [`ErrorCode`]: `$VNERR` (1.5); its code is hexadecimal on the wire.
 //!
-//! Floats are written with Rust's shortest round-trip representation and an explicit sign
-//! (`+10.071`), which the sensor accepts and which makes decode(encode(x)) exact; the sensor's
-//! own fixed-width output (`+010.071`) parses the same way.
+//! Floats are written with Rust's shortest round-trip representation (`73.2`, `-0.3574`), as in
+//! the ICD's command examples; it makes decode(encode(x)) exact. The sensor's own fixed-width
+//! output (`+010.071`, `2.00E-09`) parses the same way.
 
 mod command;
 mod error;
