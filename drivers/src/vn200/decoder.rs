@@ -54,6 +54,19 @@ pub struct Vn200Counters {
     pub split: SplitCounters,
 }
 
+/// Outcome of checking a 0xFA candidate.
+enum BinaryStep {
+    /// A complete frame with a valid CRC, `total` bytes long.
+    Frame {
+        header: binary::Header,
+        total: usize,
+    },
+    /// The candidate was dropped (counted): look for the next one.
+    Next,
+    /// More bytes are needed.
+    Wait,
+}
+
 /// The VN-200 stream decoder.
 #[derive(Debug, Clone, Default)]
 pub struct Vn200Decoder {
@@ -102,53 +115,43 @@ impl Vn200Decoder {
         }
     }
 
-    #[inline]
-    fn try_binary(&mut self, buf: &mut BytesMut) -> Result<Option<Vn200Message>, ()> {
-        let probe = binary::body_len(&buf[1..], MAX_MESSAGE_LEN - 3);
-        match probe {
-            Ok((_, body_len)) => {
+    /// Checks a 0xFA candidate: its header, length and CRC. On success the frame is left in
+    /// the buffer for [`DeviceDecoder::decode`] to decode in place.
+    #[inline(always)]
+    fn probe_binary(&mut self, buf: &mut BytesMut) -> BinaryStep {
+        match binary::body_len(&buf[1..], MAX_MESSAGE_LEN - 3) {
+            Ok((header, body_len)) => {
                 let total = 1 + body_len + 2;
                 if buf.len() < total {
                     return if self.incomplete(buf) {
-                        Ok(None)
+                        BinaryStep::Next
                     } else {
-                        Err(())
+                        BinaryStep::Wait
                     };
                 }
                 if crc16(&buf[1..total]) != 0 {
                     self.stats.checksum_failures += 1;
                     self.skip(buf, 1);
-                    return Ok(None);
+                    return BinaryStep::Next;
                 }
-                match BinaryOutput::decode_body(&buf[1..1 + body_len]) {
-                    Some(m) => {
-                        self.stats.take_frame(buf, total);
-                        self.counters.binary_messages += 1;
-                        Ok(Some(Vn200Message::Binary(m)))
-                    }
-                    None => {
-                        self.stats.malformed += 1;
-                        self.skip(buf, 1);
-                        Ok(None)
-                    }
-                }
+                BinaryStep::Frame { header, total }
             }
             Err(Probe::NeedMore) => {
                 if self.incomplete(buf) {
-                    Ok(None)
+                    BinaryStep::Next
                 } else {
-                    Err(())
+                    BinaryStep::Wait
                 }
             }
             Err(Probe::Unknown) => {
                 self.stats.unknown_types += 1;
                 self.skip(buf, 1);
-                Ok(None)
+                BinaryStep::Next
             }
             Err(Probe::Invalid | Probe::TooLong) => {
                 self.counters.false_syncs += 1;
                 self.skip(buf, 1);
-                Ok(None)
+                BinaryStep::Next
             }
         }
     }
@@ -300,7 +303,22 @@ impl DeviceDecoder for Vn200Decoder {
                 Some(n) => self.skip(buf, n),
             }
             let r = match buf[0] {
-                binary::SYNC => self.try_binary(buf),
+                binary::SYNC => match self.probe_binary(buf) {
+                    BinaryStep::Frame { header, total } => {
+                        // Decoded straight into the return value (the hot path).
+                        let payload = buf.get(1 + header.len..total - 2).unwrap_or(&[]);
+                        if let Some(m) = BinaryOutput::decode_payload(&header, payload) {
+                            self.stats.take_frame(buf, total);
+                            self.counters.binary_messages += 1;
+                            return Some(Vn200Message::Binary(m));
+                        }
+                        self.stats.malformed += 1;
+                        self.skip(buf, 1);
+                        continue;
+                    }
+                    BinaryStep::Next => continue,
+                    BinaryStep::Wait => return None,
+                },
                 split::SYNC => self.try_split(buf),
                 _ => self.try_ascii(buf),
             };

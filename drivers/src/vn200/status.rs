@@ -14,8 +14,8 @@ macro_rules! raw_word {
         impl Wire for $name {
             const SIZE: usize = std::mem::size_of::<$t>();
             #[inline(always)]
-            fn read(r: &mut Rd<'_>) -> Option<Self> {
-                <$t>::read(r).map(Self)
+            fn read(r: &mut Rd<'_>) -> Self {
+                Self(<$t>::read(r))
             }
             #[inline]
             fn write(&self, out: &mut Vec<u8>) {

@@ -51,13 +51,13 @@ impl Wire for SatInfo {
         Some(2 + SatInfoEntry::SIZE * count)
     }
 
-    fn read(r: &mut Rd<'_>) -> Option<Self> {
-        let count = u8::read(r)?;
-        let reserved = u8::read(r)?;
+    fn read(r: &mut Rd<'_>) -> Self {
+        let count = u8::read(r);
+        let reserved = u8::read(r);
         let sats = (0..count)
-            .map(|_| SatInfoEntry::read(r))
-            .collect::<Option<Vec<_>>>()?;
-        Some(Self { reserved, sats })
+            .map_while(|_| (!r.is_short()).then(|| SatInfoEntry::read(r)))
+            .collect();
+        Self { reserved, sats }
     }
 
     fn write(&self, out: &mut Vec<u8>) {
@@ -119,20 +119,20 @@ impl Wire for RawMeas {
         Some(12 + RawMeasEntry::SIZE * count)
     }
 
-    fn read(r: &mut Rd<'_>) -> Option<Self> {
-        let tow_s = f64::read(r)?;
-        let week = u16::read(r)?;
-        let count = u8::read(r)?;
-        let reserved = u8::read(r)?;
+    fn read(r: &mut Rd<'_>) -> Self {
+        let tow_s = f64::read(r);
+        let week = u16::read(r);
+        let count = u8::read(r);
+        let reserved = u8::read(r);
         let meas = (0..count)
-            .map(|_| RawMeasEntry::read(r))
-            .collect::<Option<Vec<_>>>()?;
-        Some(Self {
+            .map_while(|_| (!r.is_short()).then(|| RawMeasEntry::read(r)))
+            .collect();
+        Self {
             tow_s,
             week,
             reserved,
             meas,
-        })
+        }
     }
 
     fn write(&self, out: &mut Vec<u8>) {

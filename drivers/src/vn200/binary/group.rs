@@ -82,20 +82,21 @@ macro_rules! binary_group {
                 Ok(n)
             }
 
-            /// Reads the types selected by `mask` in offset order.
-            #[inline(always)]
-            pub(crate) fn read(
-                mask: u32,
-                r: &mut $crate::vn200::binary::wire::Rd<'_>,
-            ) -> Option<Self> {
+            /// Reads the types selected by `mask` in offset order (the caller checks the
+            /// cursor for a short read). Not inlined: each group is read straight into its
+            /// place in the message, which measured faster than one large inlined body.
+            #[inline(never)]
+            pub(crate) fn read(mask: u32, r: &mut $crate::vn200::binary::wire::Rd<'_>) -> Self {
                 use $crate::vn200::binary::wire::Wire;
-                let mut g = Self::default();
-                $(
-                    if mask & (1u32 << $off) != 0 {
-                        g.$f = Some(<$t as Wire>::read(r)?);
-                    }
-                )*
-                Some(g)
+                Self {
+                    $(
+                        $f: if mask & (1u32 << $off) != 0 {
+                            Some(<$t as Wire>::read(r))
+                        } else {
+                            None
+                        },
+                    )*
+                }
             }
 
             /// Appends the present types in offset order.

@@ -266,51 +266,45 @@ pub struct BinaryOutput {
     /// IMU group.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub imu: Option<ImuGroup>,
-    /// GNSS group (primary receiver).
+    /// GNSS group (primary receiver). Boxed: the GNSS groups are the largest and the rarest
+    /// (5 Hz), so the common messages stay small to move.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub gnss: Option<GnssGroup>,
+    pub gnss: Option<Box<GnssGroup>>,
     /// Attitude group.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub attitude: Option<AttitudeGroup>,
     /// INS group.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ins: Option<InsGroup>,
-    /// GNSS2 group (secondary receiver).
+    /// GNSS2 group (secondary receiver), boxed like [`BinaryOutput::gnss`].
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub gnss2: Option<GnssGroup>,
+    pub gnss2: Option<Box<GnssGroup>>,
 }
 
 impl BinaryOutput {
     /// Decodes a complete body (header and payload, exactly). `None` if the body is not exactly
     /// one well-formed message of known types.
-    #[inline]
     pub fn decode_body(body: &[u8]) -> Option<Self> {
         let header = parse_header(body).ok()?;
-        let mut r = Rd(body.get(header.len..)?);
-        let mut m = BinaryOutput::default();
+        Self::decode_payload(&header, body.get(header.len..)?)
+    }
+
+    /// Decodes the payload that follows a parsed header. `None` unless the payload holds
+    /// exactly the types the header selects.
+    #[inline(always)]
+    pub fn decode_payload(header: &Header, payload: &[u8]) -> Option<Self> {
+        let mut r = Rd::new(payload);
         let t = &header.types;
-        if t[0] != 0 {
-            m.common = Some(CommonGroup::read(t[0], &mut r)?);
-        }
-        if t[1] != 0 {
-            m.time = Some(TimeGroup::read(t[1], &mut r)?);
-        }
-        if t[2] != 0 {
-            m.imu = Some(ImuGroup::read(t[2], &mut r)?);
-        }
-        if t[3] != 0 {
-            m.gnss = Some(GnssGroup::read(t[3], &mut r)?);
-        }
-        if t[4] != 0 {
-            m.attitude = Some(AttitudeGroup::read(t[4], &mut r)?);
-        }
-        if t[5] != 0 {
-            m.ins = Some(InsGroup::read(t[5], &mut r)?);
-        }
-        if t[6] != 0 {
-            m.gnss2 = Some(GnssGroup::read(t[6], &mut r)?);
-        }
-        (r.remaining() == 0).then_some(m)
+        let m = BinaryOutput {
+            common: (t[0] != 0).then(|| CommonGroup::read(t[0], &mut r)),
+            time: (t[1] != 0).then(|| TimeGroup::read(t[1], &mut r)),
+            imu: (t[2] != 0).then(|| ImuGroup::read(t[2], &mut r)),
+            gnss: (t[3] != 0).then(|| Box::new(GnssGroup::read(t[3], &mut r))),
+            attitude: (t[4] != 0).then(|| AttitudeGroup::read(t[4], &mut r)),
+            ins: (t[5] != 0).then(|| InsGroup::read(t[5], &mut r)),
+            gnss2: (t[6] != 0).then(|| Box::new(GnssGroup::read(t[6], &mut r))),
+        };
+        (!r.is_short() && r.remaining() == 0).then_some(m)
     }
 
     /// Decodes a complete framed message (sync, body, CRC), checking the CRC.

@@ -8,34 +8,49 @@
 
 use serde::Serialize;
 
-/// A cursor over a checked byte slice. Reads never panic: a short slice gives `None`.
+/// A cursor over a byte slice. Reads never panic and never fail: reading past the end yields
+/// zeros and marks the cursor short ([`Rd::is_short`]). Callers check the length before reading
+/// (the message length is validated before decoding) and check `is_short` after, which keeps
+/// the per-field path free of error plumbing (it is the decoder's hot path).
 #[derive(Debug, Clone, Copy)]
-pub struct Rd<'a>(pub &'a [u8]);
+pub struct Rd<'a> {
+    buf: &'a [u8],
+    short: bool,
+}
 
 impl<'a> Rd<'a> {
-    /// Takes the next `N` bytes.
+    /// A cursor over `buf`.
     #[inline(always)]
-    pub fn take<const N: usize>(&mut self) -> Option<[u8; N]> {
-        let (head, tail) = self.0.split_first_chunk::<N>()?;
-        self.0 = tail;
-        Some(*head)
+    pub fn new(buf: &'a [u8]) -> Self {
+        Self { buf, short: false }
     }
 
-    /// Takes the next `n` bytes as a slice.
+    /// Takes the next `N` bytes (zeros, and the cursor marked short, past the end).
     #[inline(always)]
-    pub fn slice(&mut self, n: usize) -> Option<&'a [u8]> {
-        if n > self.0.len() {
-            return None;
+    pub fn take<const N: usize>(&mut self) -> [u8; N] {
+        match self.buf.split_first_chunk::<N>() {
+            Some((head, tail)) => {
+                self.buf = tail;
+                *head
+            }
+            None => {
+                self.short = true;
+                self.buf = &[];
+                [0; N]
+            }
         }
-        let (head, tail) = self.0.split_at(n);
-        self.0 = tail;
-        Some(head)
+    }
+
+    /// Whether a read went past the end.
+    #[inline(always)]
+    pub fn is_short(&self) -> bool {
+        self.short
     }
 
     /// Bytes left.
     #[inline(always)]
     pub fn remaining(&self) -> usize {
-        self.0.len()
+        self.buf.len()
     }
 }
 
@@ -55,8 +70,8 @@ pub trait Wire: Sized {
         Some(Self::SIZE)
     }
 
-    /// Reads the value from the cursor.
-    fn read(r: &mut Rd<'_>) -> Option<Self>;
+    /// Reads the value from the cursor (see [`Rd`] for reads past the end).
+    fn read(r: &mut Rd<'_>) -> Self;
 
     /// Appends the value's bytes.
     fn write(&self, out: &mut Vec<u8>);
@@ -67,8 +82,8 @@ macro_rules! wire_prim {
         impl Wire for $t {
             const SIZE: usize = std::mem::size_of::<$t>();
             #[inline(always)]
-            fn read(r: &mut Rd<'_>) -> Option<Self> {
-                Some(<$t>::from_le_bytes(r.take()?))
+            fn read(r: &mut Rd<'_>) -> Self {
+                <$t>::from_le_bytes(r.take())
             }
             #[inline]
             fn write(&self, out: &mut Vec<u8>) {
@@ -82,12 +97,8 @@ wire_prim!(u8, i8, u16, i16, u32, u64, f32, f64);
 impl<T: Wire + Copy + Default, const N: usize> Wire for [T; N] {
     const SIZE: usize = T::SIZE * N;
     #[inline(always)]
-    fn read(r: &mut Rd<'_>) -> Option<Self> {
-        let mut a = [T::default(); N];
-        for x in &mut a {
-            *x = T::read(r)?;
-        }
-        Some(a)
+    fn read(r: &mut Rd<'_>) -> Self {
+        std::array::from_fn(|_| T::read(r))
     }
     #[inline]
     fn write(&self, out: &mut Vec<u8>) {
@@ -107,8 +118,8 @@ macro_rules! wire_struct {
         impl $crate::vn200::binary::wire::Wire for $name {
             const SIZE: usize = 0 $(+ <$t as $crate::vn200::binary::wire::Wire>::SIZE)*;
             #[inline(always)]
-            fn read(r: &mut $crate::vn200::binary::wire::Rd<'_>) -> Option<Self> {
-                Some(Self { $($f: <$t as $crate::vn200::binary::wire::Wire>::read(r)?,)* })
+            fn read(r: &mut $crate::vn200::binary::wire::Rd<'_>) -> Self {
+                Self { $($f: <$t as $crate::vn200::binary::wire::Wire>::read(r),)* }
             }
             #[inline]
             fn write(&self, out: &mut Vec<u8>) {
@@ -307,8 +318,8 @@ impl GnssFix {
 impl Wire for GnssFix {
     const SIZE: usize = 1;
     #[inline(always)]
-    fn read(r: &mut Rd<'_>) -> Option<Self> {
-        u8::read(r).map(Self)
+    fn read(r: &mut Rd<'_>) -> Self {
+        Self(u8::read(r))
     }
     fn write(&self, out: &mut Vec<u8>) {
         out.push(self.0);
@@ -324,11 +335,13 @@ mod tests {
         let mut out = Vec::new();
         0x0102_0304u32.write(&mut out);
         assert_eq!(out, [4, 3, 2, 1]);
-        let mut r = Rd(&[0x93, 0x50, 0x2E, 0x42]);
+        let mut r = Rd::new(&[0x93, 0x50, 0x2E, 0x42, 0x01]);
         // Figure A.2: 0x422E5093 = +43.578686.
-        let yaw = f32::read(&mut r).unwrap();
+        let yaw = f32::read(&mut r);
         assert!((yaw - 43.578686).abs() < 1e-5);
-        assert!(f32::read(&mut r).is_none(), "short input gives None");
+        assert!(!r.is_short());
+        assert_eq!(u16::read(&mut r), 0, "past the end: zero, and marked short");
+        assert!(r.is_short());
     }
 
     #[test]

@@ -340,7 +340,7 @@ fn split_packets_reassemble() {
         ..Default::default()
     };
     let msg = BinaryOutput {
-        gnss: Some(g),
+        gnss: Some(Box::new(g)),
         ..Default::default()
     };
     let mut body = Vec::new();
@@ -405,4 +405,15 @@ fn split_packets_reassemble() {
     }
     let (msgs, _, _) = decode_all(&z);
     assert_eq!(msgs, vec![Vn200Message::Binary(msg)]);
+}
+
+#[test]
+fn message_stays_small_enough_to_move() {
+    // The GNSS groups are boxed; the rest is inline (no allocation per message). A guard
+    // against an accidental growth of the hot-path type.
+    assert!(
+        std::mem::size_of::<Vn200Message>() <= 1024,
+        "{}",
+        std::mem::size_of::<Vn200Message>()
+    );
 }
