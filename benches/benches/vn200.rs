@@ -83,11 +83,11 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("vn200_common_112");
     g.throughput(Throughput::Elements(N as u64));
     g.bench_function("msgs", |b| {
-        b.iter_batched_ref(setup, |buf| decode_all(buf), BatchSize::LargeInput)
+        b.iter_batched_ref(setup, decode_all, BatchSize::LargeInput)
     });
     g.throughput(Throughput::Bytes(s.len() as u64));
     g.bench_function("bytes", |b| {
-        b.iter_batched_ref(setup, |buf| decode_all(buf), BatchSize::LargeInput)
+        b.iter_batched_ref(setup, decode_all, BatchSize::LargeInput)
     });
     g.finish();
 }
