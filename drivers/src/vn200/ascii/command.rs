@@ -25,7 +25,7 @@ pub enum InitialHeading {
 
 /// A command sent by the host (and echoed by the sensor).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "command", rename_all = "snake_case")]
+#[serde(tag = "command", content = "args", rename_all = "snake_case")]
 pub enum Command {
     /// VNRRG: read a register.
     ReadRegister(u8),

@@ -22,7 +22,12 @@ fn decode(s: &str) -> AsciiMessage {
     match scan(line.as_bytes()) {
         Scan::Sentence { body, len, .. } => {
             assert_eq!(len, line.len());
-            AsciiMessage::parse(body).unwrap_or_else(|e| panic!("{s}: {e}"))
+            let m = AsciiMessage::parse(body).unwrap_or_else(|e| panic!("{s}: {e}"));
+            // Every decoded sentence serialises (for `vigil decode`) and re-encodes to a body
+            // that parses to the same message.
+            serde_json::to_string(&m).unwrap_or_else(|e| panic!("{s}: {e}"));
+            assert_eq!(AsciiMessage::parse(&m.body()).as_ref(), Ok(&m), "{s}");
+            m
         }
         other => panic!("{s}: {other:?}"),
     }
@@ -669,6 +674,7 @@ proptest! {
         let bytes = command.encode(kinds[kind]);
         let Scan::Sentence { body, len, .. } = scan(&bytes) else { panic!("{bytes:?}") };
         prop_assert_eq!(len, bytes.len());
+        prop_assert!(serde_json::to_string(&command).is_ok());
         prop_assert_eq!(AsciiMessage::parse(body).unwrap(), AsciiMessage::Command { command });
     }
 }

@@ -404,5 +404,24 @@ impl BinaryOutput {
     }
 }
 
+/// Encodes binary output messages for a `FramedWrite` (the simulator's side of the port).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BinaryEncoder;
+
+impl tokio_util::codec::Encoder<&BinaryOutput> for BinaryEncoder {
+    type Error = std::io::Error;
+
+    fn encode(
+        &mut self,
+        item: &BinaryOutput,
+        dst: &mut bytes::BytesMut,
+    ) -> Result<(), Self::Error> {
+        let mut v = Vec::with_capacity(128);
+        item.encode_into(&mut v);
+        dst.extend_from_slice(&v);
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests;
