@@ -56,6 +56,24 @@ macro_rules! binary_group {
                 m
             }
 
+            /// Mask of the variable-length types.
+            const VARIABLE_MASK: u32 = 0 $(| if <$t as $crate::vn200::binary::wire::Wire>::VARIABLE {
+                1u32 << $off
+            } else {
+                0
+            })*;
+
+            /// Size of each fixed type by offset (0 for undefined and variable types).
+            const SIZES: [u16; 32] = {
+                let mut a = [0u16; 32];
+                $(
+                    if !<$t as $crate::vn200::binary::wire::Wire>::VARIABLE {
+                        a[$off] = <$t as $crate::vn200::binary::wire::Wire>::SIZE as u16;
+                    }
+                )*
+                a
+            };
+
             /// Length of this group's payload for type mask `mask`, given the bytes from the
             /// start of the group's payload (only variable types look at them).
             #[inline(always)]
@@ -67,6 +85,16 @@ macro_rules! binary_group {
                 use $crate::vn200::binary::wire::Wire;
                 if mask & !Self::KNOWN != 0 {
                     return Err(LenError::UnknownType);
+                }
+                if mask & Self::VARIABLE_MASK == 0 {
+                    // Fixed types only (the usual case): add the sizes of the set bits.
+                    let mut m = mask;
+                    let mut n = 0usize;
+                    while m != 0 {
+                        n += usize::from(Self::SIZES[(m.trailing_zeros() & 31) as usize]);
+                        m &= m - 1;
+                    }
+                    return Ok(n);
                 }
                 let mut n = 0usize;
                 $(

@@ -99,6 +99,16 @@ impl Group {
         }
     }
 
+    /// The type mask selecting the named types (field names of the group's struct, e.g.
+    /// `"ypr"`, `"time_gps_ns"`), or `None` if a name is not a type of this group. Used to
+    /// build Register 75-77 configurations.
+    pub fn type_mask(self, names: &[&str]) -> Option<u32> {
+        names.iter().try_fold(0u32, |acc, name| {
+            let t = self.types().iter().find(|t| t.1 == *name)?;
+            Some(acc | 1 << t.0)
+        })
+    }
+
     /// Every type of the group: (offset, field name, Table 2.2 size, variable-length).
     pub fn types(self) -> &'static [(u8, &'static str, usize, bool)] {
         match self {

@@ -53,6 +53,29 @@ fn figure_a3_two_groups() {
 }
 
 #[test]
+fn type_masks_by_name() {
+    // The benchmark's Common message: TimeGps 1, Ypr 3, Quaternion 4, AngularRate 5, PosLla 6,
+    // VelNed 7, Accel 8, InsStatus 12, TimeGpsPps 14 = 0x51FA.
+    let names = [
+        "time_gps_ns",
+        "ypr",
+        "quaternion",
+        "angular_rate_radps",
+        "pos_lla",
+        "vel_ned_mps",
+        "accel_mps2",
+        "ins_status",
+        "time_gps_pps_ns",
+    ];
+    assert_eq!(Group::Common.type_mask(&names), Some(0x51FA));
+    assert_eq!(
+        Group::Gnss2.type_mask(&["raw_meas", "alt_msl_m"]),
+        Some(1 << 16 | 1 << 18)
+    );
+    assert_eq!(Group::Attitude.type_mask(&["time_gps_ns"]), None);
+}
+
+#[test]
 fn appendix_a11_header_bytes() {
     // A.1.1: TimeStartup and Ypr from Common, YprU from Attitude: "FA 11 09 00 00 01 ...".
     let m = BinaryOutput {
