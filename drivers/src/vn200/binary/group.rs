@@ -76,6 +76,8 @@ macro_rules! binary_group {
 
             /// Length of this group's payload for type mask `mask`, given the bytes from the
             /// start of the group's payload (only variable types look at them).
+            // VARIABLE_MASK is zero for the groups without variable types.
+            #[allow(clippy::bad_bit_mask)]
             #[inline(always)]
             pub(crate) fn payload_len(
                 mask: u32,
