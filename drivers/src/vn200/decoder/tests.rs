@@ -417,3 +417,60 @@ fn message_stays_small_enough_to_move() {
         std::mem::size_of::<Vn200Message>()
     );
 }
+
+#[test]
+fn false_sync_within_the_maximum_delays_but_loses_nothing() {
+    // The case where a naive parser stalls or drops data: a false 0xFA whose implied length
+    // (GnssSatInfo, Count 60: 2 + 480 bytes) is plausible. The decoder waits for those bytes
+    // (bounded by the 600-byte maximum), finds a bad CRC, drops one byte and then decodes every
+    // real message that arrived meanwhile.
+    let mut s = vec![0xFA, 0x08, 0x00, 0x40, 60, 0x00];
+    for i in 0..6 {
+        s.extend_from_slice(&common_112(i).encode());
+    }
+    let (msgs, stats) = decode_chunked(Vn200Decoder::new(), &s, &[1]);
+    assert_eq!(
+        msgs,
+        (0..6)
+            .map(|i| Vn200Message::Binary(common_112(i)))
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(stats.checksum_failures, 1);
+    assert_eq!(stats.bytes_skipped, 6);
+    // Live (no end of stream): after every byte has arrived all six are out.
+    let mut d = Vn200Decoder::new();
+    let mut buf = bytes::BytesMut::new();
+    let mut n = 0;
+    for b in &s {
+        buf.extend_from_slice(&[*b]);
+        while d.decode(&mut buf).is_some() {
+            n += 1;
+        }
+        assert!(
+            buf.len() <= binary::MAX_MESSAGE_LEN,
+            "the buffer stays bounded"
+        );
+    }
+    assert_eq!(n, 6);
+}
+
+#[test]
+fn ascii_checksum_styles_and_bad_sentences_in_a_stream() {
+    let crc_sentence = crate::vn200::ascii::Command::ReadRegister(8)
+        .encode(crate::vn200::ascii::ChecksumKind::Crc16);
+    let mut s = crc_sentence.clone();
+    s.extend_from_slice(b"$VNYPR,+010.071,+000.278,-002.026*61\r\n"); // bad XOR
+    s.extend_from_slice(b"$VNXYZ,1*5E\r\n"); // unknown header, valid checksum
+    s.extend_from_slice(b"$VNKMD,7*41\r\n"); // malformed (state 7), valid checksum
+    s.extend_from_slice(&common_112(4).encode());
+    s.extend_from_slice(b"$VNYPR,+010.071\x00,+000.278*60\r\n"); // non-printable
+    let (msgs, stats, c) = decode_all(&s);
+    assert_eq!(msgs.len(), 2, "{msgs:?}");
+    assert_eq!(c.crc16_sentences, 1);
+    assert_eq!(stats.checksum_failures, 1);
+    assert_eq!(stats.unknown_types, 1);
+    assert_eq!(stats.malformed, 1);
+    assert_eq!(c.invalid_sentences, 1);
+    assert_accounting(&stats, s.len());
+    assert_split_invariant(Vn200Decoder::new, &s);
+}
