@@ -406,6 +406,21 @@ impl BinaryOutput {
         out.extend_from_slice(&crc.to_be_bytes());
     }
 
+    /// The bytes the sensor would send: the framed message, or split packets (numbered from 1,
+    /// with `message_id`) when it exceeds [`MAX_MESSAGE_LEN`]. `None` if even split packets
+    /// cannot carry it (more than 15 packets).
+    pub fn encode_for_wire(&self, message_id: u8) -> Option<Vec<u8>> {
+        let framed = self.encode();
+        if framed.len() <= MAX_MESSAGE_LEN {
+            return Some(framed);
+        }
+        crate::vn200::split::encode_split(
+            &framed[1..framed.len() - 2],
+            message_id,
+            crate::vn200::split::MAX_PACKET_PAYLOAD,
+        )
+    }
+
     /// The framed message as a new vector.
     pub fn encode(&self) -> Vec<u8> {
         let mut out = Vec::with_capacity(128);

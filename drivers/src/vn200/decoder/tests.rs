@@ -474,3 +474,50 @@ fn ascii_checksum_styles_and_bad_sentences_in_a_stream() {
     assert_accounting(&stats, s.len());
     assert_split_invariant(Vn200Decoder::new, &s);
 }
+
+#[test]
+fn large_messages_go_out_split_and_come_back() {
+    // GNSS raw measurements for 40 signals: 12 + 40 * 28 = 1132 bytes, over 600.
+    let g = crate::vn200::binary::GnssGroup {
+        raw_meas: Some(crate::vn200::binary::RawMeas {
+            tow_s: 1000.5,
+            week: 2350,
+            reserved: 0,
+            meas: (0..40)
+                .map(|k| crate::vn200::binary::RawMeasEntry {
+                    sv_id: k,
+                    pseudorange: 2.1e7,
+                    ..Default::default()
+                })
+                .collect(),
+        }),
+        ..Default::default()
+    };
+    let msg = BinaryOutput {
+        gnss2: Some(Box::new(g)),
+        ..Default::default()
+    };
+    let wire = msg.encode_for_wire(3).unwrap();
+    assert_eq!(wire[0], split::SYNC);
+    let (msgs, stats, c) = decode_all(&wire);
+    assert_eq!(msgs, vec![Vn200Message::Binary(msg.clone())]);
+    assert_eq!((c.split.packets, c.split.reassembled), (2, 1));
+    assert_accounting(&stats, wire.len());
+    // Small messages go out unsplit.
+    assert_eq!(
+        common_112(0).encode_for_wire(0).unwrap(),
+        common_112(0).encode()
+    );
+}
+
+#[test]
+fn reassembled_garbage_is_counted_not_emitted() {
+    // Two valid packets whose payloads do not form a message (no group byte).
+    let packets = encode_split(&[0u8; 40], 1, 20).unwrap();
+    let (msgs, stats, c) = decode_all(&packets);
+    assert!(msgs.is_empty());
+    assert_eq!((c.split.packets, c.split.malformed), (2, 1));
+    assert_eq!(stats.malformed, 1);
+    assert_eq!(stats.bytes_skipped, packets.len() as u64);
+    assert_accounting(&stats, packets.len());
+}
