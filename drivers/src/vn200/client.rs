@@ -132,6 +132,27 @@ impl ConfigClient {
         }))
     }
 
+    /// A whole set-up session: pause async outputs on this port (VNASY,0) so that answers are
+    /// easy to see, write each binary output configuration `(index, async_mode, rate_divisor,
+    /// masks)`, optionally save to flash (VNWNV), and resume async outputs (VNASY,1).
+    pub fn setup_session(
+        timeout: Duration,
+        max_attempts: u32,
+        outputs: &[(u8, u16, u16, [u32; 7])],
+        save: bool,
+    ) -> Result<Self, ClientError> {
+        let mut c = Self::new(timeout, max_attempts);
+        c.push(Command::AsyncOutputEnable(false))?;
+        for &(index, mode, divisor, masks) in outputs {
+            c.configure_binary_output(index, mode, divisor, masks)?;
+        }
+        if save {
+            c.push(Command::WriteSettings)?;
+        }
+        c.push(Command::AsyncOutputEnable(true))?;
+        Ok(c)
+    }
+
     /// Bytes to send now, if any: the next command, or a resend of the waiting one whose answer
     /// is overdue. Also records a timeout when the last attempt has expired.
     pub fn poll_transmit(&mut self, now: Duration) -> Option<Vec<u8>> {

@@ -134,3 +134,40 @@ fn echo_of_a_different_value_is_reported() {
     );
     assert!(c.push(Command::PollBinaryOutput(1)).is_err());
 }
+
+#[test]
+fn setup_session_runs_in_order_against_an_echoing_sensor() {
+    let outputs = [
+        (1u8, 1u16, 4u16, [0x51FA, 0, 0, 0, 0, 0, 0]),
+        (2, 1, 160, [0, 0, 0, 1 << 16 | 1 << 17, 0, 0, 0]),
+    ];
+    let mut c = ConfigClient::setup_session(ms(300), 3, &outputs, true).unwrap();
+    let mut sent = Vec::new();
+    let mut now = ms(0);
+    // A scripted sensor that echoes every command it receives, 5 ms later; it drops the first
+    // copy of the WriteSettings command (a lost byte), so that one is retried.
+    let mut dropped = false;
+    while !c.is_done() {
+        match c.poll_transmit(now) {
+            Some(cmd) => {
+                sent.push(String::from_utf8(cmd.clone()).unwrap());
+                if cmd.starts_with(b"$VNWNV") && !dropped {
+                    dropped = true;
+                } else {
+                    now += ms(5);
+                    assert_eq!(feed(&mut c, &cmd, now), 1);
+                }
+            }
+            None => now = c.poll_timeout().unwrap(),
+        }
+    }
+    assert_eq!(
+        sent.iter().map(|s| &s[..6]).collect::<Vec<_>>(),
+        ["$VNASY", "$VNWRG", "$VNWRG", "$VNWNV", "$VNWNV", "$VNASY"]
+    );
+    assert!(sent[1].starts_with("$VNWRG,75,1,4,01,51FA*"));
+    assert!(sent[2].starts_with("$VNWRG,76,1,160,08,8000,0003*"));
+    assert_eq!(c.report().len(), 5);
+    assert!(c.all_accepted());
+    assert_eq!(c.report()[3].attempts, 2);
+}
