@@ -725,3 +725,67 @@ proptest! {
         }
     }
 }
+
+/// Every other register example of the ICD (registers vigil does not type): the checksum
+/// verifies and the contents are kept as fields. `$VNRWG,44,...` (a misprint of VNWRG, with a
+/// bypassed checksum) is not a command and is refused as unknown.
+#[test]
+fn remaining_register_examples_verify() {
+    let reads = [
+        "$VNRRG,206,0,0,0,0*47",
+        "$VNRRG,21,0.231839,0.0121824,0.426962,1.1364E-05,3.94035E-05,-9.79498*65",
+        "$VNRRG,35,1,1,1,1*75",
+        "$VNRRG,36,4,4,4,5,5,5,5.5,5.5,5.5*75",
+        "$VNRRG,38,6,6,6,3,3,3,5,5,5*64",
+        "$VNRRG,23,1,0,0,0,1,0,0,0,1,0,0,0*73",
+        "$VNRRG,25,1,0,0,0,1,0,0,0,1,0,0,0*75",
+        "$VNRRG,26,1,0,0,0,1,0,0,0,1*6A",
+        "$VNRRG,82,0,0,0,0,0*65",
+        "$VNRRG,84,1,0,0,0,1,0,0,0,1,0,0,0*7E",
+        "$VNRRG,85,0,4,4,4,0,0,3,3,3,0*79",
+        "$VNRRG,44,0,1,5*6B",
+        "$VNRRG,50,0,0,0*6A",
+        "$VNRRG,51,1,0.1,0.01*5A",
+        "$VNRRG,157,0,0,0*5C",
+        "$VNRRG,105,+00.000,+00.000,+00.000,00.0000,00.0000,00.0000*5C",
+        "$VNRRG,144,05,2,5,00,0,0*40",
+        "$VNRRG,83,1,1,0,0,1000,0.000,+00.00000000,+000.00000000,+00000.000*4E",
+        "$VNRRG,116,0,0.05,20,0.05,0.08,0,0*4D",
+    ];
+    for r in reads {
+        let id: u8 = r[7..].split(',').next().unwrap().parse().unwrap();
+        let RegisterValue::Other { id: got, fields } = read(r) else {
+            panic!("{r}")
+        };
+        assert_eq!(got, id);
+        assert_eq!(fields.len(), r.split(',').count() - 2, "{r}");
+    }
+    let writes = [
+        "$VNWRG,00,ABCDEF123*6D",
+        "$VNWRG,206,1,1,1,1*42",
+        "$VNWRG,35,0,0,0,0*70",
+        "$VNWRG,36,4,3,2,4,3,2,4,3,2*6A",
+        "$VNWRG,38,4,3,2,4,3,2,4,3,2*64",
+        "$VNWRG,23,0.71,0.011,0.012,0.013,0.72,0.014,0.015,0.016,0.73,0.1,0.2,0.3*47",
+        "$VNWRG,25,0.71,0.011,0.012,0.013,0.72,0.014,0.015,0.016,0.73,0.1,0.2,0.3*41",
+        "$VNWRG,26,1,0,0,0,-1,0,0,0,-1*6F",
+        "$VNWRG,82,1,1,1,0,0*61",
+        "$VNWRG,84,0.71,0.011,0.012,0.013,0.72,0.014,0.015,0.016,0.73,0.1,0.2,0.3*4A",
+        "$VNWRG,85,4,0,0,0,4,0,0,0,0,0*7B",
+        "$VNWRG,50,1,2,3*6F",
+        "$VNWRG,157,1,1,1*58",
+        "$VNWRG,83,0,0,0,0,10,2014,30,-94,100*45",
+        "$VNWRG,21,0.234,0,0.4212,0,0,-9.79375*XX",
+        "$VNWRG,30,0,0,0,0,1,3,1*XX",
+        "$VNWRG,55,0,0,5,0,1*XX",
+        "$VNWRG,67,2,1,0,0*XX",
+        "$VNWRG,99,0013,10,10,16,02,EBF9,003F,0000*XX",
+    ];
+    for w in writes {
+        assert!(matches!(cmd(w), Command::WriteRegister(_)), "{w}");
+    }
+    assert!(matches!(
+        AsciiMessage::parse("VNRWG,44,1,1,5"),
+        Err(AsciiError::UnknownHeader(_))
+    ));
+}
