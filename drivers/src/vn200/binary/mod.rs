@@ -159,7 +159,7 @@ pub enum Probe {
 }
 
 /// Parses the header at the start of `body` (the bytes after the sync byte).
-#[inline]
+#[inline(always)]
 pub fn parse_header(body: &[u8]) -> Result<Header, Probe> {
     let mut pos = 0usize;
     let mut groups = 0u8;
@@ -233,7 +233,7 @@ fn group_len(g: usize, mask: u32, bytes: &[u8]) -> Result<usize, LenError> {
 
 /// Measures the body at the start of `body` (header and payload, no sync, no CRC): its header
 /// and its length. `max_len` bounds the body (a longer one is [`Probe::TooLong`]).
-#[inline]
+#[inline(always)]
 pub fn body_len(body: &[u8], max_len: usize) -> Result<(Header, usize), Probe> {
     let header = parse_header(body)?;
     let mut len = header.len;
