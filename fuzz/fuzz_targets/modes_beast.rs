@@ -1,0 +1,15 @@
+//! Arbitrary bytes into Beast framing and the Mode S decoder with its tracker: no panic, split
+//! invariance, full byte accounting.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use vigil_drivers::modes::{DecodeOptions, ModesDecoder, TrackerConfig};
+use vigil_drivers::testkit;
+use vigil_drivers::ttmrf::raw::BeastDecoder;
+
+fuzz_target!(|data: &[u8]| {
+    testkit::check_arbitrary_input(
+        || ModesDecoder::new(BeastDecoder::new(), TrackerConfig::default(), DecodeOptions::default()),
+        data,
+    );
+});
