@@ -1,0 +1,3 @@
+//! Text protocols of the TT-Multi-RF on one port (to be completed).
+
+pub mod line;
