@@ -254,7 +254,7 @@ impl JsonDecoder {
             eof,
         );
         match out {
-            Step::Message(m) => Some(Some(m)),
+            Step::Message(m) => Some(Some(*m)),
             Step::Continue => Some(None),
             Step::NeedMore => None,
         }
@@ -263,7 +263,7 @@ impl JsonDecoder {
 
 /// Outcome of one framing step (shared with the auto-detecting text decoder).
 pub(crate) enum Step {
-    Message(JsonMessage),
+    Message(Box<JsonMessage>),
     Continue,
     NeedMore,
 }
@@ -324,7 +324,7 @@ pub(crate) fn step_object(
         } => match parse_message(&buf[..object_len]) {
             Ok(m) => {
                 stats.take_frame(buf, frame_len);
-                Step::Message(m)
+                Step::Message(Box::new(m))
             }
             Err(e) => {
                 count_error(stats, &e);

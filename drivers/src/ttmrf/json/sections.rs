@@ -369,7 +369,7 @@ impl RawFrame {
     /// The frame bytes, if the hex is well formed.
     pub fn frame_bytes(&self) -> Option<Vec<u8>> {
         let s = self.frame_hex.as_bytes();
-        if s.len() % 2 != 0 {
+        if !s.len().is_multiple_of(2) {
             return None;
         }
         s.chunks(2)
