@@ -456,7 +456,8 @@ impl ConfigClient {
             }
             Phase::Write(i) => {
                 if *r == AtResponse::Ok {
-                    self.next(Phase::Verify(i), now);
+                    // Keep the attempt count: write + read back is one attempt.
+                    self.request(Phase::Verify(i), now);
                 } else if let Some(d) = error_desc {
                     let command = AtCommand::Write(self.wanted[i]).body();
                     self.fail(

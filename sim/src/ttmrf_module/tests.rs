@@ -1,0 +1,284 @@
+//! The drivers' configuration client against the simulated module: full cycles, lost lines,
+//! stuck settings, aborts, a silent module, and a module already in CONFIGURATION.
+
+use std::time::Duration;
+
+use vigil_drivers::ttmrf::at::client::{
+    ClientConfig, ConfigClient, ConfigError, Output, SettingChange,
+};
+use vigil_drivers::ttmrf::at::settings::{Baudrate, DecodedProtocol, Setting, SettingId};
+use vigil_drivers::ttmrf::at::{ConfigFailure, ConfigReport, ModuleState};
+
+use super::*;
+
+type Outcome = Result<ConfigReport, ConfigFailure>;
+
+/// Connects client and module through a virtual serial line: each side only hears the other when
+/// both are at the same baud. Returns the outcome, the host's final baud and the virtual time.
+fn run(sim: &mut SimModule, client: &mut ConfigClient) -> (Outcome, u32, Duration) {
+    let mut now = Duration::ZERO;
+    let mut host_baud = client.baud();
+    client.start(now);
+    for _ in 0..10_000 {
+        while let Some(o) = client.poll_output() {
+            match o {
+                Output::Send(bytes) => sim.receive(&bytes, host_baud),
+                Output::SetBaud(b) => host_baud = b,
+                Output::Finished(r) => return (r, host_baud, now),
+            }
+        }
+        if let Some((baud, bytes)) = sim.poll_output() {
+            now += Duration::from_millis(1);
+            if baud == host_baud {
+                client.handle_bytes(&bytes, now);
+            }
+            continue;
+        }
+        let t = client
+            .poll_timeout()
+            .expect("a waiting client always has a deadline");
+        now = now.max(t);
+        client.handle_timeout(now);
+    }
+    panic!("the cycle did not end");
+}
+
+fn wanted() -> Vec<Setting> {
+    vec![
+        Setting::adsb_decoded(DecodedProtocol::Json),
+        Setting::flarm_decoded(DecodedProtocol::Json).unwrap(),
+        Setting::gnss_nmea(true),
+        // Changing the RUN baud makes the client follow it on the way out.
+        Setting::baudrate(Baudrate::B115200),
+    ]
+}
+
+fn module() -> SimModule {
+    SimModule::new("22-0000309", "2.77.5.0 (Mar 4 2025)")
+}
+
+#[test]
+fn full_configure_cycle() {
+    let mut sim = module();
+    assert_eq!(sim.baud(), 921_600);
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let (outcome, host_baud, _) = run(&mut sim, &mut client);
+    let report = outcome.expect("cycle succeeds");
+
+    assert_eq!(report.serial_number.as_deref(), Some("22-0000309"));
+    assert_eq!(
+        report.firmware_version.as_deref(),
+        Some("2.77.5.0 (Mar 4 2025)")
+    );
+    // Documented defaults: ADS-B decoded CSV (1), FLARM decoded none (0), GNSS raw none (0);
+    // the simulated module runs at BAUDRATE 1.
+    assert_eq!(
+        report.changed,
+        vec![
+            SettingChange {
+                id: SettingId::AdsbRxProtocolDecoded,
+                from: Some("1".into()),
+                to: 3
+            },
+            SettingChange {
+                id: SettingId::FlarmRxProtocolDecoded,
+                from: Some("0".into()),
+                to: 3
+            },
+            SettingChange {
+                id: SettingId::GnssRxProtocolRaw,
+                from: Some("0".into()),
+                to: 5
+            },
+            SettingChange {
+                id: SettingId::Baudrate,
+                from: Some("1".into()),
+                to: 0
+            },
+        ]
+    );
+    assert!(report.lock_cleared && report.run_confirmed);
+    assert_eq!(report.retries, 0);
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+
+    // The module saved the settings, is back in RUN, unlocked, at the new baud the host followed.
+    assert_eq!(sim.stored("ADSB_RX_PROTOCOL_DECODED"), Some("3"));
+    assert_eq!(sim.stored("FLARM_RX_PROTOCOL_DECODED"), Some("3"));
+    assert_eq!(sim.stored("GNSS_RX_PROTOCOL_RAW"), Some("5"));
+    assert_eq!(sim.state(), ModuleState::Run);
+    assert!(!sim.locked());
+    assert_eq!(sim.baud(), 115_200);
+    assert_eq!(host_baud, 115_200);
+    assert_eq!(report.run_baud, 115_200);
+    assert_eq!(
+        sim.garbled_bytes, 0,
+        "the client never spoke at the wrong baud"
+    );
+    // After a power cycle the module comes up in RUN (it was not left locked).
+    sim.power_cycle();
+    assert_eq!(sim.state(), ModuleState::Run);
+}
+
+#[test]
+fn already_configured_writes_nothing() {
+    let mut sim = module();
+    sim.set_stored("ADSB_RX_PROTOCOL_DECODED", "3");
+    let mut client = ConfigClient::new(
+        vec![Setting::adsb_decoded(DecodedProtocol::Json)],
+        ClientConfig::default(),
+    );
+    let (outcome, host_baud, _) = run(&mut sim, &mut client);
+    let report = outcome.unwrap();
+    assert!(report.changed.is_empty());
+    assert_eq!(
+        report.found,
+        vec![(SettingId::AdsbRxProtocolDecoded, Some("3".into()))]
+    );
+    assert_eq!(host_baud, 921_600);
+    assert!(!sim.locked());
+    assert_eq!(sim.state(), ModuleState::Run);
+}
+
+#[test]
+fn lost_state_messages_are_recovered_by_probing() {
+    let mut sim = module();
+    // AT+OK, AT+RUN_END and AT+CONFIG_START are lost.
+    sim.faults.drop_next_lines = 3;
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let (outcome, _, elapsed) = run(&mut sim, &mut client);
+    let report = outcome.unwrap();
+    assert_eq!(report.changed.len(), 4);
+    assert!(report.run_confirmed);
+    // One transition timeout (3 s) was spent before the AT+CONFIG? probe.
+    assert!(
+        elapsed >= Duration::from_secs(3) && elapsed < Duration::from_secs(4),
+        "{elapsed:?}"
+    );
+    assert!(!sim.locked());
+}
+
+#[test]
+fn module_already_in_configuration() {
+    let mut sim = module();
+    sim.receive(b"AT+CONFIG=1\r", 921_600);
+    while sim.poll_output().is_some() {}
+    assert_eq!(sim.state(), ModuleState::Configuration);
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let (outcome, _, _) = run(&mut sim, &mut client);
+    let report = outcome.unwrap();
+    assert_eq!(report.changed.len(), 4);
+    // The AT+CONFIG=1 sent at 921600 reached a module listening at 115200 and was garbled.
+    assert_eq!(sim.garbled_bytes, "AT+CONFIG=1\r\n".len());
+    assert!(!sim.locked());
+    assert_eq!(sim.state(), ModuleState::Run);
+}
+
+#[test]
+fn stuck_setting_fails_and_still_unlocks_and_returns_to_run() {
+    let mut sim = module();
+    sim.faults.stuck_setting = Some(SettingId::GnssRxProtocolRaw);
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let (outcome, host_baud, _) = run(&mut sim, &mut client);
+    let failure = outcome.unwrap_err();
+    assert_eq!(
+        failure.error,
+        ConfigError::VerifyFailed {
+            setting: SettingId::GnssRxProtocolRaw,
+            wanted: 5,
+            read: "0".into()
+        }
+    );
+    // Two settings had been changed (and are saved on leaving CONFIGURATION), the third was
+    // written three times.
+    assert_eq!(failure.report.changed.len(), 2);
+    assert_eq!(failure.report.retries, 2);
+    assert!(failure.report.lock_cleared && failure.report.run_confirmed);
+    assert!(!sim.locked());
+    assert_eq!(sim.state(), ModuleState::Run);
+    assert_eq!(sim.stored("ADSB_RX_PROTOCOL_DECODED"), Some("3"));
+    assert_eq!(host_baud, sim.baud());
+}
+
+#[test]
+fn abort_in_configuration_unlocks_and_returns_to_run() {
+    let mut sim = module();
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let now = Duration::ZERO;
+    let mut host_baud = client.baud();
+    client.start(now);
+    // Pump until the client has entered CONFIGURATION and read the identity.
+    let mut finished = None;
+    let mut steps = 0;
+    while finished.is_none() && steps < 1000 {
+        steps += 1;
+        while let Some(o) = client.poll_output() {
+            match o {
+                Output::Send(b) => sim.receive(&b, host_baud),
+                Output::SetBaud(b) => host_baud = b,
+                Output::Finished(r) => finished = Some(r),
+            }
+        }
+        if let Some((baud, bytes)) = sim.poll_output()
+            && baud == host_baud
+        {
+            client.handle_bytes(&bytes, now);
+        }
+        if steps == 12 {
+            assert_eq!(sim.state(), ModuleState::Configuration);
+            assert!(sim.locked());
+            client.abort(now);
+        }
+    }
+    let failure = finished.unwrap().unwrap_err();
+    assert_eq!(failure.error, ConfigError::Aborted);
+    assert!(!sim.locked());
+    assert_eq!(sim.state(), ModuleState::Run);
+}
+
+#[test]
+fn silent_module_gives_up_in_bounded_time() {
+    let mut sim = module();
+    sim.faults.drop_next_lines = usize::MAX;
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let (outcome, _, elapsed) = run(&mut sim, &mut client);
+    assert_eq!(outcome.unwrap_err().error, ConfigError::EnterTimeout(3));
+    // 3 x (3 s + 0.5 s) entering, then the clean-up: 3 x 0.5 s unlock + 3 x 3 s exit.
+    assert!(elapsed <= Duration::from_secs(25), "{elapsed:?}");
+    // The module heard AT+CONFIG=1 and locked itself; the clean-up's AT+LOCK=0 and AT+CONFIG=0
+    // reached it at 115200 even though its answers were lost.
+    assert!(!sim.locked());
+    assert_eq!(sim.state(), ModuleState::Run);
+}
+
+#[test]
+fn module_side_rules() {
+    let mut sim = module();
+    // In RUN only AT+CONFIG is understood; other commands are ignored silently.
+    sim.receive(b"AT+HELP\n", 921_600);
+    assert!(sim.poll_output().is_none());
+    sim.receive(b"AT+config=1\n", 921_600);
+    let lines: Vec<_> = std::iter::from_fn(|| sim.poll_output()).collect();
+    assert_eq!(
+        lines,
+        vec![
+            (921_600, b"AT+OK\r\n".to_vec()),
+            (921_600, b"AT+RUN_END\r\n".to_vec()),
+            (115_200, b"AT+CONFIG_START\r\n".to_vec()),
+        ]
+    );
+    // Out-of-range writes are refused with AT+ERROR, reads answer AT+NAME=VALUE.
+    sim.receive(b"AT+BAUDRATE=9\r\nAT+asterix_sic?\r\n", 115_200);
+    let lines: Vec<_> = std::iter::from_fn(|| sim.poll_output())
+        .map(|(_, l)| String::from_utf8(l).unwrap())
+        .collect();
+    assert!(lines[0].starts_with("AT+ERROR ("), "{lines:?}");
+    assert_eq!(lines[1], "AT+ASTERIX_SIC=129\r\n");
+    // REBOOT_BOOTLOADER locks; in BOOTLOADER lower case is refused, AT+LOCK=0 releases to RUN.
+    sim.receive(b"AT+REBOOT_BOOTLOADER\r", 115_200);
+    assert_eq!(sim.state(), ModuleState::Bootloader);
+    while sim.poll_output().is_some() {}
+    sim.receive(b"AT+lock=0\r", 115_200);
+    assert_eq!(sim.state(), ModuleState::Bootloader);
+    sim.receive(b"AT+LOCK=0\r", 115_200);
+    assert_eq!(sim.state(), ModuleState::Run);
+}
