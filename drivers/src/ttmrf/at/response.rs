@@ -204,6 +204,7 @@ impl DeviceDecoder for AtDecoder {
         loop {
             match self.framer.next_line(buf, &mut self.stats, MAX_LINE) {
                 LineStep::NeedMore => return None,
+                LineStep::Skipped => {}
                 LineStep::Line {
                     frame_len,
                     content_len,

@@ -294,6 +294,7 @@ impl DeviceDecoder for CsvDecoder {
             }
             match self.framer.next_line(buf, &mut self.stats, MAX_LINE) {
                 LineStep::NeedMore => return None,
+                LineStep::Skipped => {}
                 LineStep::Line {
                     frame_len,
                     content_len,

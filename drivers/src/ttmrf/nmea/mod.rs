@@ -173,6 +173,7 @@ impl DeviceDecoder for NmeaDecoder {
             }
             match self.framer.next_line(buf, &mut self.stats, MAX_LINE) {
                 LineStep::NeedMore => return None,
+                LineStep::Skipped => {}
                 LineStep::Line {
                     frame_len,
                     content_len,

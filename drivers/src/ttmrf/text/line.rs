@@ -22,6 +22,8 @@ pub enum LineStep {
     },
     /// No complete line yet: wait for more bytes.
     NeedMore,
+    /// Bytes of an over-long line were skipped: resynchronise, then ask again.
+    Skipped,
 }
 
 /// Incremental line finder with a length bound.
@@ -35,62 +37,61 @@ pub struct LineFramer {
 
 impl LineFramer {
     /// Looks for the next line in `buf`. Over-long input is skipped (and counted) here, so the
-    /// caller only sees lines of at most `max` content bytes.
+    /// caller only sees lines of at most `max` content bytes. After skipping, the framer returns
+    /// [`LineStep::Skipped`] so the caller can resynchronise before the next line.
     pub fn next_line(
         &mut self,
         buf: &mut BytesMut,
         stats: &mut DecodeStats,
         max: usize,
     ) -> LineStep {
-        loop {
-            if self.discarding {
-                match buf.iter().position(|&b| b == b'\n') {
-                    Some(i) => {
-                        stats.skip(buf, i + 1);
-                        self.discarding = false;
-                        self.scanned = 0;
-                    }
-                    None => {
-                        let n = buf.len();
-                        stats.skip(buf, n);
-                        self.scanned = 0;
-                        return LineStep::NeedMore;
-                    }
-                }
-            }
-            // Only the first `max + 2` bytes matter (content plus "\r\n").
-            let limit = buf.len().min(max.saturating_add(2));
-            let start = self.scanned.min(limit);
-            match buf[start..limit].iter().position(|&b| b == b'\n') {
+        if self.discarding {
+            self.scanned = 0;
+            return match buf.iter().position(|&b| b == b'\n') {
                 Some(i) => {
-                    let nl = start + i;
-                    self.scanned = 0;
-                    let content_len = if nl > 0 && buf[nl - 1] == b'\r' {
-                        nl - 1
-                    } else {
-                        nl
-                    };
-                    if content_len > max {
-                        stats.malformed += 1;
-                        stats.skip(buf, nl + 1);
-                        continue;
-                    }
-                    return LineStep::Line {
-                        frame_len: nl + 1,
-                        content_len,
-                    };
+                    stats.skip(buf, i + 1);
+                    self.discarding = false;
+                    LineStep::Skipped
                 }
                 None => {
-                    self.scanned = limit;
-                    if limit >= max.saturating_add(2) {
-                        // Over-long: drop what we have and the rest of this line.
-                        stats.malformed += 1;
-                        self.discarding = true;
-                        self.scanned = 0;
-                        continue;
-                    }
-                    return LineStep::NeedMore;
+                    let n = buf.len();
+                    stats.skip(buf, n);
+                    LineStep::NeedMore
                 }
+            };
+        }
+        // Only the first `max + 2` bytes matter (content plus "\r\n").
+        let limit = buf.len().min(max.saturating_add(2));
+        let start = self.scanned.min(limit);
+        match buf[start..limit].iter().position(|&b| b == b'\n') {
+            Some(i) => {
+                let nl = start + i;
+                self.scanned = 0;
+                let content_len = if nl > 0 && buf[nl - 1] == b'\r' {
+                    nl - 1
+                } else {
+                    nl
+                };
+                if content_len > max {
+                    stats.malformed += 1;
+                    stats.skip(buf, nl + 1);
+                    return LineStep::Skipped;
+                }
+                LineStep::Line {
+                    frame_len: nl + 1,
+                    content_len,
+                }
+            }
+            None if limit >= max.saturating_add(2) => {
+                // Over-long: drop it, up to and including its line end.
+                stats.malformed += 1;
+                self.discarding = true;
+                self.scanned = 0;
+                LineStep::Skipped
+            }
+            None => {
+                self.scanned = limit;
+                LineStep::NeedMore
             }
         }
     }
@@ -152,9 +153,11 @@ mod tests {
         let mut f = LineFramer::default();
         let mut s = DecodeStats::default();
         let mut buf = BytesMut::from(&b"0123456789abcdef"[..]);
+        assert_eq!(f.next_line(&mut buf, &mut s, 4), LineStep::Skipped);
         assert_eq!(f.next_line(&mut buf, &mut s, 4), LineStep::NeedMore);
         assert!(buf.is_empty());
         buf.extend_from_slice(b"xyz\nok\n");
+        assert_eq!(f.next_line(&mut buf, &mut s, 4), LineStep::Skipped);
         assert_eq!(
             f.next_line(&mut buf, &mut s, 4),
             LineStep::Line {
