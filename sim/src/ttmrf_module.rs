@@ -19,6 +19,7 @@ use vigil_drivers::ttmrf::at::state::transition_messages;
 use vigil_drivers::ttmrf::at::{
     AtCommand, AtResponse, Baudrate, CONFIG_BAUD, ConfigMode, ModuleState, SettingId,
 };
+use vigil_drivers::ttmrf::csv::CsvMessage;
 
 /// Faults the simulated module can inject.
 #[derive(Debug, Clone, Default)]
@@ -122,6 +123,17 @@ impl SimModule {
         if !self.locked {
             self.enter(ModuleState::Run);
         }
+    }
+
+    /// Sends a traffic line (in RUN state only, at the RUN baud), encoded by the drivers' CSV
+    /// encoder. Returns whether it was sent.
+    pub fn emit_traffic(&mut self, msg: &CsvMessage) -> bool {
+        if self.state != ModuleState::Run {
+            return false;
+        }
+        let baud = self.run_baud();
+        self.out.push_back((baud, msg.to_line().into_bytes()));
+        true
     }
 
     /// The next line the module sends, with its baud.

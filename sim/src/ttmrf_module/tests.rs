@@ -120,6 +120,25 @@ fn full_configure_cycle() {
 }
 
 #[test]
+fn traffic_in_run_state_does_not_disturb_the_client() {
+    let mut sim = module();
+    let line = "#A:4D240E,3F00,,7273,53.47939,14.55892,28550,23,510,1408,-71,5,9,938,28850,,A9FE";
+    let msg = vigil_drivers::ttmrf::csv::parse_line(line.as_bytes()).unwrap();
+    for _ in 0..3 {
+        assert!(sim.emit_traffic(&msg));
+    }
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let (outcome, _, _) = run(&mut sim, &mut client);
+    assert_eq!(outcome.unwrap().changed.len(), 4);
+    // Back in RUN at the new baud, traffic flows again, byte-identical to the manual's example.
+    assert!(sim.emit_traffic(&msg));
+    assert_eq!(
+        sim.poll_output(),
+        Some((115_200, format!("{line}\r\n").into_bytes()))
+    );
+}
+
+#[test]
 fn already_configured_writes_nothing() {
     let mut sim = module();
     sim.set_stored("ADSB_RX_PROTOCOL_DECODED", "3");

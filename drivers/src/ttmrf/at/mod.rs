@@ -183,4 +183,34 @@ AT+FIRMWARE_VERSION=2.72.1.0 (Jun 17 2024)\r\nAT+LOCK=0\r\nAT+SERIAL_NUMBER=22-0
         assert_split_invariant(AtDecoder::new, &bytes);
         assert_survives_random(AtDecoder::new, 3, 200, 1500);
     }
+
+    proptest::proptest! {
+        #[test]
+        fn response_round_trip(kind in 0u8..5, ev in 0usize..5, name in "[A-Z][A-Z0-9_]{0,20}", value in "[ -~]{0,30}") {
+            let r = match kind {
+                0 => AtResponse::Ok,
+                1 => AtResponse::Error { description: None },
+                2 => AtResponse::Error { description: Some(value.trim().to_owned()).filter(|d| !d.is_empty() && !d.starts_with('(')) },
+                3 => AtResponse::State { event: [StateEvent::RunStart, StateEvent::RunEnd, StateEvent::ConfigStart, StateEvent::ConfigEnd, StateEvent::BootloaderStart][ev] },
+                _ => AtResponse::Value { name, value: value.trim_end().to_owned() },
+            };
+            let line = r.to_line();
+            proptest::prop_assert_eq!(parse_response(line.trim_end_matches(['\r', '\n']).as_bytes()), Some(r));
+        }
+
+        #[test]
+        fn write_command_round_trip(idx in 0usize..SettingId::ALL.len(), raw in -5i64..300) {
+            let id = SettingId::ALL[idx];
+            if let Ok(setting) = Setting::new(id, raw) {
+                let cmd = AtCommand::Write(setting);
+                // Upper case passes in every state, lower case only outside BOOTLOADER.
+                proptest::prop_assert_eq!(AtCommand::parse(cmd.to_line().trim_end(), true), Ok(cmd.clone()));
+                let lower = cmd.to_line().to_ascii_lowercase().replacen("at+", "AT+", 1);
+                proptest::prop_assert_eq!(AtCommand::parse(lower.trim_end(), false), Ok(cmd));
+            } else {
+                let line = format!("AT+{}={raw}", id.name());
+                proptest::prop_assert!(AtCommand::parse(&line, false).is_err());
+            }
+        }
+    }
 }

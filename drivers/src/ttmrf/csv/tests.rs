@@ -76,6 +76,19 @@ fn manual_first_adsb_example() {
 }
 
 #[test]
+fn encoder_reproduces_the_manual_example_byte_for_byte() {
+    let m = CsvMessage::Adsb(adsb(MANUAL_A1));
+    assert_eq!(m.to_line(), format!("{MANUAL_A1}\r\n"));
+    let f =
+        parse_line(b"#ALRM:0,1600BF,2,13,0,535668736,163101952,61,90,0,20,1,2,-3,3,8,9,-56,0,0")
+            .unwrap();
+    assert_eq!(
+        f.to_line(),
+        "#ALRM:0,1600BF,2,13,0,535668736,163101952,61,90,0,20,1,2,-3,3,8,9,-56,0,0\r\n"
+    );
+}
+
+#[test]
 fn manual_first_adsb_example_through_the_decoder() {
     let bytes = format!("{MANUAL_A1}\r\n");
     let mut d = CsvDecoder::new();
