@@ -7,17 +7,20 @@
 //!   encoding (upper case, `\r\n`) and the module-side parsing with the case rules.
 //! - [`response`]: what the module answers (`AT+OK`, `AT+ERROR (...)`, `AT+X=V`, state messages,
 //!   free text) and a line decoder for it.
+//! - [`describe`]: the answer to `AT+NAME=?`.
 //! - [`settings`]: the settings of tables 9, 12, 13, 24, 31 and 33 as typed, range-checked values.
 //! - [`client`]: the sans-IO client that brings the module into a wanted configuration.
 
 pub mod client;
 pub mod command;
+pub mod describe;
 pub mod response;
 pub mod settings;
 pub mod state;
 
 pub use client::{ClientConfig, ConfigClient, ConfigError, ConfigFailure, ConfigReport, Output};
 pub use command::{AtCommand, AtEncoder, CommandError, ConfigMode};
+pub use describe::SettingDescription;
 pub use response::{AtDecoder, AtResponse, StateEvent, parse_response};
 pub use settings::{Baudrate, CONFIG_BAUD, DecodedProtocol, RawProtocol, Setting, SettingId};
 pub use state::ModuleState;
