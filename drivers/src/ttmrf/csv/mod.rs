@@ -44,6 +44,9 @@ use fields::Fields;
 /// the margin leaves room for the future fields the manual announces.
 pub const MAX_LINE: usize = 512;
 
+/// Most fields accepted in one line (documented lines have up to 20, plus future ones).
+pub const MAX_FIELDS: usize = 64;
+
 /// Why a CSV line was rejected (the decoder counts these; [`parse_line`] returns them).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum CsvError {
@@ -69,7 +72,7 @@ pub enum CsvError {
         /// CRC computed over the line.
         computed: u16,
     },
-    /// Fewer fields than the message documents.
+    /// Fewer fields than the message documents (or more than [`MAX_FIELDS`]).
     #[error("csv #{tag}: {got} fields, expected at least {expected}")]
     FieldCount {
         /// Message tag.
@@ -225,8 +228,20 @@ fn parse_line_inner(line: &[u8], verify: bool) -> Result<CsvMessage, CsvError> {
         &line[data_start..]
     };
     let text = std::str::from_utf8(data).map_err(|_| CsvError::NotText)?;
-    let split: Vec<&str> = text.split(',').collect();
-    let f = Fields::new(&split);
+    // Fields go into a stack array: no allocation per line. No documented line has more than
+    // 20 fields; more than MAX_FIELDS is malformed.
+    let mut split = [""; MAX_FIELDS];
+    let mut n = 0;
+    for part in text.split(',') {
+        let slot = split.get_mut(n).ok_or(CsvError::FieldCount {
+            tag,
+            expected: MAX_FIELDS,
+            got: n + 1,
+        })?;
+        *slot = part;
+        n += 1;
+    }
+    let f = Fields::new(&split[..n]);
     Ok(match tag {
         "A" => CsvMessage::Adsb(AdsbAircraft::parse(&f)?),
         "U" => CsvMessage::Uat(UatAircraft::parse(&f)?),

@@ -384,6 +384,17 @@ fn future_fields_before_the_crc_are_accepted() {
 }
 
 #[test]
+fn too_many_fields_is_malformed() {
+    let many = format!("#FS:{}", vec!["1"; MAX_FIELDS + 1].join(","));
+    assert!(matches!(
+        parse_line(many.as_bytes()),
+        Err(CsvError::FieldCount { got, .. }) if got == MAX_FIELDS + 1
+    ));
+    let ok = format!("#FS:{}", vec!["1"; MAX_FIELDS].join(","));
+    assert!(parse_line(ok.as_bytes()).is_ok());
+}
+
+#[test]
 fn rejections_are_counted_by_kind() {
     let good = format!("{MANUAL_A1}\r\n");
     let bad_crc = MANUAL_A1.replace("A9FE", "A9FF");

@@ -138,6 +138,13 @@ impl JsonMessage {
     }
 }
 
+/// A callsign trimmed of padding; empty means unknown.
+fn callsign(c: Option<&str>) -> Option<String> {
+    c.map(str::trim)
+        .filter(|c| !c.is_empty())
+        .map(str::to_owned)
+}
+
 impl AdsbTarget {
     /// The common traffic report; `time` is the message's `ts`.
     pub fn to_traffic(&self, time: Option<SourceTime>) -> TrafficReport {
@@ -146,7 +153,7 @@ impl AdsbTarget {
             protocol: Protocol::Json,
             address: self.icao,
             address_type: crate::traffic::AddressType::Icao,
-            callsign: self.callsign.clone(),
+            callsign: callsign(self.callsign.as_deref()),
             squawk: self.squawk,
             emitter_category: self.ecat,
             lat_deg: self.lat_deg,
@@ -181,7 +188,7 @@ impl UatTarget {
             protocol: Protocol::Json,
             address: self.icao,
             address_type: crate::traffic::AddressType::Icao,
-            callsign: self.callsign.clone(),
+            callsign: callsign(self.callsign.as_deref()),
             squawk: self.squawk,
             emitter_category: self.ecat,
             lat_deg: self.lat_deg,

@@ -221,6 +221,11 @@ fn order_free_unknown_ignored_omitted_unknown() {
     let t = &m.traffic_reports()[0];
     assert_eq!(t.source_time, None);
     assert_eq!(t.address_hex(), "00ABCD");
+    // Padded and empty callsigns.
+    let m = parse(r#"{"ver":1,"adsb":[{"icao":"1","call":"SAS1    "},{"icao":"2","call":"   "}]}"#);
+    let t = m.traffic_reports();
+    assert_eq!(t[0].callsign.as_deref(), Some("SAS1"));
+    assert_eq!(t[1].callsign, None);
 }
 
 #[test]
