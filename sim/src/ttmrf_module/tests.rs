@@ -16,31 +16,8 @@ type Outcome = Result<ConfigReport, ConfigFailure>;
 /// Connects client and module through a virtual serial line: each side only hears the other when
 /// both are at the same baud. Returns the outcome, the host's final baud and the virtual time.
 fn run(sim: &mut SimModule, client: &mut ConfigClient) -> (Outcome, u32, Duration) {
-    let mut now = Duration::ZERO;
-    let mut host_baud = client.baud();
-    client.start(now);
-    for _ in 0..10_000 {
-        while let Some(o) = client.poll_output() {
-            match o {
-                Output::Send(bytes) => sim.receive(&bytes, host_baud),
-                Output::SetBaud(b) => host_baud = b,
-                Output::Finished(r) => return (r, host_baud, now),
-            }
-        }
-        if let Some((baud, bytes)) = sim.poll_output() {
-            now += Duration::from_millis(1);
-            if baud == host_baud {
-                client.handle_bytes(&bytes, now);
-            }
-            continue;
-        }
-        let t = client
-            .poll_timeout()
-            .expect("a waiting client always has a deadline");
-        now = now.max(t);
-        client.handle_timeout(now);
-    }
-    panic!("the cycle did not end");
+    client.start(Duration::ZERO);
+    run_started(sim, client, Duration::ZERO)
 }
 
 fn wanted() -> Vec<Setting> {
@@ -300,4 +277,87 @@ fn module_side_rules() {
     assert_eq!(sim.state(), ModuleState::Bootloader);
     sim.receive(b"AT+LOCK=0\r", 115_200);
     assert_eq!(sim.state(), ModuleState::Run);
+}
+
+#[test]
+fn module_locked_in_bootloader_is_released_and_configured() {
+    let mut sim = module();
+    // Someone entered CONFIGURATION (which sets the lock) and power-cycled the module: it stays
+    // in BOOTLOADER.
+    sim.receive(b"AT+CONFIG=1\n", 921_600);
+    sim.power_cycle();
+    while sim.poll_output().is_some() {}
+    assert_eq!(sim.state(), ModuleState::Bootloader);
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let (outcome, host_baud, _) = run(&mut sim, &mut client);
+    let report = outcome.unwrap();
+    assert_eq!(report.changed.len(), 4);
+    assert_eq!(report.retries, 1);
+    assert!(
+        report.warnings[0].contains("bootloader"),
+        "{:?}",
+        report.warnings
+    );
+    assert_eq!(sim.state(), ModuleState::Run);
+    assert!(!sim.locked());
+    assert_eq!(host_baud, 115_200);
+}
+
+#[test]
+fn bootloader_start_seen_while_entering() {
+    let mut sim = module();
+    sim.receive(b"AT+CONFIG=1\n", 921_600);
+    while sim.poll_output().is_some() {}
+    // Power cycle while locked: the module announces BOOTLOADER (at 115200) and stays there.
+    sim.power_cycle();
+    let mut client = ConfigClient::new(wanted(), ClientConfig::default());
+    let now = Duration::ZERO;
+    client.start(now);
+    // The client's AT+CONFIG=1 at 921600 is lost on a module at 115200; the host hears
+    // AT+BOOTLOADER_START (a host listening at 115200 during power-up, as here by construction).
+    while client.poll_output().is_some() {}
+    let (baud, line) = sim.poll_output().unwrap();
+    assert_eq!(
+        (baud, line.as_slice()),
+        (115_200, &b"AT+BOOTLOADER_START\r\n"[..])
+    );
+    client.handle_bytes(&line, now);
+    let (outcome, _, elapsed) = run_started(&mut sim, &mut client, now);
+    let report = outcome.unwrap();
+    assert_eq!(report.changed.len(), 4);
+    // No timeout was needed: the state message triggered the release at once.
+    assert!(elapsed < Duration::from_millis(500), "{elapsed:?}");
+    assert!(!sim.locked());
+    assert_eq!(sim.state(), ModuleState::Run);
+}
+
+/// The harness of [`run`] for a client that was already started.
+fn run_started(
+    sim: &mut SimModule,
+    client: &mut ConfigClient,
+    mut now: Duration,
+) -> (Outcome, u32, Duration) {
+    let mut host_baud = client.baud();
+    for _ in 0..10_000 {
+        while let Some(o) = client.poll_output() {
+            match o {
+                Output::Send(bytes) => sim.receive(&bytes, host_baud),
+                Output::SetBaud(b) => host_baud = b,
+                Output::Finished(r) => return (r, host_baud, now),
+            }
+        }
+        if let Some((baud, bytes)) = sim.poll_output() {
+            now += Duration::from_millis(1);
+            if baud == host_baud {
+                client.handle_bytes(&bytes, now);
+            }
+            continue;
+        }
+        let t = client
+            .poll_timeout()
+            .expect("a waiting client always has a deadline");
+        now = now.max(t);
+        client.handle_timeout(now);
+    }
+    panic!("the cycle did not end");
 }

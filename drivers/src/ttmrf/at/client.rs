@@ -9,7 +9,9 @@
 //! The cycle (manual 4.2, 5.1, 5.2):
 //! 1. `AT+CONFIG=1` at the RUN baud; on `AT+RUN_END` (or `AT+OK`) switch to 115200 and wait for
 //!    `AT+CONFIG_START`. If nothing arrives, probe with `AT+CONFIG?` at 115200 (the module may
-//!    already be in CONFIGURATION, or the state messages were lost), then retry.
+//!    already be in CONFIGURATION, or the state messages were lost), then retry. A module found
+//!    in BOOTLOADER (`AT+BOOTLOADER_START`, or `AT+ERROR` to the probe at 115200) is released to
+//!    RUN with `AT+LOCK=0` (4.2.1) and the entry retried.
 //! 2. Read `SERIAL_NUMBER`, `FIRMWARE_VERSION` and `BAUDRATE` (to know the RUN baud to return to).
 //! 3. For each wanted setting: read it; if it differs, write it, then read it back to verify.
 //! 4. `AT+LOCK=0`: `AT+CONFIG=1` set the lock (5.2.3), which would hold the module in
@@ -161,6 +163,10 @@ enum Phase {
     EnterWaitStart,
     /// At 115200, sent AT+CONFIG?.
     EnterProbe,
+    /// The module is in BOOTLOADER: at 115200, sent AT+LOCK=0 to let it go to RUN.
+    BootRelease,
+    /// At the RUN baud, waiting for AT+RUN_START after leaving BOOTLOADER.
+    BootWaitRun,
     /// Reading identity item `i` (0 serial, 1 firmware, 2 baudrate).
     Identify(usize),
     /// Reading wanted setting `i`.
@@ -301,7 +307,7 @@ impl ConfigClient {
             Phase::Identify(i) => AtCommand::Other(format!("{}?", IDENTITY[i])),
             Phase::Read(i) | Phase::Verify(i) => AtCommand::Read(self.wanted[i].id()),
             Phase::Write(i) => AtCommand::Write(self.wanted[i]),
-            Phase::Unlock => AtCommand::Lock(false),
+            Phase::Unlock | Phase::BootRelease => AtCommand::Lock(false),
             Phase::EnterProbe | Phase::ExitProbe => AtCommand::ConfigQuery,
             Phase::ExitSent => {
                 self.send(
@@ -375,8 +381,13 @@ impl ConfigClient {
             event: StateEvent::BootloaderStart,
         } = r
         {
-            if !self.cleaning && self.phase != Phase::Done {
-                self.fail(ConfigError::Bootloader, now);
+            match self.phase {
+                Phase::EnterSent | Phase::EnterWaitStart | Phase::EnterProbe => {
+                    self.release_bootloader(now)
+                }
+                Phase::Idle | Phase::Done | Phase::BootRelease | Phase::BootWaitRun => {}
+                _ if !self.cleaning => self.fail(ConfigError::Bootloader, now),
+                _ => {}
             }
             return;
         }
@@ -409,6 +420,21 @@ impl ConfigClient {
                     || r.value_of("CONFIG").is_some_and(|v| v == "1" || v == "2")
                 {
                     self.entered_config(now);
+                } else if error_desc.is_some() || r.value_of("BOOT") == Some("1") {
+                    // Something at 115200 that refuses AT+CONFIG?: the BOOTLOADER (5.2.1).
+                    self.release_bootloader(now);
+                }
+            }
+            Phase::BootRelease => {
+                if *r == AtResponse::Ok {
+                    self.set_baud(self.run_baud);
+                    self.phase = Phase::BootWaitRun;
+                    self.deadline = Some(now + self.cfg.transition_timeout);
+                }
+            }
+            Phase::BootWaitRun => {
+                if state == Some(StateEvent::RunStart) {
+                    self.retry_enter(now);
                 }
             }
             Phase::Identify(i) => {
@@ -547,6 +573,28 @@ impl ConfigClient {
         }
     }
 
+    /// The module is in BOOTLOADER (possibly locked there): release it to RUN with `AT+LOCK=0`
+    /// (4.2.1), then enter CONFIGURATION again. Counts as an attempt.
+    fn release_bootloader(&mut self, now: Duration) {
+        self.report
+            .warnings
+            .push("module found in bootloader state; released it with AT+LOCK=0".into());
+        self.set_baud(CONFIG_BAUD);
+        self.request(Phase::BootRelease, now);
+    }
+
+    /// Another attempt at entering CONFIGURATION, or the failure when attempts are used up.
+    fn retry_enter(&mut self, now: Duration) {
+        if self.attempt < self.cfg.attempts {
+            self.attempt += 1;
+            self.report.retries += 1;
+            self.send_enter(now);
+        } else {
+            let n = self.attempt;
+            self.fail(ConfigError::EnterTimeout(n), now);
+        }
+    }
+
     fn identify_next(&mut self, i: usize, now: Duration) {
         if i + 1 < IDENTITY.len() {
             self.next(Phase::Identify(i + 1), now);
@@ -596,16 +644,7 @@ impl ConfigClient {
                 self.set_baud(CONFIG_BAUD);
                 self.request(Phase::EnterProbe, now);
             }
-            Phase::EnterProbe => {
-                if retry {
-                    self.attempt += 1;
-                    self.report.retries += 1;
-                    self.send_enter(now);
-                } else {
-                    let n = self.attempt;
-                    self.fail(ConfigError::EnterTimeout(n), now);
-                }
-            }
+            Phase::EnterProbe | Phase::BootRelease | Phase::BootWaitRun => self.retry_enter(now),
             Phase::Identify(i) => {
                 if retry {
                     self.attempt += 1;
