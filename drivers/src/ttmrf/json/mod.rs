@@ -14,6 +14,7 @@
 //! Framing ([`framing`]): brace matching; a line feed inside an open object cuts it (compact
 //! JSON never contains one), so the decoder resynchronises at the next line.
 
+pub mod encode;
 pub mod framing;
 pub mod sections;
 

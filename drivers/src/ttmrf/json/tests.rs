@@ -382,3 +382,109 @@ fn serialised_names_carry_units() {
     assert_eq!(v["velh_kt"], 528.0);
     assert_eq!(v["velv_fpm"], 0.0);
 }
+
+#[test]
+fn wire_encoding_of_the_manual_examples_round_trips() {
+    for example in [
+        MANUAL_ADSB,
+        MANUAL_UAT,
+        MANUAL_FLARM,
+        MANUAL_GNSS,
+        MANUAL_RAW,
+        MANUAL_STATUS,
+    ] {
+        let m = parse(example);
+        let wire = m.to_wire();
+        assert!(wire.ends_with("}\r\n") && !wire[..wire.len() - 2].contains('\n'));
+        assert_eq!(
+            parse_message(wire.trim_end().as_bytes()).unwrap(),
+            m,
+            "{wire}"
+        );
+    }
+    // Unknown values are omitted, not written as null or 0.
+    let wire = parse(r#"{"ver":1,"adsb":[{"icao":"00ABCD"}]}"#).to_wire();
+    assert_eq!(wire, "{\"adsb\":[{\"icao\":\"00ABCD\"}],\"ver\":1}\r\n");
+}
+
+mod round_trip {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn opt<T: std::fmt::Debug + Clone>(
+        s: impl Strategy<Value = T>,
+    ) -> impl Strategy<Value = Option<T>> {
+        proptest::option::of(s)
+    }
+
+    prop_compose! {
+        fn adsb_target()(
+            icao in 0u32..0x100_0000,
+            ground in opt(any::<bool>()),
+            lat in opt(-90.0f64..=90.0),
+            lon in opt(-180.0f64..=180.0),
+            alt in opt(-1000.0f64..60000.0),
+            velv in opt(-6000i32..6000),
+            call in opt("[A-Z0-9]{1,8}"),
+            squawk in opt(0u16..0o10000),
+            nic in opt(0u8..12),
+            tcas in opt(any::<bool>()),
+        ) -> AdsbTarget {
+            AdsbTarget {
+                icao,
+                flags: ground.map(|g| TargetFlags { on_ground: Some(g), ..Default::default() }),
+                lat_deg: lat,
+                lon_deg: lon,
+                alt_baro_ft: alt,
+                velv_fpm: velv.map(f64::from),
+                callsign: call,
+                squawk: squawk.map(|s| format!("{s:o}").parse().unwrap()),
+                nic,
+                nav_modes: tcas.map(|t| NavModes { tcas: Some(t), ..Default::default() }),
+                ..Default::default()
+            }
+        }
+    }
+
+    prop_compose! {
+        fn flarm_target()(
+            id in 0u32..0x100_0000,
+            id_type in opt(0u8..3),
+            ty in opt(0u8..16),
+            danger in opt(0u8..4),
+            alt in opt(-100.0f64..5000.0),
+            hvelo in opt(0.0f64..100.0),
+            stealth in opt(Just(1u8)),
+        ) -> FlarmTarget {
+            FlarmTarget { id, id_type, aircraft_type: ty, alarm_level: danger, alt_m: alt, velh_mps: hvelo, stealth, ..Default::default() }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn message_round_trip(
+            src in opt("[A-Z0-9-]{1,12}"),
+            ts in opt(0u32..86_400_000),
+            adsb in proptest::collection::vec(adsb_target(), 0..4),
+            flarm in proptest::collection::vec(flarm_target(), 0..3),
+            uat_emerg in opt(0u8..8),
+            fix in opt(0u8..2),
+            raw_ts in opt(0u64..86_400_000_000_000),
+        ) {
+            let m = JsonMessage {
+                src,
+                ts_ms: ts,
+                ver: Some(1),
+                adsb,
+                flarm,
+                uat: uat_emerg.map(|e| UatTarget { icao: 0x777888, emergency: Some(e), squawk: Some(7232), ..Default::default() }).into_iter().collect(),
+                gnss: fix.map(|f| Gnss { fix: Some(f), gnd_speed_en_kt: Some([5.2, -2.1]), ..Default::default() }),
+                raw: raw_ts.map(|t| RawFrame { frame_hex: "5D4B18FFFC710B".into(), sig_dbm: None, sig_q_db: Some(2.0), ts_ns: Some(t) }).into_iter().collect(),
+                ..Default::default()
+            };
+            let wire = m.to_wire();
+            let mut d = JsonDecoder::new();
+            prop_assert_eq!(decode_slice(&mut d, wire.as_bytes()), vec![m]);
+        }
+    }
+}
