@@ -8,6 +8,7 @@
 //! A small parser of our own is used rather than the `nmea` crate: five sentences, the house
 //! accounting rules, and no dependency.
 
+pub mod encode;
 pub mod sentences;
 
 #[cfg(test)]

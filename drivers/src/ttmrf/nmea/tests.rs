@@ -213,3 +213,62 @@ fn stream_split_random_corrupt_truncated() {
         assert!(decode_slice(&mut d, &GGA.as_bytes()[..cut]).is_empty());
     }
 }
+
+#[test]
+fn encoder_reproduces_reference_sentences() {
+    // Re-encoding gives the same values (formatting may differ: 5 decimals of minutes).
+    for line in [GGA, RMC, VTG, GSA, ZDA] {
+        let s = parse_sentence(line.as_bytes()).unwrap();
+        let again = s.to_line();
+        assert_eq!(
+            parse_sentence(again.trim_end().as_bytes()).unwrap(),
+            s,
+            "{again}"
+        );
+    }
+    // Fields are written in order with the unit letters in place.
+    let vtg = parse_sentence(VTG.as_bytes()).unwrap().to_line();
+    assert!(
+        vtg.starts_with("$GPVTG,54.7,T,34.4,M,5.5,N,10.2,K,*"),
+        "{vtg}"
+    );
+}
+
+mod round_trip {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn gga_rmc_round_trip(
+            t in 0u32..8_640_000,
+            lat in -90_000_000i64..=90_000_000,
+            lon in -180_000_000i64..=180_000_000,
+            alt in -500i32..9000,
+            sats in 0u8..40,
+            day in 1u8..29, month in 1u8..13, year in 1980u16..2080,
+        ) {
+            let time_s = Some(f64::from(t) / 100.0);
+            let (lat_deg, lon_deg) = (Some(lat as f64 / 1e6), Some(lon as f64 / 1e6));
+            let gga = NmeaSentence {
+                talker: "GN".into(),
+                body: NmeaBody::Gga(Gga { time_s, lat_deg, lon_deg, quality: Some(1), satellites: Some(sats), alt_msl_m: Some(f64::from(alt)), ..Default::default() }),
+            };
+            let back = parse_sentence(gga.to_line().trim_end().as_bytes()).unwrap();
+            let (NmeaBody::Gga(a), NmeaBody::Gga(b)) = (&back.body, &gga.body) else { unreachable!() };
+            // 1e-5 minutes = 1.7e-7 degrees.
+            prop_assert!((a.lat_deg.unwrap() - b.lat_deg.unwrap()).abs() < 2e-7);
+            prop_assert!((a.lon_deg.unwrap() - b.lon_deg.unwrap()).abs() < 2e-7);
+            prop_assert!((a.time_s.unwrap() - b.time_s.unwrap()).abs() < 1e-6);
+            prop_assert_eq!((a.satellites, a.alt_msl_m, a.quality), (b.satellites, b.alt_msl_m, b.quality));
+            let rmc = NmeaSentence {
+                talker: "GP".into(),
+                body: NmeaBody::Rmc(Rmc { time_s, valid: Some(true), date: Some(Date { year, month, day }), mag_var_deg: Some(-3.5), ..Default::default() }),
+            };
+            let back = parse_sentence(rmc.to_line().trim_end().as_bytes()).unwrap();
+            let NmeaBody::Rmc(r) = back.body else { unreachable!() };
+            prop_assert_eq!(r.date, Some(Date { year, month, day }));
+            prop_assert_eq!(r.mag_var_deg, Some(-3.5));
+        }
+    }
+}
