@@ -7,6 +7,21 @@
 //! Mode S decoder owns it) and is counted as an unknown type. Anything else (binary protocols,
 //! noise, the free-text lines of `AT+HELP`) is skipped as bytes up to the next candidate start.
 //! The other modes decode one protocol only, exactly as its own decoder does.
+//!
+//! ```
+//! use vigil_drivers::decode_slice;
+//! use vigil_drivers::ttmrf::text::{TextDecoder, TextMode};
+//!
+//! let port = b"AT+RUN_START\r\n\
+//! #A:4D240E,3F00,,7273,53.47939,14.55892,28550,23,510,1408,-71,5,9,938,28850,,A9FE\r\n\
+//! $GPZDA,201530.00,04,07,2002,00,00*60\r\n";
+//! let mut decoder = TextDecoder::new(TextMode::Auto);
+//! let messages = decode_slice(&mut decoder, port);
+//! assert_eq!(messages.len(), 3);
+//! let traffic = messages[1].traffic_reports();
+//! assert_eq!(traffic[0].address_hex(), "4D240E");
+//! assert_eq!(traffic[0].alt_pressure_m, Some(28550.0 * 0.3048));
+//! ```
 
 pub mod line;
 

@@ -24,6 +24,21 @@
 //! any failure (rejected write, verify mismatch, timeouts, [`ConfigClient::abort`]) runs the same
 //! clean-up: `AT+LOCK=0`, `AT+CONFIG=0`, back to the RUN baud. Settings written before the failure
 //! are saved by the module on leaving CONFIGURATION (4.1.3); the report lists them.
+//!
+//! ```
+//! use std::time::Duration;
+//! use vigil_drivers::ttmrf::at::{ClientConfig, ConfigClient, DecodedProtocol, Output, Setting};
+//!
+//! let wanted = vec![Setting::adsb_decoded(DecodedProtocol::Json), Setting::gnss_nmea(true)];
+//! let mut client = ConfigClient::new(wanted, ClientConfig::default());
+//! client.start(Duration::ZERO);
+//! // The host loop: apply outputs in order, feed received bytes, honour the deadline.
+//! assert_eq!(client.poll_output(), Some(Output::SetBaud(921_600)));
+//! assert_eq!(client.poll_output(), Some(Output::Send(b"AT+CONFIG=1\r\n".to_vec())));
+//! client.handle_bytes(b"AT+OK\r\nAT+RUN_END\r\n", Duration::from_millis(3));
+//! assert_eq!(client.poll_output(), Some(Output::SetBaud(115_200)));
+//! assert_eq!(client.poll_timeout(), Some(Duration::from_millis(3003)));
+//! ```
 
 use std::collections::VecDeque;
 use std::time::Duration;
