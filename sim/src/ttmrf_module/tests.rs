@@ -361,3 +361,32 @@ fn run_started(
     }
     panic!("the cycle did not end");
 }
+
+#[test]
+fn unknown_run_baud_is_found_by_baud_search() {
+    let mut sim = module();
+    sim.set_stored("BAUDRATE", "2");
+    assert_eq!(sim.baud(), 3_000_000);
+    let cfg = ClientConfig {
+        baud_search: true,
+        ..Default::default()
+    };
+    let mut client = ConfigClient::new(vec![Setting::gnss_nmea(true)], cfg);
+    let (outcome, host_baud, _) = run(&mut sim, &mut client);
+    let report = outcome.unwrap();
+    // 921600 (the initial guess) and 115200 fail, 3000000 answers.
+    assert_eq!(report.retries, 2);
+    assert_eq!(report.run_baud, 3_000_000);
+    assert_eq!(host_baud, 3_000_000);
+    assert_eq!(sim.stored("GNSS_RX_PROTOCOL_RAW"), Some("5"));
+    assert!(!sim.locked());
+
+    // Without the search, the wrong guess is a clean failure.
+    let mut sim2 = module();
+    sim2.set_stored("BAUDRATE", "2");
+    let mut client = ConfigClient::new(vec![Setting::gnss_nmea(true)], ClientConfig::default());
+    let (outcome, _, _) = run(&mut sim2, &mut client);
+    assert_eq!(outcome.unwrap_err().error, ConfigError::EnterTimeout(3));
+    assert_eq!(sim2.state(), ModuleState::Run);
+    assert!(!sim2.locked());
+}

@@ -20,6 +20,9 @@
 //!    `AT+RUN_START`. If it does not come, probe at 115200 whether the module is still in
 //!    CONFIGURATION and retry the exit.
 //!
+//! When the RUN baud is unknown, [`ClientConfig::baud_search`] tries each documented `BAUDRATE`
+//! value in turn.
+//!
 //! Every request has a timeout and a bounded number of retries. Once `AT+CONFIG=1` has been sent,
 //! any failure (rejected write, verify mismatch, timeouts, [`ConfigClient::abort`]) runs the same
 //! clean-up: `AT+LOCK=0`, `AT+CONFIG=0`, back to the RUN baud. Settings written before the failure
@@ -62,6 +65,10 @@ pub struct ClientConfig {
     pub attempts: u8,
     /// The baud the host's port is at when the client starts (the module's RUN baud, if known).
     pub initial_baud: u32,
+    /// When the RUN baud is not known for sure: each entry attempt uses the next `BAUDRATE`
+    /// value (`initial_baud` first, then 115200, 921600, 3000000, 57600), with at least four
+    /// entry attempts so every documented baud is tried.
+    pub baud_search: bool,
 }
 
 impl Default for ClientConfig {
@@ -71,6 +78,7 @@ impl Default for ClientConfig {
             transition_timeout: Duration::from_secs(3),
             attempts: 3,
             initial_baud: Baudrate::B921600.bps(),
+            baud_search: false,
         }
     }
 }
@@ -304,7 +312,36 @@ impl ConfigClient {
         self.deadline = Some(now + timeout);
     }
 
+    /// Attempts at entering CONFIGURATION.
+    fn entry_attempts(&self) -> u8 {
+        if self.cfg.baud_search {
+            self.cfg.attempts.max(4)
+        } else {
+            self.cfg.attempts
+        }
+    }
+
+    /// The RUN baud to try on the current entry attempt.
+    fn entry_baud(&self) -> u32 {
+        if !self.cfg.baud_search {
+            return self.run_baud;
+        }
+        let mut candidates = vec![self.cfg.initial_baud];
+        for b in [
+            Baudrate::B115200,
+            Baudrate::B921600,
+            Baudrate::B3000000,
+            Baudrate::B57600,
+        ] {
+            if b.bps() != self.cfg.initial_baud {
+                candidates.push(b.bps());
+            }
+        }
+        candidates[usize::from(self.attempt.saturating_sub(1)) % candidates.len()]
+    }
+
     fn send_enter(&mut self, now: Duration) {
+        self.run_baud = self.entry_baud();
         self.set_baud(self.run_baud);
         self.entered = true; // from here on the module may be in CONFIGURATION (and locked)
         self.phase = Phase::EnterSent;
@@ -600,7 +637,7 @@ impl ConfigClient {
 
     /// Another attempt at entering CONFIGURATION, or the failure when attempts are used up.
     fn retry_enter(&mut self, now: Duration) {
-        if self.attempt < self.cfg.attempts {
+        if self.attempt < self.entry_attempts() {
             self.attempt += 1;
             self.report.retries += 1;
             self.send_enter(now);
