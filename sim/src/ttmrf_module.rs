@@ -128,11 +128,17 @@ impl SimModule {
     /// Sends a traffic line (in RUN state only, at the RUN baud), encoded by the drivers' CSV
     /// encoder. Returns whether it was sent.
     pub fn emit_traffic(&mut self, msg: &CsvMessage) -> bool {
+        self.emit_line(msg.to_line().as_bytes())
+    }
+
+    /// Sends any output line of the RUN state (JSON from `JsonMessage::to_wire`, NMEA from
+    /// `NmeaSentence::to_line`, ...) at the RUN baud. Returns whether it was sent.
+    pub fn emit_line(&mut self, line: &[u8]) -> bool {
         if self.state != ModuleState::Run {
             return false;
         }
         let baud = self.run_baud();
-        self.out.push_back((baud, msg.to_line().into_bytes()));
+        self.out.push_back((baud, line.to_vec()));
         true
     }
 

@@ -104,6 +104,12 @@ fn traffic_in_run_state_does_not_disturb_the_client() {
     for _ in 0..3 {
         assert!(sim.emit_traffic(&msg));
     }
+    let json = vigil_drivers::ttmrf::json::parse_message(
+        br#"{"ver":1,"ts":1,"flarm":[{"id":"1600BF","type":13}]}"#,
+    )
+    .unwrap();
+    assert!(sim.emit_line(json.to_wire().as_bytes()));
+    assert!(sim.emit_line(b"$GPZDA,201530.00,04,07,2002,00,00*60\r\n"));
     let mut client = ConfigClient::new(wanted(), ClientConfig::default());
     let (outcome, _, _) = run(&mut sim, &mut client);
     assert_eq!(outcome.unwrap().changed.len(), 4);
