@@ -145,6 +145,64 @@ mod tests {
         assert_eq!(v[2]["frame_hex"], "5D4B18FFFC710B");
     }
 
+    /// A CONFIGURATION session recorded between the drivers' client and the simulated module
+    /// (what a sniffer on the module's TX line at 115200 would capture) decodes line by line.
+    #[test]
+    fn recorded_configuration_session_decodes_as_at() {
+        use std::time::Duration;
+        use vigil_drivers::ttmrf::at::{
+            ClientConfig, ConfigClient, DecodedProtocol, Output, Setting,
+        };
+        use vigil_sim::ttmrf_module::SimModule;
+
+        let mut sim = SimModule::new("22-0000309", "2.77.5.0 (Mar 4 2025)");
+        let mut client = ConfigClient::new(
+            vec![Setting::adsb_decoded(DecodedProtocol::Json)],
+            ClientConfig::default(),
+        );
+        let mut capture = Vec::new();
+        let mut host_baud = client.baud();
+        client.start(Duration::ZERO);
+        'cycle: for _ in 0..1000 {
+            while let Some(o) = client.poll_output() {
+                match o {
+                    Output::Send(b) => sim.receive(&b, host_baud),
+                    Output::SetBaud(b) => host_baud = b,
+                    Output::Finished(r) => {
+                        assert!(r.is_ok());
+                        break 'cycle;
+                    }
+                }
+            }
+            let (baud, bytes) = sim.poll_output().expect("the module answers");
+            if baud == 115_200 {
+                capture.extend_from_slice(&bytes);
+            }
+            if baud == host_baud {
+                client.handle_bytes(&bytes, Duration::ZERO);
+            }
+        }
+        let mut d = TextDecoder::new(TextMode::At);
+        let v: Vec<Value> = decode_slice(&mut d, &capture)
+            .iter()
+            .flat_map(|m| to_json(m).unwrap())
+            .collect();
+        assert_eq!(vigil_drivers::DeviceDecoder::stats(&d).malformed, 0);
+        assert_eq!(v.first().unwrap()["event"], "config_start");
+        assert_eq!(v.last().unwrap()["event"], "config_end");
+        assert!(
+            v.iter()
+                .any(|o| o["name"] == "SERIAL_NUMBER" && o["value"] == "22-0000309")
+        );
+        assert!(
+            v.iter()
+                .any(|o| o["name"] == "ADSB_RX_PROTOCOL_DECODED" && o["value"] == "3")
+        );
+        // The same capture in auto mode gives the same AT lines.
+        let mut a = TextDecoder::new(TextMode::Auto);
+        assert_eq!(decode_slice(&mut a, &capture).len(), v.len());
+    }
+
     #[test]
     fn nmea_and_at_output() {
         let v = decode_all(
