@@ -44,9 +44,21 @@ pub struct ObjectFramer {
     escape: bool,
     /// Set once the closing brace was seen at `pos - 1`.
     closed: bool,
+    /// Accept line feeds inside an object (pretty-printed input such as the manual's examples).
+    multiline: bool,
 }
 
 impl ObjectFramer {
+    /// A framer for pretty-printed input: line feeds inside an object are whitespace. A cut
+    /// object is then only given up at [`MAX_OBJECT`] bytes, so resynchronisation is slower;
+    /// use it for files, not for the module's port.
+    pub fn multiline() -> Self {
+        Self {
+            multiline: true,
+            ..Self::default()
+        }
+    }
+
     /// Scans `buf` (which starts with `{`). With `eof`, a complete object needs no look-ahead.
     pub fn step(&mut self, buf: &[u8], eof: bool) -> ObjectStep {
         if !self.closed {
@@ -54,7 +66,7 @@ impl ObjectFramer {
             while self.pos < limit {
                 let b = buf[self.pos];
                 self.pos += 1;
-                if b == b'\n' {
+                if b == b'\n' && !self.multiline {
                     let skip_len = self.pos;
                     self.reset();
                     return ObjectStep::Cut { skip_len };
@@ -109,7 +121,10 @@ impl ObjectFramer {
 
     /// Forgets the scan state (after the caller consumed or skipped the object).
     pub fn reset(&mut self) {
-        *self = Self::default();
+        *self = Self {
+            multiline: self.multiline,
+            ..Self::default()
+        };
     }
 
     /// Whether the framer is inside an object.

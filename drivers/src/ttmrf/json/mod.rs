@@ -248,9 +248,19 @@ pub struct JsonDecoder {
 }
 
 impl JsonDecoder {
-    /// A fresh decoder.
+    /// A fresh decoder for the module's compact JSON (a line feed cuts an open object).
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A decoder that also accepts pretty-printed messages (line feeds inside objects), such as
+    /// the manual's examples or hand-edited files. Not for the module's port: see
+    /// [`ObjectFramer::multiline`].
+    pub fn allowing_newlines() -> Self {
+        Self {
+            framer: ObjectFramer::multiline(),
+            ..Self::default()
+        }
     }
 
     fn step(&mut self, buf: &mut BytesMut, eof: bool) -> Option<Option<JsonMessage>> {

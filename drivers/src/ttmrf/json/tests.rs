@@ -488,3 +488,21 @@ mod round_trip {
         }
     }
 }
+
+/// The manual's FLARM example exactly as laid out in 8.2.1 (pretty-printed, no OCR damage).
+const MANUAL_FLARM_PRETTY: &str = "{\n\"src\": \"ID-0000001\",\n\"ts\": 69061337,\n\"ver\": 1,\n\"flarm\": [\n{\n\"idType\": 1,\n\"id\": \"DABABE\",\n\"type\": 13,\n\"danger\": 1,\n\"lat\": 53.42854,\n\"lon\": 14.55281,\n\"alt\": 1725,\n\"track\": 72.18,\n\"hvelo\": 10.5,\n\"vVelo\": 50,\n\"movMode\": 5,\n\"stealth\": 1,\n\"notrack\": 1\n}\n]\n}\n";
+
+#[test]
+fn pretty_printed_input_needs_the_multiline_decoder() {
+    let mut strict = JsonDecoder::new();
+    assert!(decode_slice(&mut strict, MANUAL_FLARM_PRETTY.as_bytes()).is_empty());
+    assert!(strict.stats().malformed > 0);
+    let stream = format!("{MANUAL_FLARM_PRETTY}{MANUAL_STATUS}\r\n{MANUAL_FLARM_PRETTY}");
+    let mut lenient = JsonDecoder::allowing_newlines();
+    let msgs = decode_slice(&mut lenient, stream.as_bytes());
+    assert_eq!(msgs.len(), 3);
+    assert_eq!(msgs[0], parse(MANUAL_FLARM));
+    assert_eq!(lenient.stats().bytes_skipped, 0);
+    assert_split_invariant(JsonDecoder::allowing_newlines, stream.as_bytes());
+    assert_survives_random(JsonDecoder::allowing_newlines, 8, 200, 2000);
+}
