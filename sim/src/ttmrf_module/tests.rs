@@ -268,6 +268,14 @@ fn module_side_rules() {
             (115_200, b"AT+CONFIG_START\r\n".to_vec()),
         ]
     );
+    // 5.1.5: a command without "\n", "\r" or "\r\n" is not executed (yet).
+    sim.receive(b"AT+CONFIG?", 115_200);
+    assert!(sim.poll_output().is_none());
+    sim.receive(b"\n", 115_200);
+    assert_eq!(
+        sim.poll_output(),
+        Some((115_200, b"AT+CONFIG=1\r\n".to_vec()))
+    );
     // Out-of-range writes are refused with AT+ERROR, reads answer AT+NAME=VALUE.
     sim.receive(b"AT+BAUDRATE=9\r\nAT+asterix_sic?\r\n", 115_200);
     let lines: Vec<_> = std::iter::from_fn(|| sim.poll_output())
