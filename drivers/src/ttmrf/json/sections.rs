@@ -366,6 +366,13 @@ pub struct RawFrame {
 }
 
 impl RawFrame {
+    /// The reception time as the common source time: nanoseconds since UTC midnight (table 23's
+    /// example 0x295CAB573A77 "translates to 12:37:57.988350583").
+    pub fn source_time(&self) -> Option<crate::traffic::SourceTime> {
+        self.ts_ns
+            .map(crate::traffic::SourceTime::NsSinceUtcMidnight)
+    }
+
     /// The frame bytes, if the hex is well formed.
     pub fn frame_bytes(&self) -> Option<Vec<u8>> {
         let s = self.frame_hex.as_bytes();
