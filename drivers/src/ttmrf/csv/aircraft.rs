@@ -355,8 +355,15 @@ impl UatAircraft {
     }
 
     /// The common traffic report: adds the emergency code and the IDENT flag.
+    ///
+    /// Decision: U_FLAGS 0x0040 says the direction is referenced to magnetic north. The report's
+    /// `track_deg` is true, and no declination is known here, so a magnetic direction is not
+    /// passed on (`None`); the message keeps it in `state.track_deg`.
     pub fn to_traffic(&self) -> TrafficReport {
         let mut r = self.state.to_traffic(Link::Uat978);
+        if self.uat_flags.is_some_and(|f| f.heading_magnetic) {
+            r.track_deg = None;
+        }
         r.emergency_code = self.emergency;
         r.flags.emergency = self.emergency.is_some_and(|e| e != 0);
         r.flags.ident = self.uat_flags.is_some_and(|f| f.ident_active);

@@ -233,6 +233,11 @@ fn hand_built_uat_every_field() {
     assert!(uf.ident_active && !uf.atc_services && uf.heading_magnetic);
     let t = u.to_traffic();
     assert_eq!(t.link, Link::Uat978);
+    assert_eq!(u.state.track_deg, Some(355.0));
+    assert_eq!(
+        t.track_deg, None,
+        "U_FLAGS 0x40: magnetic, not passed off as true"
+    );
     assert_eq!(t.emergency_code, Some(3));
     assert!(t.flags.emergency && t.flags.ident && t.flags.on_ground);
     // U_EMERG is 0..7.

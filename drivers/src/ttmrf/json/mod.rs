@@ -196,7 +196,8 @@ impl UatTarget {
             lon_deg: self.lon_deg,
             alt_pressure_m: self.alt_baro_ft.map(|v| v * FT_TO_M),
             alt_geometric_m: self.alt_geo_ft.map(|v| v * FT_TO_M),
-            track_deg: self.track_deg,
+            // A magnetic direction is not passed off as true (as for CSV `#U`).
+            track_deg: self.track_deg.filter(|_| uf.heading_magnetic != Some(true)),
             ground_speed_mps: self.velh_kt.map(|v| v * KT_TO_MPS),
             vertical_rate_mps: self.velv_fpm.map(|v| v * FPM_TO_MPS),
             nic: nn.nic,

@@ -280,6 +280,11 @@ fn hand_built_every_section_in_one_message() {
     assert!(t[0].flags.on_ground);
     assert_eq!(t[0].squawk, Some(7700));
     assert_eq!(t[1].emergency_code, Some(5));
+    let m2 = parse(
+        r#"{"ver":1,"uat":[{"icao":"1","track":10,"uatFlags":{"headingMagnetic":true}},{"icao":"2","track":10}]}"#,
+    );
+    let t2 = m2.traffic_reports();
+    assert_eq!((t2[0].track_deg, t2[1].track_deg), (None, Some(10.0)));
     assert!(t[1].flags.emergency && t[1].flags.ident);
     assert_eq!(
         (t[1].nac_p, t[1].nac_v, t[1].nic),
