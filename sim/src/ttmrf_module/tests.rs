@@ -404,3 +404,42 @@ fn unknown_run_baud_is_found_by_baud_search() {
     assert_eq!(sim2.state(), ModuleState::Run);
     assert!(!sim2.locked());
 }
+
+#[test]
+fn config_as_set_keeps_the_run_baud() {
+    use vigil_drivers::ttmrf::at::ConfigMode;
+    let mut sim = module();
+    let cfg = ClientConfig {
+        config_mode: ConfigMode::ConfigAsSet,
+        ..Default::default()
+    };
+    let mut client = ConfigClient::new(vec![Setting::gnss_nmea(true)], cfg);
+    client.start(Duration::ZERO);
+    let mut bauds = Vec::new();
+    let mut host_baud = 0;
+    let mut result = None;
+    for _ in 0..1000 {
+        while let Some(o) = client.poll_output() {
+            match o {
+                Output::Send(b) => sim.receive(&b, host_baud),
+                Output::SetBaud(b) => {
+                    host_baud = b;
+                    bauds.push(b);
+                }
+                Output::Finished(r) => result = Some(r),
+            }
+        }
+        match sim.poll_output() {
+            Some((baud, bytes)) if baud == host_baud => client.handle_bytes(&bytes, Duration::ZERO),
+            Some(_) => panic!("the module spoke at a baud the host was not at"),
+            None => break,
+        }
+    }
+    let report = result.unwrap().unwrap();
+    // 5.2.2: AT+CONFIG=2 keeps the RUN baud, so the host never switches.
+    assert_eq!(bauds, [921_600]);
+    assert_eq!(report.retries, 0);
+    assert_eq!(sim.stored("GNSS_RX_PROTOCOL_RAW"), Some("5"));
+    assert!(!sim.locked());
+    assert_eq!(sim.state(), ModuleState::Run);
+}

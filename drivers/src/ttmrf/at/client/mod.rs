@@ -20,7 +20,8 @@
 //!    `AT+RUN_START`. If it does not come, probe at 115200 whether the module is still in
 //!    CONFIGURATION and retry the exit.
 //!
-//! When the RUN baud is unknown, [`ClientConfig::baud_search`] tries each documented `BAUDRATE`
+//! With [`ClientConfig::config_mode`] = `ConfigAsSet` the client sends `AT+CONFIG=2` and every
+//! "115200" above reads "the RUN baud" (5.2.2). When the RUN baud is unknown, [`ClientConfig::baud_search`] tries each documented `BAUDRATE`
 //! value in turn.
 //!
 //! Every request has a timeout and a bounded number of retries. Once `AT+CONFIG=1` has been sent,
@@ -52,6 +53,7 @@ use serde::Serialize;
 use super::command::{AtCommand, ConfigMode};
 use super::response::{AtDecoder, AtResponse, StateEvent};
 use super::settings::{Baudrate, CONFIG_BAUD, Setting, SettingId};
+use super::state::ModuleState;
 use crate::DeviceDecoder;
 
 /// Timeouts and retries.
@@ -69,6 +71,10 @@ pub struct ClientConfig {
     /// value (`initial_baud` first, then 115200, 921600, 3000000, 57600), with at least four
     /// entry attempts so every documented baud is tried.
     pub baud_search: bool,
+    /// How to enter CONFIGURATION: `Config115200` (`AT+CONFIG=1`, the manual's example) or
+    /// `ConfigAsSet` (`AT+CONFIG=2`, stays at the RUN baud: for links that cannot change baud).
+    /// `Run` is taken as `Config115200`.
+    pub config_mode: ConfigMode,
 }
 
 impl Default for ClientConfig {
@@ -79,6 +85,7 @@ impl Default for ClientConfig {
             attempts: 3,
             initial_baud: Baudrate::B921600.bps(),
             baud_search: false,
+            config_mode: ConfigMode::Config115200,
         }
     }
 }
@@ -312,6 +319,19 @@ impl ConfigClient {
         self.deadline = Some(now + timeout);
     }
 
+    /// The `AT+CONFIG` value used to enter CONFIGURATION.
+    fn config_mode(&self) -> ConfigMode {
+        match self.cfg.config_mode {
+            ConfigMode::Run => ConfigMode::Config115200,
+            m => m,
+        }
+    }
+
+    /// The baud of CONFIGURATION state with that mode (5.2.2).
+    fn config_baud(&self) -> u32 {
+        ModuleState::Configuration.baud(self.config_mode(), self.run_baud)
+    }
+
     /// Attempts at entering CONFIGURATION.
     fn entry_attempts(&self) -> u8 {
         if self.cfg.baud_search {
@@ -346,7 +366,7 @@ impl ConfigClient {
         self.entered = true; // from here on the module may be in CONFIGURATION (and locked)
         self.phase = Phase::EnterSent;
         self.send(
-            &AtCommand::Config(ConfigMode::Config115200),
+            &AtCommand::Config(self.config_mode()),
             now,
             self.cfg.transition_timeout,
         );
@@ -402,7 +422,7 @@ impl ConfigClient {
         }
         if self.entered && !self.cleaning {
             self.cleaning = true;
-            self.set_baud(CONFIG_BAUD);
+            self.set_baud(self.config_baud());
             self.next(Phase::Unlock, now);
         } else if !self.cleaning || self.phase == Phase::Done {
             self.finish();
@@ -456,7 +476,7 @@ impl ConfigClient {
             Phase::EnterSent => match (r, state) {
                 (_, Some(StateEvent::ConfigStart)) => self.entered_config(now),
                 (AtResponse::Ok, _) | (_, Some(StateEvent::RunEnd)) => {
-                    self.set_baud(CONFIG_BAUD);
+                    self.set_baud(self.config_baud());
                     self.phase = Phase::EnterWaitStart;
                     self.deadline = Some(now + self.cfg.transition_timeout);
                 }
@@ -693,7 +713,7 @@ impl ConfigClient {
             Phase::Idle | Phase::Done => {}
             Phase::EnterSent | Phase::EnterWaitStart => {
                 // The state messages may have been lost: ask at 115200.
-                self.set_baud(CONFIG_BAUD);
+                self.set_baud(self.config_baud());
                 self.request(Phase::EnterProbe, now);
             }
             Phase::EnterProbe | Phase::BootRelease | Phase::BootWaitRun => self.retry_enter(now),
@@ -740,7 +760,7 @@ impl ConfigClient {
             }
             Phase::ExitWaitRun => {
                 // No AT+RUN_START: check at 115200 whether the module is still configuring.
-                self.set_baud(CONFIG_BAUD);
+                self.set_baud(self.config_baud());
                 self.request(Phase::ExitProbe, now);
             }
             Phase::ExitProbe => {
