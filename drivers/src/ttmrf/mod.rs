@@ -6,8 +6,10 @@
 pub mod asterix;
 pub mod at;
 pub mod csv;
+pub mod flarm_category;
 pub mod gdl90;
 pub mod json;
 pub mod mavlink;
 pub mod nmea;
 pub mod raw;
+pub mod text;

@@ -1,1 +1,212 @@
-//! TT-Multi-RF nmea protocol (to be implemented).
+//! NMEA 0183 sentences from the module's GNSS receiver (manual 9.1 table 31:
+//! `GNSS_RX_PROTOCOL_RAW=5`; 9.2.1 refers to the receiver's documentation), for the ownship
+//! fallback and the UTC date: GGA, RMC, VTG, GSA, ZDA of any talker (GP, GN, GL, GA, BD ...).
+//!
+//! A sentence is `$TTSSS,f1,f2,...*HH\r\n` where `HH` is the XOR of every byte between `$` and `*`
+//! in hexadecimal. The checksum is required and verified (checksum_failures). A verified sentence
+//! of another type is counted as an unknown type; one whose fields do not parse as malformed.
+//! A small parser of our own is used rather than the `nmea` crate: five sentences, the house
+//! accounting rules, and no dependency.
+
+pub mod encode;
+pub mod sentences;
+
+#[cfg(test)]
+mod tests;
+
+use bytes::BytesMut;
+use serde::Serialize;
+
+pub use sentences::{Date, Gga, Gsa, Rmc, Vtg, Zda};
+
+use crate::ttmrf::text::line::{LineFramer, LineStep};
+use crate::{DecodeStats, DeviceDecoder};
+
+/// Longest sentence accepted (NMEA allows 82 bytes; receivers exceed it, e.g. NMEA 4.1 GSA).
+pub const MAX_LINE: usize = 256;
+
+/// Why a sentence was rejected.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NmeaError {
+    /// No `$`, no `*HH`, or not text.
+    #[error("nmea: not a sentence")]
+    Framing,
+    /// The checksum does not match.
+    #[error("nmea: checksum {got:02X} does not match computed {computed:02X}")]
+    Checksum {
+        /// Checksum in the sentence.
+        got: u8,
+        /// Computed checksum.
+        computed: u8,
+    },
+    /// A sentence type this module does not decode.
+    #[error("nmea: sentence type {0} not decoded")]
+    UnknownType(String),
+    /// A field that does not parse or is out of range.
+    #[error("nmea: bad {0} field")]
+    Field(&'static str),
+}
+
+/// The decoded body of a sentence.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "sentence", rename_all = "UPPERCASE")]
+pub enum NmeaBody {
+    /// GGA fix data.
+    Gga(Gga),
+    /// RMC recommended minimum.
+    Rmc(Rmc),
+    /// VTG course and speed.
+    Vtg(Vtg),
+    /// GSA DOP and satellites.
+    Gsa(Gsa),
+    /// ZDA date and time.
+    Zda(Zda),
+}
+
+/// One decoded sentence.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NmeaSentence {
+    /// Talker id (GP, GN, GL, GA, BD ...).
+    pub talker: String,
+    /// The sentence.
+    #[serde(flatten)]
+    pub body: NmeaBody,
+}
+
+/// XOR checksum of the bytes between `$` and `*`.
+pub fn checksum(body: &[u8]) -> u8 {
+    body.iter().fold(0, |a, b| a ^ b)
+}
+
+/// Parses one sentence (without line end), verifying the checksum.
+pub fn parse_sentence(line: &[u8]) -> Result<NmeaSentence, NmeaError> {
+    let rest = line.strip_prefix(b"$").ok_or(NmeaError::Framing)?;
+    let star = rest
+        .iter()
+        .rposition(|&b| b == b'*')
+        .ok_or(NmeaError::Framing)?;
+    let (body, cs) = (&rest[..star], &rest[star + 1..]);
+    let cs = std::str::from_utf8(cs).map_err(|_| NmeaError::Framing)?;
+    if cs.len() != 2 {
+        return Err(NmeaError::Framing);
+    }
+    let got = u8::from_str_radix(cs, 16).map_err(|_| NmeaError::Framing)?;
+    let computed = checksum(body);
+    if got != computed {
+        return Err(NmeaError::Checksum { got, computed });
+    }
+    let text = std::str::from_utf8(body).map_err(|_| NmeaError::Framing)?;
+    let fields: Vec<&str> = text.split(',').collect();
+    let address = fields.first().copied().unwrap_or("");
+    if address.len() != 5 || !address.is_ascii() {
+        return Err(NmeaError::UnknownType(address.chars().take(8).collect()));
+    }
+    let (talker, kind) = address.split_at(2);
+    let f = sentences::F(fields.get(1..).unwrap_or(&[]));
+    let body = match kind {
+        "GGA" => NmeaBody::Gga(Gga::parse(&f)?),
+        "RMC" => NmeaBody::Rmc(Rmc::parse(&f)?),
+        "VTG" => NmeaBody::Vtg(Vtg::parse(&f)?),
+        "GSA" => NmeaBody::Gsa(Gsa::parse(&f)?),
+        "ZDA" => NmeaBody::Zda(Zda::parse(&f)?),
+        _ => return Err(NmeaError::UnknownType(address.to_owned())),
+    };
+    Ok(NmeaSentence {
+        talker: talker.to_owned(),
+        body,
+    })
+}
+
+/// Counts a rejected sentence.
+pub(crate) fn count_error(stats: &mut DecodeStats, e: &NmeaError) {
+    match e {
+        NmeaError::Checksum { .. } => stats.checksum_failures += 1,
+        NmeaError::UnknownType(_) => stats.unknown_types += 1,
+        _ => stats.malformed += 1,
+    }
+}
+
+/// Sans-IO decoder of an NMEA-only byte stream.
+#[derive(Debug, Clone, Default)]
+pub struct NmeaDecoder {
+    framer: LineFramer,
+    stats: DecodeStats,
+}
+
+impl NmeaDecoder {
+    /// A fresh decoder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn finish(
+        &mut self,
+        buf: &mut BytesMut,
+        frame_len: usize,
+        content_len: usize,
+    ) -> Option<NmeaSentence> {
+        match parse_sentence(&buf[..content_len]) {
+            Ok(s) => {
+                self.stats.take_frame(buf, frame_len);
+                Some(s)
+            }
+            Err(e) => {
+                count_error(&mut self.stats, &e);
+                self.stats.skip(buf, frame_len);
+                None
+            }
+        }
+    }
+}
+
+impl DeviceDecoder for NmeaDecoder {
+    type Message = NmeaSentence;
+
+    fn decode(&mut self, buf: &mut BytesMut) -> Option<NmeaSentence> {
+        loop {
+            if !self.framer.is_discarding() && buf.first().is_some_and(|&b| b != b'$') {
+                let n = buf.iter().position(|&b| b == b'$').unwrap_or(buf.len());
+                self.stats.skip(buf, n);
+                self.framer.reset();
+            }
+            if buf.is_empty() {
+                return None;
+            }
+            match self.framer.next_line(buf, &mut self.stats, MAX_LINE) {
+                LineStep::NeedMore => return None,
+                LineStep::Skipped => {}
+                LineStep::Line {
+                    frame_len,
+                    content_len,
+                } => {
+                    if let Some(s) = self.finish(buf, frame_len, content_len) {
+                        return Some(s);
+                    }
+                }
+            }
+        }
+    }
+
+    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<NmeaSentence> {
+        if let Some(s) = self.decode(buf) {
+            return Some(s);
+        }
+        if !buf.is_empty() && !self.framer.is_discarding() && buf.len() <= MAX_LINE {
+            let len = buf.len();
+            let content_len = if buf.ends_with(b"\r") { len - 1 } else { len };
+            self.framer.reset();
+            return self.finish(buf, len, content_len);
+        }
+        let n = buf.len();
+        self.stats.skip(buf, n);
+        None
+    }
+
+    fn stats(&self) -> &DecodeStats {
+        &self.stats
+    }
+
+    fn stats_mut(&mut self) -> &mut DecodeStats {
+        &mut self.stats
+    }
+}
