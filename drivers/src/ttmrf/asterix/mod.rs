@@ -210,6 +210,21 @@ impl DeviceDecoder for AsterixDecoder {
         }
     }
 
+    /// At the end of the stream a block that still lacks bytes can never complete: its first
+    /// byte is rejected (a truncated block counts once as malformed) and the rest is searched
+    /// again, so a false block header near the end does not hide the real blocks after it.
+    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<AsterixMessage> {
+        loop {
+            if let Some(m) = self.decode(buf) {
+                return Some(m);
+            }
+            if buf.is_empty() {
+                return None;
+            }
+            self.reject(buf, false);
+        }
+    }
+
     fn stats(&self) -> &DecodeStats {
         &self.stats
     }

@@ -137,6 +137,22 @@ fn unknown_category_and_bad_lengths() {
 }
 
 #[test]
+fn false_header_before_the_end_of_stream() {
+    // 21 0F FF 80: a plausible CAT021 header claiming 4095 octets. Live, the decoder waits for
+    // them; at the end of the stream the header is dropped and the real block after it is found.
+    let mut bytes = vec![21, 0x0F, 0xFF, 0x80];
+    heartbeat().encode_block(&mut bytes);
+    let mut d = AsterixDecoder::default();
+    let mut buf = BytesMut::from(&bytes[..]);
+    assert!(d.decode(&mut buf).is_none());
+    assert_eq!(buf.len(), bytes.len());
+    let (msgs, stats) = decode_all(&bytes);
+    assert_eq!(msgs, [heartbeat()]);
+    assert_eq!(stats.bytes_skipped, 4);
+    assert_eq!(stats.malformed, 1);
+}
+
+#[test]
 fn block_length_bound() {
     let d = AsterixDecoder::new(100);
     assert_eq!(d.max_block_len(), 100);
