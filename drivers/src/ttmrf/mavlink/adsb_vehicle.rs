@@ -50,19 +50,19 @@ pub const FLAG_SOURCE_UAT: u16 = 32768;
 pub struct AdsbVehicle {
     /// ICAO address (or FLARM id for FLARM targets), as sent (32 bits).
     pub icao_address: u32,
-    /// Latitude, degrees (multiple of 1e-7).
+    /// Latitude, degrees (1e-7 steps).
     pub lat_deg: f64,
-    /// Longitude, degrees (multiple of 1e-7).
+    /// Longitude, degrees (1e-7 steps).
     pub lon_deg: f64,
-    /// Altitude, m (multiple of 1 mm), kind per `altitude_type`.
+    /// Altitude, m (1 mm steps), kind per `altitude_type`.
     pub altitude_m: f64,
     /// ADSB_ALTITUDE_TYPE: 0 pressure, 1 geometric.
     pub altitude_type: u8,
-    /// Course over ground, degrees (multiple of 0.01).
+    /// Course over ground, degrees (0.01 steps).
     pub heading_deg: f64,
-    /// Horizontal velocity, m/s (multiple of 0.01).
+    /// Horizontal velocity, m/s (0.01 steps).
     pub hor_velocity_mps: f64,
-    /// Vertical velocity, m/s, positive up (multiple of 0.01).
+    /// Vertical velocity, m/s, positive up (0.01 steps).
     pub ver_velocity_mps: f64,
     /// ADSB_FLAGS bit map (see the `FLAG_*` constants).
     pub flags: u16,
@@ -84,13 +84,13 @@ impl AdsbVehicle {
         let callsign: String = cs[..end].iter().map(|&b| char::from(b)).collect();
         Self {
             icao_address: d.ICAO_address,
-            lat_deg: f64::from(d.lat) * 1e-7,
-            lon_deg: f64::from(d.lon) * 1e-7,
-            altitude_m: f64::from(d.altitude) * 1e-3,
+            lat_deg: f64::from(d.lat) / 1e7,
+            lon_deg: f64::from(d.lon) / 1e7,
+            altitude_m: f64::from(d.altitude) / 1e3,
             altitude_type: d.altitude_type as u8,
-            heading_deg: f64::from(d.heading) * 0.01,
-            hor_velocity_mps: f64::from(d.hor_velocity) * 0.01,
-            ver_velocity_mps: f64::from(d.ver_velocity) * 0.01,
+            heading_deg: f64::from(d.heading) / 100.0,
+            hor_velocity_mps: f64::from(d.hor_velocity) / 100.0,
+            ver_velocity_mps: f64::from(d.ver_velocity) / 100.0,
             flags: d.flags.bits(),
             squawk: d.squawk,
             callsign,
@@ -102,8 +102,8 @@ impl AdsbVehicle {
     /// Converts back to the crate's payload (values rounded to the field resolution and
     /// clamped; an unknown altitude or emitter type becomes 0, a callsign is cut to 8 bytes).
     pub fn to_data(&self) -> ADSB_VEHICLE_DATA {
-        fn scaled<T: TryFrom<i64> + Default>(v: f64, lsb: f64, min: i64, max: i64) -> T {
-            let c = ((v / lsb).round() as i64).clamp(min, max);
+        fn scaled<T: TryFrom<i64> + Default>(v: f64, per_unit: f64, min: i64, max: i64) -> T {
+            let c = ((v * per_unit).round() as i64).clamp(min, max);
             T::try_from(c).unwrap_or_default()
         }
         let mut callsign = [0u8; 9];
@@ -112,19 +112,19 @@ impl AdsbVehicle {
         }
         ADSB_VEHICLE_DATA {
             ICAO_address: self.icao_address,
-            lat: scaled(self.lat_deg, 1e-7, i64::from(i32::MIN), i64::from(i32::MAX)),
-            lon: scaled(self.lon_deg, 1e-7, i64::from(i32::MIN), i64::from(i32::MAX)),
+            lat: scaled(self.lat_deg, 1e7, i64::from(i32::MIN), i64::from(i32::MAX)),
+            lon: scaled(self.lon_deg, 1e7, i64::from(i32::MIN), i64::from(i32::MAX)),
             altitude: scaled(
                 self.altitude_m,
-                1e-3,
+                1e3,
                 i64::from(i32::MIN),
                 i64::from(i32::MAX),
             ),
-            heading: scaled(self.heading_deg, 0.01, 0, i64::from(u16::MAX)),
-            hor_velocity: scaled(self.hor_velocity_mps, 0.01, 0, i64::from(u16::MAX)),
+            heading: scaled(self.heading_deg, 100.0, 0, i64::from(u16::MAX)),
+            hor_velocity: scaled(self.hor_velocity_mps, 100.0, 0, i64::from(u16::MAX)),
             ver_velocity: scaled(
                 self.ver_velocity_mps,
-                0.01,
+                100.0,
                 i64::from(i16::MIN),
                 i64::from(i16::MAX),
             ),

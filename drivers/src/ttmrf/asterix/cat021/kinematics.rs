@@ -136,7 +136,7 @@ impl AirSpeed {
         let v = u16::from_be_bytes(fixed::<2>(b, "I021/150")?);
         let value = f64::from(v & 0x7FFF);
         Ok(if v & 0x8000 != 0 {
-            Self::Mach(value * MACH_LSB)
+            Self::Mach(value / 1000.0)
         } else {
             Self::IasKt(value * SPEED_LSB_KT)
         })

@@ -6,8 +6,8 @@ use proptest::prelude::*;
 use super::super::common::DataSource;
 use super::identity::{MopsVersion, OperationalStatus};
 use super::kinematics::{
-    ANGLE_LSB_DEG, AirSpeed, FL_LSB, GroundVector, HEIGHT_LSB_FT, MACH_LSB, POS_HR_LSB_DEG,
-    POS_LSB_DEG, Position, SPEED_LSB_KT, TAR_LSB_DPS, TrueAirspeed, VRATE_LSB_FPM, VerticalRate,
+    ANGLE_LSB_DEG, AirSpeed, FL_LSB, GroundVector, HEIGHT_LSB_FT, POS_HR_LSB_DEG, POS_LSB_DEG,
+    Position, SPEED_LSB_KT, TAR_LSB_DPS, TrueAirspeed, VRATE_LSB_FPM, VerticalRate,
 };
 use super::status::{
     DescriptorExt1, DescriptorExt2, QualityExt1, QualityIndicators, TargetReportDescriptor,
@@ -545,7 +545,7 @@ prop_compose! {
             time_applicability_velocity_s: t072,
             air_speed: air.map(|(mach, v)| {
                 let v = f64::from(v & 0x7FFF);
-                if mach { AirSpeed::Mach(v * MACH_LSB) } else { AirSpeed::IasKt(v * SPEED_LSB_KT) }
+                if mach { AirSpeed::Mach(v / 1000.0) } else { AirSpeed::IasKt(v * SPEED_LSB_KT) }
             }),
             true_airspeed: tas.map(|(re, kt)| TrueAirspeed { range_exceeded: re, kt: kt & 0x7FFF }),
             target_address: addr,
