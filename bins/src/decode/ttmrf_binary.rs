@@ -96,6 +96,57 @@ pub fn decode<W: Write>(
 mod tests {
     use super::*;
 
+    fn run(format: TtFormat, bytes: &[u8]) -> (Vec<Value>, Summary) {
+        let mut out = JsonLines::new(Vec::new());
+        let summary = decode(format, &mut std::io::Cursor::new(bytes.to_vec()), &mut out).unwrap();
+        let text = String::from_utf8(out.out.into_inner().unwrap()).unwrap();
+        let lines = text
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        (lines, summary)
+    }
+
+    #[test]
+    fn gdl90_spec_heartbeat() {
+        // GDL 90 spec 2.2.4 heartbeat, after two garbage bytes.
+        let bytes = [
+            0x00, 0x01, 0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E,
+        ];
+        let (lines, summary) = run(TtFormat::Gdl90, &bytes);
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0]["kind"], "heartbeat");
+        assert_eq!(lines[0]["format"], "gdl90");
+        assert_eq!(lines[0]["timestamp_s"], 53467);
+        assert!(lines[0].get("traffic").is_none());
+        assert_eq!(summary.stats.bytes_skipped, 2);
+        assert_eq!(summary.extra["format"], "gdl90");
+    }
+
+    #[test]
+    fn asterix_sample() {
+        let Some(path) = vigil_drivers::testkit::shared_data("asterix/cat21_re.ast") else {
+            return;
+        };
+        let (lines, summary) = run(TtFormat::Asterix, &std::fs::read(path).unwrap());
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[0]["cat"], "cat021");
+        assert_eq!(lines[0]["target_address"], "000001");
+        assert_eq!(lines[1]["traffic"]["address"], "000002");
+        // ECAT 21 (surface service vehicle) -> emitter category 18.
+        assert_eq!(lines[1]["traffic"]["emitter_category"], 18);
+        assert_eq!(summary.stats.frames_decoded, 2);
+    }
+
+    #[test]
+    fn mavlink_empty_and_wrong_format() {
+        let (lines, summary) = run(TtFormat::Mavlink, b"no frames here");
+        assert!(lines.is_empty());
+        assert_eq!(summary.stats.bytes_skipped, 14);
+        let mut out = JsonLines::new(Vec::new());
+        assert!(decode(TtFormat::Csv, &mut std::io::Cursor::new(vec![]), &mut out).is_err());
+    }
+
     #[test]
     fn addresses_become_hex_at_any_depth() {
         let mut v = json!({

@@ -15,7 +15,8 @@
 //! - the first FSPEC octet has FRN 1 (the mandatory data source item) set;
 //! - every record parses under the category's UAP and carries its data source item.
 //!
-//! Otherwise one byte is skipped and the search goes on. While synchronised, a block that fails
+//! Otherwise one byte is skipped and the search goes on. While synchronised (as the decoder
+//! starts, and after every good block), a block that fails
 //! counts once as `malformed` (or as `unknown_types` when its category is not 21/23); the bytes
 //! skipped while resynchronising are counted only as skipped bytes. Each record is one message:
 //! the first of a block takes the block's bytes, the others are counted as reassembled messages

@@ -15,7 +15,7 @@
 //!   its altitude-priority setting is 0, and barometric first when it is 1, without marking which
 //!   one a report carries. The decoder therefore takes a [`TrafficAltitude`] that the caller sets
 //!   from the module's configuration; the default is [`TrafficAltitude::Pressure`] (the GDL90
-//!   definition, and the setting vigil's configuration client writes).
+//!   definition; the configuration client should select barometric priority so that it holds).
 //! - **Magnetic heading** (track type 2) is not put into [`TrafficReport::heading_deg`] (which is
 //!   true heading); it stays in the decoded [`report::TargetReport`].
 //! - **Saturated speeds** (0xFFE kt, 0x1FE/0xE02 fpm) are not exact values and become `None` in
