@@ -24,6 +24,10 @@ pub enum Rule {
         /// Octets of each extension.
         ext: usize,
     },
+    /// Extended with a fixed number of parts at most: like [`Rule::Extended`] with 1-octet
+    /// parts, but the octet at position `max` ends the item whatever its last bit (I021/271:
+    /// "the LSB in the first extension is not used as FX-bit").
+    ExtendedMax(usize),
     /// One-octet REP followed by REP elements of this many octets.
     Repetitive(usize),
     /// One-octet length that includes itself.
@@ -72,6 +76,16 @@ pub fn item_len(rule: Rule, b: &[u8], name: &'static str) -> Result<usize, ItemE
                     return Ok(len);
                 }
                 len += ext.max(1);
+            }
+        }
+        Rule::ExtendedMax(max) => {
+            let mut len = 1;
+            loop {
+                need(len)?;
+                if len >= max || b[len - 1] & 1 == 0 {
+                    return Ok(len);
+                }
+                len += 1;
             }
         }
         Rule::Repetitive(n) => {
@@ -176,6 +190,11 @@ mod tests {
         let ext2 = Rule::Extended { first: 2, ext: 1 };
         assert_eq!(item_len(ext2, &[0xFF, 0x01, 0x02], "x"), Ok(3));
         assert_eq!(item_len(ext2, &[0x01, 0x00], "x"), Ok(2));
+        // At most 2 octets: the second octet's LSB (set here) is data, not FX.
+        let max2 = Rule::ExtendedMax(2);
+        assert_eq!(item_len(max2, &[0x01, 0x03, 0xFF], "x"), Ok(2));
+        assert_eq!(item_len(max2, &[0x02, 0x03], "x"), Ok(1));
+        assert_eq!(item_len(max2, &[0x01], "x"), Err(ItemError::Truncated("x")));
     }
 
     #[test]

@@ -33,32 +33,23 @@ pub struct DescriptorExt1 {
     pub cl: u8,
 }
 
-/// Second extension of I021/040.
+/// Second extension of I021/040 (bits 8..7 spare).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 pub struct DescriptorExt2 {
-    /// IPC: independent position check failed.
+    /// IPC (bit 6): independent position check failed.
     pub ipc: bool,
-    /// NOGO: NOGO bit set.
+    /// NOGO (bit 5): NOGO bit set.
     pub nogo: bool,
-    /// CPR: CPR validation failed.
+    /// CPR (bit 4): CPR validation failed.
     pub cpr: bool,
-    /// LDPJ: local decoding position jump detected.
+    /// LDPJ (bit 3): local decoding position jump detected.
     pub ldpj: bool,
-    /// RCF: range check failed.
+    /// RCF (bit 2): range check failed.
     pub rcf: bool,
 }
 
-/// Third (TBC, total bits corrupted) and fourth (MCP, maximum bits corrupted in a position)
-/// extensions of I021/040: element-populated flag and a 6-bit value.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
-pub struct CorruptedBits {
-    /// EP: the value is populated.
-    pub ep: bool,
-    /// VAL, 0..=63.
-    pub val: u8,
-}
-
-/// I021/040 Target Report Descriptor. Extensions after the fourth are skipped.
+/// I021/040 Target Report Descriptor. Edition 2.1 defines the first part and two extensions;
+/// any further extension (later editions add TBC and MCP) is skipped by the length rule.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 pub struct TargetReportDescriptor {
     /// ATP address type: 0 24-bit ICAO, 1 duplicate address, 2 surface vehicle, 3 anonymous
@@ -74,20 +65,12 @@ pub struct TargetReportDescriptor {
     pub ext1: Option<DescriptorExt1>,
     /// Second extension.
     pub ext2: Option<DescriptorExt2>,
-    /// Third extension (TBC).
-    pub tbc: Option<CorruptedBits>,
-    /// Fourth extension (MCP).
-    pub mcp: Option<CorruptedBits>,
 }
 
 impl TargetReportDescriptor {
     /// Decodes the item (its length already delimited by the FX rule).
     pub fn decode(bytes: &[u8]) -> Result<Self, ItemError> {
         let &o = bytes.first().ok_or(ItemError::Malformed("I021/040"))?;
-        let bits6 = |o: u8| CorruptedBits {
-            ep: b(o, 8),
-            val: (o >> 1) & 0x3F,
-        };
         Ok(Self {
             atp: o >> 5,
             arc: (o >> 3) & 3,
@@ -102,21 +85,19 @@ impl TargetReportDescriptor {
                 cl: (o >> 1) & 3,
             }),
             ext2: bytes.get(2).map(|&o| DescriptorExt2 {
-                ipc: b(o, 7),
-                nogo: b(o, 6),
-                cpr: b(o, 5),
-                ldpj: b(o, 4),
-                rcf: b(o, 3),
+                ipc: b(o, 6),
+                nogo: b(o, 5),
+                cpr: b(o, 4),
+                ldpj: b(o, 3),
+                rcf: b(o, 2),
             }),
-            tbc: bytes.get(3).map(|&o| bits6(o)),
-            mcp: bytes.get(4).map(|&o| bits6(o)),
         })
     }
 
-    /// Appends the item: octets up to the last extension present (missing earlier extensions
-    /// are sent as zero octets).
+    /// Appends the item: octets up to the last extension present (a missing first extension
+    /// before a present second one is sent as a zero octet).
     pub fn encode(&self, out: &mut Vec<u8>) {
-        let mut o = [0u8; 5];
+        let mut o = [0u8; 3];
         o[0] = (self.atp & 7) << 5
             | (self.arc & 3) << 3
             | u8::from(self.rc) << 2
@@ -129,19 +110,12 @@ impl TargetReportDescriptor {
             | u8::from(e1.saa) << 3
             | (e1.cl & 3) << 1;
         let e2 = self.ext2.unwrap_or_default();
-        o[2] = u8::from(e2.ipc) << 6
-            | u8::from(e2.nogo) << 5
-            | u8::from(e2.cpr) << 4
-            | u8::from(e2.ldpj) << 3
-            | u8::from(e2.rcf) << 2;
-        let bits6 = |c: CorruptedBits| u8::from(c.ep) << 7 | (c.val & 0x3F) << 1;
-        o[3] = bits6(self.tbc.unwrap_or_default());
-        o[4] = bits6(self.mcp.unwrap_or_default());
-        let n = if self.mcp.is_some() {
-            5
-        } else if self.tbc.is_some() {
-            4
-        } else if self.ext2.is_some() {
+        o[2] = u8::from(e2.ipc) << 5
+            | u8::from(e2.nogo) << 4
+            | u8::from(e2.cpr) << 3
+            | u8::from(e2.ldpj) << 2
+            | u8::from(e2.rcf) << 1;
+        let n = if self.ext2.is_some() {
             3
         } else if self.ext1.is_some() {
             2
@@ -234,17 +208,15 @@ impl QualityIndicators {
     }
 }
 
-/// I021/200 Target Status.
+/// I021/200 Target Status (ed 2.1: ICF, LNAV, one spare bit, PS, SS).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 pub struct TargetStatus {
     /// ICF: intent change flag.
     pub icf: bool,
     /// LNAV: LNAV mode NOT engaged (the bit is set when LNAV is off).
     pub lnav_not_engaged: bool,
-    /// ME: military emergency.
-    pub me: bool,
     /// PS priority status: 0 none, 1 general emergency, 2 lifeguard/medical, 3 minimum fuel,
-    /// 4 no communications, 5 unlawful interference, 6 downed aircraft, 7 unknown.
+    /// 4 no communications, 5 unlawful interference, 6 downed aircraft (7 undefined in ed 2.1).
     pub ps: u8,
     /// SS surveillance status: 0 no condition, 1 permanent alert (emergency), 2 temporary alert
     /// (Mode 3/A change other than emergency), 3 SPI set.
@@ -260,7 +232,6 @@ impl TargetStatus {
         Ok(Self {
             icf: b(o, 8),
             lnav_not_engaged: b(o, 7),
-            me: b(o, 6),
             ps: (o >> 2) & 7,
             ss: o & 3,
         })
@@ -271,7 +242,6 @@ impl TargetStatus {
         out.push(
             u8::from(self.icf) << 7
                 | u8::from(self.lnav_not_engaged) << 6
-                | u8::from(self.me) << 5
                 | (self.ps & 7) << 2
                 | (self.ss & 3),
         );
@@ -292,7 +262,7 @@ mod tests {
         let e = d.ext1.unwrap();
         assert!(e.gbs && !e.dcr && !e.sim && !e.tst && !e.saa);
         assert_eq!(e.cl, 0);
-        assert_eq!((d.ext2, d.tbc, d.mcp), (None, None, None));
+        assert_eq!(d.ext2, None);
         let mut out = Vec::new();
         d.encode(&mut out);
         assert_eq!(out, [0x01, 0x40]);
@@ -302,9 +272,8 @@ mod tests {
     fn descriptor_every_extension() {
         // 0x6F = 011 01 1 1 1: ATP 3 (anonymous), ARC 1 (100 ft), RC, RAB, FX.
         // 0xBB = 1 0 1 1 1 01 1: DCR, SIM, TST, SAA, CL 1, FX.
-        // 0x7D = 0 1 1 1 1 1 0 1: IPC, NOGO, CPR, LDPJ, RCF, FX.
-        // 0xFF = 1 111111 1: TBC EP, VAL 63, FX.  0x0A = 0 000101 0: MCP VAL 5.
-        let bytes = [0x6F, 0xBB, 0x7D, 0xFF, 0x0A];
+        // 0x3E = 00 1 1 1 1 1 0: (spare 2) IPC, NOGO, CPR, LDPJ, RCF, no FX.
+        let bytes = [0x6F, 0xBB, 0x3E];
         let d = TargetReportDescriptor::decode(&bytes).unwrap();
         assert_eq!((d.atp, d.arc, d.rc, d.rab), (3, 1, true, true));
         let e1 = d.ext1.unwrap();
@@ -312,11 +281,18 @@ mod tests {
         assert_eq!(e1.cl, 1);
         let e2 = d.ext2.unwrap();
         assert!(e2.ipc && e2.nogo && e2.cpr && e2.ldpj && e2.rcf);
-        assert_eq!(d.tbc, Some(CorruptedBits { ep: true, val: 63 }));
-        assert_eq!(d.mcp, Some(CorruptedBits { ep: false, val: 5 }));
         let mut out = Vec::new();
         d.encode(&mut out);
         assert_eq!(out, bytes);
+        // Bit n is 1 << (n - 1): in the second extension 0x10 is bit 5, NOGO alone.
+        let d = TargetReportDescriptor::decode(&[0x01, 0x01, 0x10]).unwrap();
+        assert_eq!(
+            d.ext2,
+            Some(DescriptorExt2 {
+                nogo: true,
+                ..Default::default()
+            })
+        );
     }
 
     #[test]
@@ -353,13 +329,16 @@ mod tests {
 
     #[test]
     fn target_status() {
-        // 0xE7 = 1 1 1 001 11: ICF, LNAV not engaged, ME, PS 1 (general emergency), SS 3 (SPI).
-        let s = TargetStatus::decode(&[0xE7]).unwrap();
-        assert!(s.icf && s.lnav_not_engaged && s.me);
+        // 0xC7 = 1 1 0 001 11: ICF, LNAV not engaged, (spare), PS 1 (general emergency),
+        // SS 3 (SPI).
+        let s = TargetStatus::decode(&[0xC7]).unwrap();
+        assert!(s.icf && s.lnav_not_engaged);
         assert_eq!((s.ps, s.ss), (1, 3));
         let mut out = Vec::new();
         s.encode(&mut out);
-        assert_eq!(out, [0xE7]);
+        assert_eq!(out, [0xC7]);
+        // The spare bit 6 is ignored: 0x38 = 0 0 1 110 00 -> PS 6 (downed aircraft), SS 0.
+        assert_eq!(TargetStatus::decode(&[0x38]).unwrap().ps, 6);
         assert!(TargetStatus::decode(&[]).is_err());
     }
 }

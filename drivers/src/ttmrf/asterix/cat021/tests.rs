@@ -392,7 +392,7 @@ pub(crate) const SKIPPING_RECORD: &[u8] = &[
     15,   // 110 compound: TIS extended (81 00), TID REP 1 x 15 octets
     0x08, // 016: 4 s
     0x02, // 008: not TCAS
-    0x03, 0x02, // 271 extended, 2 octets
+    0x03, 0x03, // 271: FX, then an extension whose LSB (part of LW) is set but is not FX
     0xC4, // 132: -60 dBm
     0x02, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, // 250 REP 2 x 8
     1, 2, 3, 4, 5, 6, 7,    // 260 (fixed 7)
@@ -476,16 +476,9 @@ fn hp() -> impl Strategy<Value = HighPrecisionTime> {
 }
 
 fn descriptor() -> impl Strategy<Value = TargetReportDescriptor> {
-    (any::<[u8; 5]>(), 0usize..5).prop_map(|(o, n)| {
-        let d = TargetReportDescriptor::decode(&o[..=n]).unwrap();
-        // Decode of arbitrary octets gives every field value; keep extensions prefix-closed.
-        TargetReportDescriptor {
-            ext1: (n >= 1).then(|| d.ext1.unwrap_or_default()),
-            ext2: (n >= 2).then(|| d.ext2.unwrap_or_default()),
-            tbc: (n >= 3).then(|| d.tbc.unwrap_or_default()),
-            mcp: (n >= 4).then(|| d.mcp.unwrap_or_default()),
-            ..d
-        }
+    (any::<[u8; 3]>(), 0usize..3).prop_map(|(o, n)| {
+        // Decode of arbitrary octets gives every field value; extensions are prefix-closed.
+        TargetReportDescriptor::decode(&o[..=n]).unwrap()
     })
 }
 

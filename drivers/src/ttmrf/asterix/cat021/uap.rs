@@ -63,7 +63,8 @@ pub const UAP: [Option<(&str, Rule)>; 49] = [
     Some(("I021/016", Rule::Fixed(1))),
     // FX
     Some(("I021/008", Rule::Fixed(1))),
-    Some(("I021/271", EXT1)),
+    // Ed 2.1: first part and at most one extension, whose LSB is data (LW), not FX.
+    Some(("I021/271", Rule::ExtendedMax(2))),
     Some(("I021/132", Rule::Fixed(1))),
     Some(("I021/250", Rule::Repetitive(8))),
     Some(("I021/260", Rule::Fixed(7))),
