@@ -59,14 +59,17 @@ impl GeoAltitude {
         })
     }
 
-    /// Encodes the clear message (ID included); the altitude is rounded to 5 ft and clamped.
+    /// Encodes the clear message (ID included); the altitude is rounded to 5 ft and clamped, a
+    /// VFOM of 32766 m or more becomes the 0x7FFE code.
     pub fn encode(&self) -> [u8; LEN] {
         let units = (f64::from(self.geo_altitude_ft) / f64::from(ALT_LSB_FT)).round() as i64;
         let a = (units.clamp(i64::from(i16::MIN), i64::from(i16::MAX)) as i16).to_be_bytes();
         let vfom = match self.vfom {
             Vfom::Unavailable => 0x7FFF,
             Vfom::AtLeast32766M => 0x7FFE,
-            Vfom::Meters(m) => m.min(0x7FFD),
+            // 32766 m or more is sent as the "at least 32766 m" code (spec 3.8 example:
+            // VFOM = 40,000 m -> 0x7FFE).
+            Vfom::Meters(m) => m.min(0x7FFE),
         };
         let v = (u16::from(self.vertical_warning) << 15 | vfom).to_be_bytes();
         [ID, a[0], a[1], v[0], v[1]]

@@ -36,6 +36,8 @@ pub mod report;
 pub mod traffic;
 
 #[cfg(test)]
+mod spec_examples;
+#[cfg(test)]
 mod tests;
 
 use bytes::BytesMut;
