@@ -3,8 +3,8 @@
 //!
 //! [`uap`] gives every item's length rule so that any record is walked exactly; the items a
 //! traffic picture needs are decoded into [`Cat021Record`] by the item-group modules
-//! [`identity`], [`status`], [`time`] and [`kinematics`]; the rest (I021/230, 220, 146, 148,
-//! 110, 271, 250, 260, 400, 295, RE, SP) are skipped and listed in
+//! [`identity`], [`status`], [`time`], [`kinematics`] and [`reserved`] (the RE field); the rest
+//! (I021/230, 220, 146, 148, 110, 271, 250, 260, 400, 295, SP) are skipped and listed in
 //! [`Cat021Record::undecoded`]. [`traffic`] maps a record to the common traffic report.
 //!
 //! A record must carry I021/010 (mandatory in the standard); the block decoder relies on it to
@@ -12,6 +12,7 @@
 
 pub mod identity;
 pub mod kinematics;
+pub mod reserved;
 pub mod status;
 pub mod time;
 pub mod traffic;
@@ -26,6 +27,7 @@ use super::common::{DataSource, decode_tod, encode_tod};
 use super::item::{ItemError, fspec_len, item_len, push_fspec, set_bits};
 use identity::{MopsVersion, OperationalStatus};
 use kinematics::{AirSpeed, GroundVector, Position, TrueAirspeed, VerticalRate};
+use reserved::ReservedExpansion;
 use status::{QualityIndicators, TargetReportDescriptor, TargetStatus};
 use time::HighPrecisionTime;
 
@@ -99,6 +101,9 @@ pub struct Cat021Record {
     pub operational_status: Option<OperationalStatus>,
     /// I021/132 Message Amplitude, dBm.
     pub amplitude_dbm: Option<i8>,
+    /// I021/RE Reserved Expansion Field content, when it decodes (see [`reserved`]); the field
+    /// is also listed in `undecoded` when it does not.
+    pub reserved: Option<ReservedExpansion>,
     /// Items present in the record that are skipped, not decoded (by UAP name).
     pub undecoded: Vec<&'static str>,
 }
@@ -164,13 +169,17 @@ impl Cat021Record {
             34 => self.report_period_s = Some(f64::from(identity::decode_u8(b, name)?) * 0.5),
             35 => self.operational_status = Some(OperationalStatus::decode(b)?),
             37 => self.amplitude_dbm = Some(identity::decode_amplitude(b)?),
+            47 => match ReservedExpansion::decode(b) {
+                Some(re) => self.reserved = Some(re),
+                None => self.undecoded.push(name),
+            },
             _ => self.undecoded.push(name),
         }
         Ok(())
     }
 
     /// Appends the record (FSPEC and every decoded item present, in UAP order). Items listed in
-    /// `undecoded` are not reproduced.
+    /// `undecoded` and the RE field are not reproduced.
     pub fn encode(&self, out: &mut Vec<u8>) {
         let mut items: Vec<(usize, Vec<u8>)> = Vec::new();
         let mut put = |index: usize, f: &dyn Fn(&mut Vec<u8>)| {

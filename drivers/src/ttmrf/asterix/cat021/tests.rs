@@ -88,7 +88,8 @@ fn check_sample_record(r: &Cat021Record, e: &Expected) {
     assert_eq!(r.emitter_category, Some(ecat));
     assert_eq!(r.report_period_s, Some(4.0));
     assert_eq!(r.amplitude_dbm, Some(dbm));
-    assert_eq!(r.undecoded, vec!["I021/295", "I021/RE"]);
+    assert_eq!(r.undecoded, vec!["I021/295"]);
+    assert!(r.reserved.as_ref().unwrap().surface_vector.is_some());
     // Absent items stay absent.
     assert_eq!(r.track_number, None);
     assert_eq!(r.flight_level, None);
@@ -151,11 +152,26 @@ fn real_sample() {
         Some(SourceTime::AsterixTodNs(28_802_919_600_000))
     );
     assert_eq!(t.lat_deg, Some(r1.position.unwrap().lat_deg));
-    assert_eq!((t.alt_pressure_m, t.ground_speed_mps), (None, None));
+    assert_eq!(t.alt_pressure_m, None);
+    // RE/SGV of record 1: stopped, 0 kt; its ground track (137.8125 deg) is magnetic: not
+    // mapped.
+    let sgv = r1.reserved.as_ref().unwrap().surface_vector.unwrap();
+    assert!(sgv.stopped && sgv.magnetic);
+    assert_eq!(sgv.hgt_deg, Some(137.8125));
+    assert_eq!(t.ground_speed_mps, Some(0.0));
+    assert_eq!((t.track_deg, t.heading_deg), (None, None));
     // Record 2: ECAT 21 (surface service vehicle) is emitter category 18 in the DO-260B set;
     // time 28803 + 0.16066600009799004 s -> 28803160666000 ns (0.098 ns rounds down).
     let t2 = traffic::to_traffic(&r2);
     assert_eq!(t2.emitter_category, Some(18));
+    // RE/SGV of record 2: moving at 120/8 = 15 kt (7.7166... m/s), magnetic ground track 90 deg.
+    let sgv = r2.reserved.as_ref().unwrap().surface_vector.unwrap();
+    assert_eq!(
+        (sgv.stopped, sgv.ground_speed_kt, sgv.hgt_deg),
+        (false, 15.0, Some(90.0))
+    );
+    assert!((t2.ground_speed_mps.unwrap() - 15.0 * 1852.0 / 3600.0).abs() < 1e-12);
+    assert_eq!(t2.track_deg, None);
     assert_eq!(
         t2.source_time,
         Some(SourceTime::AsterixTodNs(28_803_160_666_000))
@@ -409,6 +425,9 @@ fn every_length_rule_is_skipped_exactly() {
     body.extend_from_slice(&[0x80, 0x00, 0x02]); // second record: 010 only
     let (r, len) = decode_record(&body).unwrap();
     assert_eq!(len, SKIPPING_RECORD.len());
+    // RE here is 03 AA BB: indicator 0xAA marks BPS, NAV, SGV and TNH but one octet follows:
+    // its content does not decode, so RE stays listed as undecoded.
+    assert_eq!(r.reserved, None);
     assert_eq!(
         r.undecoded,
         vec![
@@ -567,6 +586,7 @@ prop_compose! {
             report_period_s: rp.map(|c| f64::from(c) * 0.5),
             operational_status: ops.map(|o| OperationalStatus::decode(&[o]).unwrap()),
             amplitude_dbm: amp,
+            reserved: None,
             undecoded: Vec::new(),
         }
     }

@@ -13,6 +13,9 @@
 //!   it cannot prove.
 //! - **FLARM privacy markers.** A FLARM target whose I021/170 reads `STEALTH` or `NOTRACK` has
 //!   no call sign; the marker stays in the record.
+//! - Surface targets: the RE field's surface ground vector gives the ground speed, and the track
+//!   or heading when referenced to true north, where I021/160 is absent; RE/TNH gives the true
+//!   heading.
 //! - Magnetic heading (I021/152) is not mapped (the report's heading is true); values flagged
 //!   "range exceeded" are not exact and are left out; geometric height 0x7FFF ("greater than
 //!   204793.75 ft") is left out.
@@ -103,6 +106,13 @@ pub fn to_traffic(r: &Cat021Record) -> TrafficReport {
         .filter(|v| !v.range_exceeded)
         .or(r.geo_vertical_rate.filter(|v| !v.range_exceeded));
     let max_height = f64::from(i16::MAX) * HEIGHT_LSB_FT;
+    // Surface ground vector (RE/SGV): used when the airborne vector I021/160 is absent; its
+    // angle only when valid and referenced to true north.
+    let sgv = r.reserved.as_ref().and_then(|re| re.surface_vector);
+    let sgv_true = |ground_track: bool| {
+        sgv.filter(|v| v.hgt_valid && !v.magnetic && v.is_ground_track == ground_track)
+            .and_then(|v| v.hgt_deg)
+    };
     TrafficReport {
         link,
         protocol: Protocol::Asterix,
@@ -118,12 +128,18 @@ pub fn to_traffic(r: &Cat021Record) -> TrafficReport {
             .geometric_height_ft
             .filter(|&ft| ft < max_height)
             .map(|ft| ft * 0.3048),
-        track_deg: r.ground_vector.map(|g| g.track_deg),
-        heading_deg: None,
+        track_deg: r.ground_vector.map(|g| g.track_deg).or(sgv_true(true)),
+        heading_deg: r
+            .reserved
+            .as_ref()
+            .and_then(|re| re.true_heading_deg)
+            .or(sgv_true(false)),
         ground_speed_mps: r
             .ground_vector
             .filter(|g| !g.range_exceeded)
-            .map(|g| g.ground_speed_kt * 1852.0 / 3600.0),
+            .map(|g| g.ground_speed_kt)
+            .or(sgv.map(|v| v.ground_speed_kt))
+            .map(|kt| kt * 1852.0 / 3600.0),
         vertical_rate_mps: vrate.map(|v| v.fpm * 0.00508),
         nic: quality.map(|q| q.nic),
         nac_p: quality.and_then(|q| q.ext1).map(|e| e.nac_p),
@@ -147,7 +163,56 @@ pub fn to_traffic(r: &Cat021Record) -> TrafficReport {
 
 #[cfg(test)]
 mod tests {
+    use super::super::reserved::{ReservedExpansion, SurfaceGroundVector};
     use super::*;
+
+    #[test]
+    fn surface_vector_fallbacks() {
+        let sgv = SurfaceGroundVector {
+            stopped: false,
+            hgt_valid: true,
+            is_ground_track: true,
+            magnetic: false,
+            ground_speed_kt: 8.0,
+            hgt_deg: Some(45.0),
+        };
+        let mut r = Cat021Record {
+            reserved: Some(ReservedExpansion {
+                surface_vector: Some(sgv),
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        let t = to_traffic(&r);
+        // 8 kt = 8 * 1852 / 3600 m/s; a true-north ground track is a track.
+        assert!((t.ground_speed_mps.unwrap() - 8.0 * 1852.0 / 3600.0).abs() < 1e-12);
+        assert_eq!((t.track_deg, t.heading_deg), (Some(45.0), None));
+        // A true heading is a heading; RE/TNH wins over it.
+        let heading = SurfaceGroundVector {
+            is_ground_track: false,
+            ..sgv
+        };
+        r.reserved = Some(ReservedExpansion {
+            surface_vector: Some(heading),
+            ..Default::default()
+        });
+        assert_eq!(to_traffic(&r).heading_deg, Some(45.0));
+        r.reserved = Some(ReservedExpansion {
+            surface_vector: Some(heading),
+            true_heading_deg: Some(50.0),
+            ..Default::default()
+        });
+        assert_eq!(to_traffic(&r).heading_deg, Some(50.0));
+        // Not valid: no angle at all.
+        r.reserved = Some(ReservedExpansion {
+            surface_vector: Some(SurfaceGroundVector {
+                hgt_valid: false,
+                ..sgv
+            }),
+            ..Default::default()
+        });
+        assert_eq!(to_traffic(&r).track_deg, None);
+    }
 
     #[test]
     fn ecat_table() {
