@@ -24,8 +24,9 @@
 //!   follows the previous closing flag directly (one flag shared between two frames), that flag
 //!   opens it. A run of idle flags is skipped (and counted as skipped bytes).
 //! - Frames whose content between flags exceeds [`framing::MAX_ESCAPED_LEN`] are skipped.
-//!   Valid frames of other GDL90 messages (uplink, HAT, ...) count as `unknown_types`; a known
-//!   ID with the wrong length counts as `malformed`.
+//!   Valid frames of other GDL90 messages (uplink, HAT, ...) and IDs above 127 (which the
+//!   specification, 2.2.2, says to discard) count as `unknown_types`; a known ID with the wrong
+//!   length counts as `malformed`.
 
 pub mod crc;
 pub mod framing;

@@ -263,6 +263,25 @@ fn unknown_and_wrong_length_messages() {
 }
 
 #[test]
+fn codec_offsets() {
+    // Through the tokio codec adapter each message carries the stream offset of its first byte.
+    use tokio_util::codec::Decoder;
+    let mut bytes = b"xx".to_vec();
+    let mut starts = Vec::new();
+    for m in all_messages() {
+        starts.push(bytes.len() as u64);
+        encode_frame(&m, &mut bytes);
+    }
+    let mut codec = crate::Codec(Gdl90Decoder::default());
+    let mut buf = BytesMut::from(&bytes[..]);
+    let mut offsets = Vec::new();
+    while let Some(l) = codec.decode(&mut buf).unwrap() {
+        offsets.push(l.offset);
+    }
+    assert_eq!(offsets, starts);
+}
+
+#[test]
 fn overlong_frame_is_skipped() {
     let mut bytes = vec![0x7E];
     bytes.extend(std::iter::repeat_n(0x55u8, framing::MAX_ESCAPED_LEN + 10));

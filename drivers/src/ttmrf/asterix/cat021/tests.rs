@@ -377,7 +377,14 @@ fn mapping_flags_and_fallbacks() {
     };
     let t = traffic::to_traffic(&r);
     assert_eq!(t.link, Link::Uat978);
-    assert_eq!(t.address_type, AddressType::Surface);
+    // ATP 2 (surface vehicle) but no I021/080: address 0 of unknown type.
+    assert_eq!(t.address_type, AddressType::Unknown);
+    let mut with_address = r.clone();
+    with_address.target_address = Some(0x123456);
+    assert_eq!(
+        traffic::to_traffic(&with_address).address_type,
+        AddressType::Surface
+    );
     assert!(t.flags.test && t.flags.degraded && t.flags.ident && !t.flags.emergency);
     assert_eq!((t.lat_deg, t.lon_deg), (Some(1.0), Some(2.0)));
     // Baro rate out of range: the geometric one is used, -625 * 0.00508 = -3.175 m/s.

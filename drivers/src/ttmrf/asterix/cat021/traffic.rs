@@ -85,7 +85,8 @@ pub fn to_traffic(r: &Cat021Record) -> TrafficReport {
     } else {
         Link::Adsb1090
     };
-    let address_type = match r.descriptor.map(|d| d.atp) {
+    // Without I021/080 there is no address to qualify: address 0 of unknown type.
+    let address_type = match r.target_address.and(r.descriptor).map(|d| d.atp) {
         Some(0 | 1) => AddressType::Icao,
         Some(2) => AddressType::Surface,
         Some(3) => AddressType::NonIcao,
