@@ -84,6 +84,22 @@ impl AsterixMessage {
     }
 }
 
+/// `tokio_util` encoder writing each record as a data block of its own (for the simulated module
+/// and `FramedWrite`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AsterixEncoder;
+
+impl tokio_util::codec::Encoder<AsterixMessage> for AsterixEncoder {
+    type Error = std::io::Error;
+
+    fn encode(&mut self, msg: AsterixMessage, dst: &mut BytesMut) -> Result<(), Self::Error> {
+        let mut out = Vec::with_capacity(64);
+        msg.encode_block(&mut out);
+        dst.extend_from_slice(&out);
+        Ok(())
+    }
+}
+
 /// Appends a data block of category `cat` holding the already-encoded `records` (concatenated).
 /// Records longer than a block can hold are cut at 65532 octets.
 pub fn encode_block(cat: u8, records: &[u8], out: &mut Vec<u8>) {

@@ -107,6 +107,21 @@ pub fn encode_frame(msg: &Gdl90Message, out: &mut Vec<u8>) {
     framing::frame(&clear, out);
 }
 
+/// `tokio_util` encoder of GDL90 frames (for the simulated module and `FramedWrite`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Gdl90Encoder;
+
+impl tokio_util::codec::Encoder<Gdl90Message> for Gdl90Encoder {
+    type Error = std::io::Error;
+
+    fn encode(&mut self, msg: Gdl90Message, dst: &mut BytesMut) -> Result<(), Self::Error> {
+        let mut out = Vec::with_capacity(2 * report::LEN + 4);
+        encode_frame(&msg, &mut out);
+        dst.extend_from_slice(&out);
+        Ok(())
+    }
+}
+
 /// What the Traffic Report altitude field holds, per the module's altitude-priority setting
 /// (manual 7.2.1): see the module doc.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

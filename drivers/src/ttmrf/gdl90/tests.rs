@@ -263,6 +263,16 @@ fn unknown_and_wrong_length_messages() {
 }
 
 #[test]
+fn tokio_encoder_matches_encode_frame() {
+    use tokio_util::codec::Encoder;
+    let mut dst = BytesMut::new();
+    for m in all_messages() {
+        Gdl90Encoder.encode(m, &mut dst).unwrap();
+    }
+    assert_eq!(&dst[..], &stream(&all_messages())[..]);
+}
+
+#[test]
 fn codec_offsets() {
     // Through the tokio codec adapter each message carries the stream offset of its first byte.
     use tokio_util::codec::Decoder;

@@ -131,6 +131,30 @@ fn encode(frame: &FrameInfo, msg: &MavMessage, out: &mut Vec<u8>) {
     };
 }
 
+/// `tokio_util` encoder of MAVLink frames (for the simulated module and `FramedWrite`): each
+/// message goes out with its own [`FrameInfo`] (version, sequence, ids); signing is not
+/// supported.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MavlinkEncoder;
+
+impl tokio_util::codec::Encoder<MavlinkMessage> for MavlinkEncoder {
+    type Error = std::io::Error;
+
+    fn encode(&mut self, msg: MavlinkMessage, dst: &mut BytesMut) -> Result<(), Self::Error> {
+        let mut out = Vec::with_capacity(MAX_FRAME_LEN);
+        match &msg {
+            MavlinkMessage::AdsbVehicle { frame, vehicle } => {
+                encode_adsb_vehicle(frame, vehicle, &mut out)
+            }
+            MavlinkMessage::Collision {
+                frame, collision, ..
+            } => encode_collision(frame, collision, &mut out),
+        }
+        dst.extend_from_slice(&out);
+        Ok(())
+    }
+}
+
 /// What the front of the buffer holds.
 enum Candidate {
     /// Not a frame start: skip one byte.

@@ -247,6 +247,18 @@ fn collision_pairs_with_the_preceding_vehicle() {
 }
 
 #[test]
+fn tokio_encoder_reproduces_the_stream() {
+    use tokio_util::codec::Encoder;
+    let bytes = sample_stream();
+    let (msgs, _) = decode_all(&bytes);
+    let mut dst = BytesMut::new();
+    for m in msgs {
+        MavlinkEncoder.encode(m, &mut dst).unwrap();
+    }
+    assert_eq!(&dst[..], &bytes[..]);
+}
+
+#[test]
 fn validity_flags_and_uat() {
     // flags = SOURCE_UAT | SIMULATED only: nothing but the address and category is valid.
     let v = AdsbVehicle {
