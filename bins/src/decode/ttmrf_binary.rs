@@ -139,6 +139,45 @@ mod tests {
     }
 
     #[test]
+    fn mavlink_vehicle_line() {
+        use vigil_drivers::ttmrf::mavlink::{AdsbVehicle, FrameInfo, encode_adsb_vehicle};
+        let frame = FrameInfo {
+            version: 2,
+            sequence: 7,
+            system_id: 1,
+            component_id: 156,
+            signed: false,
+        };
+        let v = AdsbVehicle {
+            icao_address: 0x00AB_4549,
+            lat_deg: 44.9,
+            lon_deg: -123.0,
+            altitude_m: 1524.0,
+            altitude_type: 0,
+            heading_deg: 45.0,
+            hor_velocity_mps: 63.28,
+            ver_velocity_mps: 0.0,
+            flags: 0x0001 | 0x0002 | 0x0010,
+            squawk: 0,
+            callsign: "N825V".into(),
+            emitter_type: 1,
+            tslc_s: 1,
+        };
+        let mut bytes = Vec::new();
+        encode_adsb_vehicle(&frame, &v, &mut bytes);
+        let (lines, summary) = run(TtFormat::Mavlink, &bytes);
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0]["kind"], "adsb_vehicle");
+        assert_eq!(lines[0]["vehicle"]["icao_address"], "AB4549");
+        assert_eq!(lines[0]["traffic"]["address"], "AB4549");
+        assert_eq!(lines[0]["traffic"]["callsign"], "N825V");
+        assert_eq!(lines[0]["traffic"]["alt_pressure_m"], 1524.0);
+        // Velocity flag not set: no speed in the report (absent, not null).
+        assert!(lines[0]["traffic"].get("ground_speed_mps").is_none());
+        assert_eq!(summary.stats.frames_decoded, 1);
+    }
+
+    #[test]
     fn mavlink_empty_and_wrong_format() {
         let (lines, summary) = run(TtFormat::Mavlink, b"no frames here");
         assert!(lines.is_empty());

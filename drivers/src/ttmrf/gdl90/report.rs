@@ -145,7 +145,8 @@ impl HorizontalVelocity {
         match self {
             Self::Unavailable => 0xFFF,
             Self::AtLeast4094Kt => 0xFFE,
-            Self::Kt(v) => v.min(0xFFD),
+            // Spec 3.5.1.7: 4,094 kt or more holds at 0xFFE.
+            Self::Kt(v) => v.min(0xFFE),
         }
     }
 
@@ -192,9 +193,11 @@ impl VerticalVelocity {
             Self::Unavailable => 0x800,
             Self::ClimbOver32576Fpm => 0x1FE,
             Self::DescentOver32576Fpm => 0xE02,
+            // Spec 3.5.1.8: beyond +/-32,576 fpm the value holds at the code for +/-32,640
+            // (0x1FE / 0xE02).
             Self::Fpm(f) => {
                 let units = (f as f64 / f64::from(VVEL_LSB_FPM)).round() as i32;
-                (units.clamp(-509, 509) & 0xFFF) as u16
+                (units.clamp(-510, 510) & 0xFFF) as u16
             }
             Self::Unused(c) => c & 0xFFF,
         }
@@ -439,6 +442,10 @@ mod tests {
         for c in 0..0x1000u16 {
             assert_eq!(VerticalVelocity::from_code(c).code(), c);
         }
+        // Encoding saturates at the "more than 32,576 fpm" codes.
+        assert_eq!(VerticalVelocity::Fpm(40_000).code(), 0x1FE);
+        assert_eq!(VerticalVelocity::Fpm(-40_000).code(), 0xE02);
+        assert_eq!(VerticalVelocity::Fpm(100).code(), 0x002);
     }
 
     #[test]
@@ -459,6 +466,8 @@ mod tests {
         for c in 0..0x1000u16 {
             assert_eq!(HorizontalVelocity::from_code(c).code(), c);
         }
+        // 4,094 kt or more holds at 0xFFE.
+        assert_eq!(HorizontalVelocity::Kt(5000).code(), 0xFFE);
     }
 
     #[test]
