@@ -25,7 +25,6 @@
 
 pub mod adsb_vehicle;
 pub mod collision;
-pub mod flarm;
 
 #[cfg(test)]
 mod tests;
@@ -39,7 +38,6 @@ use crate::traffic::TrafficReport;
 use crate::{DecodeStats, DeviceDecoder};
 pub use adsb_vehicle::AdsbVehicle;
 pub use collision::Collision;
-pub use flarm::flarm_aircraft_type_to_emitter;
 
 /// MAVLink 1 start byte.
 pub const STX_V1: u8 = 0xFE;
