@@ -244,3 +244,38 @@ fn errors_are_clear_and_non_zero() {
     let out = vigil(&["decode", "--device", "bahrs", "--format", "csv", "-"]);
     assert!(!out.status.success());
 }
+
+#[test]
+fn ttmrf_auto_recognises_binary_streams() {
+    // The real Beast capture and its AVR rewrite: 8 928 Mode S frames less the 6 whose address
+    // was not yet known (as dump1090), plus 5 026 Mode A/C frames (adsb/README.md).
+    for rel in ["adsb/ulss7_beast.bin", "adsb/ulss7_avr.txt"] {
+        let Some(path) = vigil_drivers::testkit::shared_data(rel) else {
+            return;
+        };
+        let out = vigil(&[
+            "decode",
+            "--device",
+            "ttmrf",
+            "--format",
+            "auto",
+            path.to_str().unwrap(),
+        ]);
+        assert!(out.status.success());
+        assert_eq!(lines(&out).len(), 8_922 + 5_026, "{rel}");
+        assert_eq!(summary(&out)["extra"]["mode_s_frames"], 8_928);
+    }
+    let Some(path) = vigil_drivers::testkit::shared_data("asterix/cat21_re.ast") else {
+        return;
+    };
+    let out = vigil(&[
+        "decode",
+        "--device",
+        "ttmrf",
+        "--format",
+        "auto",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(lines(&out).len(), 2);
+    assert_eq!(summary(&out)["extra"]["format"], "asterix");
+}

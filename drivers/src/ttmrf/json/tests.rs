@@ -412,7 +412,10 @@ fn wire_encoding_of_the_manual_examples_round_trips() {
     // (Key order follows serde_json's map; compare as JSON values.)
     assert!(wire.ends_with("}\r\n"));
     let got: serde_json::Value = serde_json::from_str(wire.trim_end()).unwrap();
-    assert_eq!(got, serde_json::json!({"ver": 1, "adsb": [{"icao": "00ABCD"}]}));
+    assert_eq!(
+        got,
+        serde_json::json!({"ver": 1, "adsb": [{"icao": "00ABCD"}]})
+    );
 }
 
 mod round_trip {
