@@ -9,7 +9,13 @@ use vigil_drivers::ttmrf::raw::BeastDecoder;
 
 fuzz_target!(|data: &[u8]| {
     testkit::check_arbitrary_input(
-        || ModesDecoder::new(BeastDecoder::new(), TrackerConfig::default(), DecodeOptions::default()),
+        || {
+            ModesDecoder::new(
+                BeastDecoder::new(),
+                TrackerConfig::default(),
+                DecodeOptions::default(),
+            )
+        },
         data,
     );
 });

@@ -9,7 +9,13 @@ use vigil_drivers::ttmrf::raw::HexDecoder;
 
 fuzz_target!(|data: &[u8]| {
     testkit::check_arbitrary_input(
-        || ModesDecoder::new(HexDecoder::new(), TrackerConfig::default(), DecodeOptions::default()),
+        || {
+            ModesDecoder::new(
+                HexDecoder::new(),
+                TrackerConfig::default(),
+                DecodeOptions::default(),
+            )
+        },
         data,
     );
 });

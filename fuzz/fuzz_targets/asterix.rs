@@ -1,0 +1,13 @@
+//! Arbitrary bytes into the TT-Multi-RF ASTERIX CAT021/CAT023 decoder: no panic, split invariance, full byte
+//! accounting.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use vigil_drivers::testkit;
+
+fuzz_target!(|data: &[u8]| {
+    testkit::check_arbitrary_input(
+        || vigil_drivers::ttmrf::asterix::AsterixDecoder::default(),
+        data,
+    );
+});

@@ -1,0 +1,17 @@
+//! Arbitrary bytes into the TT-Multi-RF GDL90 decoder: no panic, split invariance, full byte
+//! accounting.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use vigil_drivers::testkit;
+
+fuzz_target!(|data: &[u8]| {
+    testkit::check_arbitrary_input(
+        || {
+            vigil_drivers::ttmrf::gdl90::Gdl90Decoder::new(
+                vigil_drivers::ttmrf::gdl90::TrafficAltitude::Pressure,
+            )
+        },
+        data,
+    );
+});

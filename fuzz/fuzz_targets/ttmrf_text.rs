@@ -1,0 +1,13 @@
+//! Arbitrary bytes into the TT-Multi-RF TextDecoder (auto: CSV, JSON, NMEA and AT lines on one port): no panic, split invariance, full byte
+//! accounting.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use vigil_drivers::testkit;
+
+fuzz_target!(|data: &[u8]| {
+    testkit::check_arbitrary_input(
+        || vigil_drivers::ttmrf::text::TextDecoder::new(vigil_drivers::ttmrf::text::TextMode::Auto),
+        data,
+    );
+});
