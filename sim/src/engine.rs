@@ -1,0 +1,265 @@
+//! The simulation loop: devices produce messages, links turn them into host read chunks, and a
+//! [`Sink`] receives the chunks in host-time order together with the truth records.
+//!
+//! The run advances in 100 ms windows of GPS time. After a window, every chunk whose receive time
+//! is before the host time of the window's end is final (later messages are ready later, and
+//! latency is never negative), so chunks are released in (receive time, port) order across ports.
+
+use crate::device::bahrs::BahrsModel;
+use crate::device::watson::WatsonModel;
+use crate::device::{DeviceModel, Emission, FaultSchedule};
+use crate::link::{Chunk, HostClock, Link};
+use crate::magnetic::{MagneticModel, Wmm2025};
+use crate::rng::Rng;
+use crate::scenario::{Scenario, ScenarioError};
+use crate::truth::{TruthRecord, World};
+
+/// Error a sink may return (it ends the run).
+pub type SinkError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Receiver of a run's output.
+pub trait Sink {
+    /// Called once before any output with the ports and run parameters.
+    fn start(&mut self, info: &RunInfo) -> Result<(), SinkError>;
+    /// One host read chunk, in (receive time, port) order.
+    fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError>;
+    /// One truth record; `t_host_ns` is the host time of its first byte's start on the wire.
+    fn truth(&mut self, record: &TruthRecord, t_host_ns: u64) -> Result<(), SinkError>;
+}
+
+/// One simulated serial port.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PortInfo {
+    /// Device name, also the port name.
+    pub device: &'static str,
+    /// Wire protocol.
+    pub protocol: &'static str,
+    /// Baud rate.
+    pub baud: u32,
+}
+
+/// Parameters of a run, for the recording's metadata.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunInfo {
+    /// Scenario name.
+    pub scenario: String,
+    /// Run seed.
+    pub seed: u64,
+    /// GPS time of the start, ns.
+    pub start_gps_ns: i64,
+    /// Duration, ns.
+    pub duration_ns: i64,
+    /// The host clock drawn for this run.
+    pub host_clock: HostClock,
+    /// Ports in index order.
+    pub ports: Vec<PortInfo>,
+    /// Scenario devices that have no model yet (configuration carried, no output).
+    pub devices_without_model: Vec<&'static str>,
+}
+
+/// Window length, ns.
+const WINDOW_NS: i64 = 100_000_000;
+
+struct Port {
+    model: Box<dyn DeviceModel>,
+    link: Link,
+    next_index: u64,
+}
+
+/// A simulator for one scenario and seed.
+pub struct Simulator {
+    scenario_name: String,
+    seed: u64,
+    world: World,
+    faults: FaultSchedule,
+    clock: HostClock,
+    ports: Vec<Port>,
+    devices_without_model: Vec<&'static str>,
+}
+
+impl Simulator {
+    /// A simulator with the WMM2025 magnetic model.
+    pub fn new(scenario: &Scenario, seed: u64) -> Result<Self, ScenarioError> {
+        Self::with_magnetic(scenario, seed, Box::new(Wmm2025))
+    }
+
+    /// A simulator with the given magnetic model.
+    pub fn with_magnetic(
+        scenario: &Scenario,
+        seed: u64,
+        magnetic: Box<dyn MagneticModel>,
+    ) -> Result<Self, ScenarioError> {
+        scenario.validate()?;
+        let world = World::new(scenario, magnetic)?;
+        let faults = FaultSchedule::new(&scenario.faults);
+        let mut hc = Rng::stream(seed, "host/clock");
+        let clock = HostClock {
+            start_gps_ns: world.start_gps_ns,
+            offset_ns: (hc.range(100.0, 10_000.0) * 1e9) as u64,
+            drift: hc.range(-1.0, 1.0) * scenario.host.clock_drift_ppm_max * 1e-6,
+        };
+        let d = &scenario.devices;
+        let mut models: Vec<Box<dyn DeviceModel>> = Vec::new();
+        if let Some(b) = &d.bahrs {
+            let pps = d.vn200.as_ref().is_some_and(|v| v.pps);
+            models.push(Box::new(BahrsModel::new(b, &world, &faults, seed, pps)));
+        }
+        if let Some(w) = &d.watson {
+            models.push(Box::new(WatsonModel::new(w, &world, seed)));
+        }
+        let mut devices_without_model = Vec::new();
+        if d.vn200.is_some() {
+            devices_without_model.push("vn200");
+        }
+        if d.ttmrf.is_some() {
+            devices_without_model.push("ttmrf");
+        }
+        let ports = models
+            .into_iter()
+            .enumerate()
+            .map(|(i, model)| Port {
+                link: Link::new(model.name(), i as u16, model.baud(), &scenario.host, seed),
+                model,
+                next_index: 0,
+            })
+            .collect();
+        Ok(Self {
+            scenario_name: scenario.name.clone(),
+            seed,
+            world,
+            faults,
+            clock,
+            ports,
+            devices_without_model,
+        })
+    }
+
+    /// Adds a device model (e.g. the VN-200 model once it exists) on a new port.
+    pub fn add_device(&mut self, model: Box<dyn DeviceModel>, host: &crate::scenario::HostConfig) {
+        let i = self.ports.len() as u16;
+        let link = Link::new(model.name(), i, model.baud(), host, self.seed);
+        self.devices_without_model.retain(|d| *d != model.name());
+        self.ports.push(Port {
+            model,
+            link,
+            next_index: 0,
+        });
+    }
+
+    /// The simulated world (truth at any time).
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The host clock drawn for this run.
+    pub fn host_clock(&self) -> HostClock {
+        self.clock
+    }
+
+    /// The ports in index order.
+    pub fn ports(&self) -> Vec<PortInfo> {
+        self.ports
+            .iter()
+            .map(|p| PortInfo {
+                device: p.model.name(),
+                protocol: p.model.protocol(),
+                baud: p.model.baud(),
+            })
+            .collect()
+    }
+
+    /// Runs `duration_ns` of the scenario from its start into `sink`.
+    pub fn run(&mut self, duration_ns: i64, sink: &mut dyn Sink) -> Result<(), SinkError> {
+        let info = RunInfo {
+            scenario: self.scenario_name.clone(),
+            seed: self.seed,
+            start_gps_ns: self.world.start_gps_ns,
+            duration_ns,
+            host_clock: self.clock,
+            ports: self.ports(),
+            devices_without_model: self.devices_without_model.clone(),
+        };
+        sink.start(&info)?;
+        let end = self.world.start_gps_ns + duration_ns.max(0);
+        let mut t = self.world.start_gps_ns;
+        let mut emissions: Vec<Emission> = Vec::new();
+        let mut pending: Vec<Chunk> = Vec::new();
+        while t < end {
+            let until = (t + WINDOW_NS).min(end);
+            for port in &mut self.ports {
+                emissions.clear();
+                port.model
+                    .advance(&self.world, &self.faults, until, &mut emissions);
+                for e in emissions.drain(..) {
+                    let tx = port.link.transmit(
+                        &e,
+                        &self.world,
+                        &self.faults,
+                        &self.clock,
+                        &mut pending,
+                    );
+                    let record = TruthRecord {
+                        device: port.model.name(),
+                        index: port.next_index,
+                        kind: e.kind,
+                        t_gps_ns: e.t_gps_ns,
+                        t_tx_gps_ns: tx.t_tx_gps_ns,
+                        corrupted: tx.corrupted,
+                        values: e.values,
+                    };
+                    port.next_index += 1;
+                    sink.truth(&record, self.clock.host_ns(tx.t_tx_gps_ns as f64))?;
+                }
+                port.link.close(&self.clock, &mut pending);
+            }
+            let horizon = self.clock.host_ns(until as f64);
+            release(&mut pending, Some(horizon), sink)?;
+            t = until;
+        }
+        release(&mut pending, None, sink)
+    }
+}
+
+/// Sends the pending chunks received before `horizon` (all when `None`) in (time, port) order.
+fn release(
+    pending: &mut Vec<Chunk>,
+    horizon: Option<u64>,
+    sink: &mut dyn Sink,
+) -> Result<(), SinkError> {
+    // Stable sort: chunks of one port keep their order.
+    pending.sort_by_key(|c| (c.t_host_ns, c.port));
+    let n = match horizon {
+        Some(h) => pending.partition_point(|c| c.t_host_ns < h),
+        None => pending.len(),
+    };
+    for c in pending.drain(..n) {
+        sink.chunk(&c)?;
+    }
+    Ok(())
+}
+
+/// A sink that keeps everything in memory (tests, small runs).
+#[derive(Debug, Default, Clone)]
+pub struct MemorySink {
+    /// The run parameters.
+    pub info: Option<RunInfo>,
+    /// Chunks in release order.
+    pub chunks: Vec<Chunk>,
+    /// Truth records in emission order.
+    pub truth: Vec<TruthRecord>,
+}
+
+impl Sink for MemorySink {
+    fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
+        self.info = Some(info.clone());
+        Ok(())
+    }
+    fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError> {
+        self.chunks.push(chunk.clone());
+        Ok(())
+    }
+    fn truth(&mut self, record: &TruthRecord, _t_host_ns: u64) -> Result<(), SinkError> {
+        self.truth.push(record.clone());
+        Ok(())
+    }
+}
