@@ -206,6 +206,7 @@ impl Simulator {
                         t_tx_gps_ns: tx.t_tx_gps_ns,
                         corrupted: tx.corrupted,
                         values: e.values,
+                        wire: e.bytes,
                     };
                     port.next_index += 1;
                     sink.truth(&record, self.clock.host_ns(tx.t_tx_gps_ns as f64))?;

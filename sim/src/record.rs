@@ -1,1 +1,256 @@
-//! MCAP recording (filled next).
+//! MCAP recordings: one channel per device port carrying the raw read chunks (log time = host
+//! monotonic receive time, ns), a `/truth` channel carrying the truth records as JSON, and a
+//! `vigil.sim` metadata record with the run parameters.
+//!
+//! - Topics: `/<device>/raw` (message encoding `application/octet-stream`, channel metadata
+//!   `device`, `protocol`, `baud`) and `/truth` (encoding `json`). No schemas.
+//! - Chunks of at most 64 KiB, uncompressed: a writer that dies loses at most its open chunk, and a
+//!   truncated file is read message by message up to the damage ([`read_recording`] stops there
+//!   and says so).
+//! - The writer's library string is fixed ("vigil"), so the same run gives the same bytes.
+
+use std::collections::BTreeMap;
+use std::io::{Seek, Write};
+
+use mcap::records::{MessageHeader, Metadata};
+use mcap::{WriteOptions, Writer};
+
+use crate::engine::{RunInfo, Sink, SinkError};
+use crate::link::Chunk;
+use crate::truth::TruthRecord;
+
+/// Topic of the truth channel.
+pub const TRUTH_TOPIC: &str = "/truth";
+/// Name of the metadata record with the run parameters.
+pub const METADATA_NAME: &str = "vigil.sim";
+/// Largest uncompressed chunk, bytes.
+pub const CHUNK_BYTES: u64 = 64 * 1024;
+
+/// Topic of a device port's raw channel.
+pub fn raw_topic(device: &str) -> String {
+    format!("/{device}/raw")
+}
+
+/// A [`Sink`] writing an MCAP file, and optionally the truth as JSON Lines.
+pub struct McapSink<W: Write + Seek> {
+    writer: Writer<W>,
+    port_channels: Vec<u16>,
+    truth_channel: u16,
+    sequences: BTreeMap<u16, u32>,
+    truth_lines: Option<Box<dyn Write>>,
+    line: Vec<u8>,
+}
+
+impl<W: Write + Seek> McapSink<W> {
+    /// A sink writing to `w`; `truth_lines` also receives one JSON line per truth record.
+    pub fn new(w: W, truth_lines: Option<Box<dyn Write>>) -> Result<Self, mcap::McapError> {
+        let writer = WriteOptions::new()
+            .compression(None)
+            .chunk_size(Some(CHUNK_BYTES))
+            .profile("vigil")
+            .library("vigil")
+            .create(w)?;
+        Ok(Self {
+            writer,
+            port_channels: Vec::new(),
+            truth_channel: 0,
+            sequences: BTreeMap::new(),
+            truth_lines,
+            line: Vec::with_capacity(512),
+        })
+    }
+
+    fn write(&mut self, channel_id: u16, t_host_ns: u64, data: &[u8]) -> Result<(), SinkError> {
+        let seq = self.sequences.entry(channel_id).or_insert(0);
+        *seq = seq.wrapping_add(1);
+        let header = MessageHeader {
+            channel_id,
+            sequence: *seq,
+            log_time: t_host_ns,
+            publish_time: t_host_ns,
+        };
+        self.writer.write_to_known_channel(&header, data)?;
+        Ok(())
+    }
+
+    /// Writes the summary and returns the inner writer.
+    pub fn finish(mut self) -> Result<W, SinkError> {
+        self.writer.finish()?;
+        if let Some(t) = self.truth_lines.as_mut() {
+            t.flush()?;
+        }
+        Ok(self.writer.into_inner())
+    }
+}
+
+impl<W: Write + Seek> Sink for McapSink<W> {
+    fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
+        for p in &info.ports {
+            let meta = BTreeMap::from([
+                ("device".to_string(), p.device.to_string()),
+                ("protocol".to_string(), p.protocol.to_string()),
+                ("baud".to_string(), p.baud.to_string()),
+            ]);
+            let id = self.writer.add_channel(
+                0,
+                &raw_topic(p.device),
+                "application/octet-stream",
+                &meta,
+            )?;
+            self.port_channels.push(id);
+        }
+        self.truth_channel = self
+            .writer
+            .add_channel(0, TRUTH_TOPIC, "json", &BTreeMap::new())?;
+        let ports: Vec<String> = info.ports.iter().map(|p| p.device.to_string()).collect();
+        let metadata = BTreeMap::from([
+            ("scenario".to_string(), info.scenario.clone()),
+            ("seed".to_string(), info.seed.to_string()),
+            ("start_gps_ns".to_string(), info.start_gps_ns.to_string()),
+            ("duration_ns".to_string(), info.duration_ns.to_string()),
+            (
+                "host_clock_offset_ns".to_string(),
+                info.host_clock.offset_ns.to_string(),
+            ),
+            (
+                "host_clock_drift".to_string(),
+                format!("{:e}", info.host_clock.drift),
+            ),
+            ("ports".to_string(), ports.join(",")),
+            (
+                "devices_without_model".to_string(),
+                info.devices_without_model.join(","),
+            ),
+        ]);
+        self.writer.write_metadata(&Metadata {
+            name: METADATA_NAME.to_string(),
+            metadata,
+        })?;
+        Ok(())
+    }
+
+    fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError> {
+        let id = *self
+            .port_channels
+            .get(usize::from(chunk.port))
+            .ok_or_else(|| format!("chunk of unknown port {}", chunk.port))?;
+        self.write(id, chunk.t_host_ns, &chunk.bytes)
+    }
+
+    fn truth(&mut self, record: &TruthRecord, t_host_ns: u64) -> Result<(), SinkError> {
+        self.line.clear();
+        serde_json::to_writer(&mut self.line, record)?;
+        let line = std::mem::take(&mut self.line);
+        let r = self.write(self.truth_channel, t_host_ns, &line);
+        if let Some(t) = self.truth_lines.as_mut() {
+            t.write_all(&line)?;
+            t.write_all(b"\n")?;
+        }
+        self.line = line;
+        r
+    }
+}
+
+/// One message read back from a recording.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Recorded<'a> {
+    /// A raw read chunk of a device port.
+    Raw {
+        /// Device name (channel metadata `device`, else the topic).
+        device: &'a str,
+        /// Host receive time, ns.
+        t_host_ns: u64,
+        /// The bytes.
+        bytes: &'a [u8],
+    },
+    /// A truth record (JSON).
+    Truth {
+        /// Log time, ns.
+        t_host_ns: u64,
+        /// The JSON text.
+        json: &'a [u8],
+    },
+    /// A message on any other channel.
+    Other {
+        /// Its topic.
+        topic: &'a str,
+    },
+}
+
+/// How reading a recording ended.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ReadOutcome {
+    /// Messages read.
+    pub messages: u64,
+    /// Where reading stopped early and why (a truncated or damaged file), if it did.
+    pub damage: Option<String>,
+}
+
+/// Reads every message of an MCAP file in file order and hands it to `f`. A damaged or truncated
+/// file is read up to the damage; the outcome says where it stopped. `f` may stop the reading by
+/// returning an error, which is passed back.
+pub fn read_recording<E>(
+    buf: &[u8],
+    mut f: impl FnMut(Recorded<'_>) -> Result<(), E>,
+) -> Result<ReadOutcome, E> {
+    let mut outcome = ReadOutcome::default();
+    let stream = match mcap::MessageStream::new_with_options(
+        buf,
+        mcap::read::Options::IgnoreEndMagic.into(),
+    ) {
+        Ok(s) => s,
+        Err(e) => {
+            outcome.damage = Some(format!("not an mcap file: {e}"));
+            return Ok(outcome);
+        }
+    };
+    for m in stream {
+        let m = match m {
+            Ok(m) => m,
+            Err(e) => {
+                outcome.damage = Some(format!("stopped after {} messages: {e}", outcome.messages));
+                break;
+            }
+        };
+        outcome.messages += 1;
+        let topic = m.channel.topic.as_str();
+        let rec = if topic == TRUTH_TOPIC {
+            Recorded::Truth {
+                t_host_ns: m.log_time,
+                json: &m.data,
+            }
+        } else if let Some(stripped) = topic.strip_suffix("/raw") {
+            let device = m
+                .channel
+                .metadata
+                .get("device")
+                .map_or(stripped.trim_start_matches('/'), |d| d.as_str());
+            Recorded::Raw {
+                device,
+                t_host_ns: m.log_time,
+                bytes: &m.data,
+            }
+        } else {
+            Recorded::Other { topic }
+        };
+        f(rec)?;
+    }
+    Ok(outcome)
+}
+
+/// The `vigil.sim` metadata of a recording, if present and readable.
+pub fn read_metadata(buf: &[u8]) -> Option<BTreeMap<String, String>> {
+    let reader =
+        mcap::read::LinearReader::new_with_options(buf, mcap::read::Options::IgnoreEndMagic.into())
+            .ok()?;
+    for rec in reader {
+        match rec {
+            Ok(mcap::records::Record::Metadata(m)) if m.name == METADATA_NAME => {
+                return Some(m.metadata);
+            }
+            Ok(_) => {}
+            Err(_) => return None,
+        }
+    }
+    None
+}

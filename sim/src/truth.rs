@@ -282,6 +282,10 @@ pub struct TruthRecord {
     /// stamps (e.g. `mcu_time_us`).
     #[serde(flatten)]
     pub values: serde_json::Map<String, serde_json::Value>,
+    /// The encoded message as the device sent it (before link faults); not written to the truth
+    /// file (tests compare decoded messages with it).
+    #[serde(skip)]
+    pub wire: Vec<u8>,
 }
 
 #[cfg(test)]
