@@ -1,7 +1,9 @@
-//! `vigil`: the one command-line program (decode now; run, demo, sim, record, replay, listen and
+//! `vigil`: the one command-line program (decode, sim and replay now; run, demo, record, listen and
 //! geometry as their issues land).
 
 mod decode;
+mod replay;
+mod sim_cmd;
 
 use std::process::ExitCode;
 
@@ -19,12 +21,18 @@ struct Cli {
 enum Command {
     /// Decode a raw byte stream from one device into JSON Lines (one object per message).
     Decode(decode::DecodeArgs),
+    /// Simulate a scenario into an MCAP recording (and a truth JSON Lines file).
+    Sim(sim_cmd::SimArgs),
+    /// Decode a recording's raw chunks into JSON Lines (device, index, host receive time, message).
+    Replay(replay::ReplayArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Decode(args) => decode::run(&args),
+        Command::Sim(args) => sim_cmd::run(&args),
+        Command::Replay(args) => replay::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
