@@ -1,0 +1,106 @@
+//! Simulating and replaying `nominal` (the devices that have models: BAHRS and Watson) as a
+//! multiple of real time. Goals: simulation (MCAP with truth, in memory) >= 200x, replay (read the
+//! MCAP, decode every chunk through the drivers' `Codec`, write JSON Lines to a null sink as
+//! `vigil replay` does) >= 1000x. Each iteration covers 60 simulated seconds: the multiple of real
+//! time is 60 s divided by the reported time.
+
+use std::io::{Cursor, Write};
+
+use bytes::BytesMut;
+use criterion::{Criterion, criterion_group, criterion_main};
+use serde::Serialize;
+use tokio_util::codec::Decoder as _;
+use vigil_drivers::{Codec, bahrs, watson};
+use vigil_sim::Simulator;
+use vigil_sim::record::{McapSink, Recorded, read_recording};
+use vigil_sim::scenario::builtin;
+
+const SECONDS: i64 = 60;
+
+fn simulate() -> Vec<u8> {
+    let s = builtin("nominal").unwrap();
+    let mut sim = Simulator::new(&s, 1).unwrap();
+    let mut sink = McapSink::new(Cursor::new(Vec::with_capacity(8 << 20)), None).unwrap();
+    sim.run(SECONDS * 1_000_000_000, &mut sink).unwrap();
+    sink.finish().unwrap().into_inner()
+}
+
+#[derive(Serialize)]
+struct Line<'a, M: Serialize> {
+    device: &'a str,
+    index: u64,
+    t_host_ns: u64,
+    message: &'a M,
+}
+
+fn replay(mcap: &[u8]) -> u64 {
+    let mut b = (Codec(bahrs::Decoder::new()), BytesMut::new());
+    let mut w = (Codec(watson::Decoder::new()), BytesMut::new());
+    let mut out = std::io::BufWriter::new(std::io::sink());
+    let mut n = 0u64;
+    read_recording::<()>(mcap, |m| {
+        if let Recorded::Raw {
+            device,
+            t_host_ns,
+            bytes,
+        } = m
+        {
+            match device {
+                "bahrs" => {
+                    b.1.extend_from_slice(bytes);
+                    while let Ok(Some(l)) = b.0.decode(&mut b.1) {
+                        let _ = serde_json::to_writer(
+                            &mut out,
+                            &Line {
+                                device,
+                                index: n,
+                                t_host_ns,
+                                message: &l.message,
+                            },
+                        );
+                        let _ = out.write_all(b"\n");
+                        n += 1;
+                    }
+                }
+                "watson" => {
+                    w.1.extend_from_slice(bytes);
+                    while let Ok(Some(l)) = w.0.decode(&mut w.1) {
+                        let _ = serde_json::to_writer(
+                            &mut out,
+                            &Line {
+                                device,
+                                index: n,
+                                t_host_ns,
+                                message: &l.message,
+                            },
+                        );
+                        let _ = out.write_all(b"\n");
+                        n += 1;
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    })
+    .unwrap();
+    n
+}
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("sim_nominal_60s");
+    g.sample_size(10);
+    g.bench_function("simulate_to_mcap", |b| {
+        b.iter(|| std::hint::black_box(simulate().len()))
+    });
+    let mcap = simulate();
+    let n = replay(&mcap);
+    assert!(n > 18_000, "{n} messages replayed");
+    g.bench_function("replay_decode_json", |b| {
+        b.iter(|| std::hint::black_box(replay(&mcap)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
