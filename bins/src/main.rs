@@ -4,6 +4,8 @@
 mod decode;
 mod replay;
 mod sim_cmd;
+#[cfg(target_os = "linux")]
+mod sim_live;
 
 use std::process::ExitCode;
 

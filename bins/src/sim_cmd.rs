@@ -23,8 +23,14 @@ pub struct SimArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Output MCAP file.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required_unless_present = "pty_dir", conflicts_with = "pty_dir")]
+    pub out: Option<PathBuf>,
+    /// Run live on pseudo-terminals instead: `DIR/<device>` links to each port's terminal.
+    #[arg(long, value_name = "DIR")]
+    pub pty_dir: Option<PathBuf>,
+    /// Live only: pace at this multiple of real time.
+    #[arg(long, default_value_t = 1.0, requires = "pty_dir")]
+    pub speed: f64,
     /// Also write the truth as JSON Lines to this file.
     #[arg(long)]
     pub truth: Option<PathBuf>,
@@ -81,8 +87,14 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     let scenario = load_scenario(&args.scenario)?;
     let mut sim = Simulator::new(&scenario, args.seed)?;
-    let out =
-        File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+    let duration_ns = (args.duration * 1e9).round() as i64;
+    if let Some(dir) = &args.pty_dir {
+        return run_live(&mut sim, dir, args.speed, duration_ns);
+    }
+    let Some(path) = &args.out else {
+        return Err(anyhow!("--out or --pty-dir is required"));
+    };
+    let out = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
     let truth: Option<Box<dyn Write>> = match &args.truth {
         Some(p) => Some(Box::new(BufWriter::new(
             File::create(p).with_context(|| format!("cannot create {}", p.display()))?,
@@ -97,7 +109,6 @@ pub fn run(args: &SimArgs) -> Result<()> {
         shown_percent: 0,
         enabled: std::io::stderr().is_terminal(),
     };
-    let duration_ns = (args.duration * 1e9).round() as i64;
     sim.run(duration_ns, &mut progress)
         .map_err(|e| anyhow!("simulation: {e}"))?;
     if progress.enabled {
@@ -105,7 +116,49 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     let mut w = sink
         .finish()
-        .map_err(|e| anyhow!("writing {}: {e}", args.out.display()))?;
+        .map_err(|e| anyhow!("writing {}: {e}", path.display()))?;
     w.flush()?;
     Ok(())
+}
+
+#[cfg(target_os = "linux")]
+fn run_live(
+    sim: &mut Simulator,
+    dir: &std::path::Path,
+    speed: f64,
+    duration_ns: i64,
+) -> Result<()> {
+    use crate::sim_live::{LiveSink, link_ports, open_pty};
+    if !(speed.is_finite() && speed > 0.0) {
+        return Err(anyhow!("--speed must be a positive number"));
+    }
+    let ports = sim.ports();
+    let ptys = ports
+        .iter()
+        .map(|_| open_pty())
+        .collect::<Result<Vec<_>>>()?;
+    let names: Vec<&str> = ports.iter().map(|p| p.device).collect();
+    link_ports(dir, &names, &ptys)?;
+    {
+        let mut out = std::io::stdout().lock();
+        for (p, pty) in ports.iter().zip(&ptys) {
+            writeln!(out, "{} {} {}", p.device, pty.path.display(), p.baud)?;
+        }
+        out.flush()?;
+    }
+    let mut sink = LiveSink::new(ptys, speed);
+    sim.run(duration_ns, &mut sink)
+        .map_err(|e| anyhow!("simulation: {e}"))?;
+    if sink.dropped_bytes > 0 {
+        eprintln!(
+            "vigil sim: {} bytes dropped (terminals nobody read)",
+            sink.dropped_bytes
+        );
+    }
+    Ok(())
+}
+
+#[cfg(not(target_os = "linux"))]
+fn run_live(_: &mut Simulator, _: &std::path::Path, _: f64, _: i64) -> Result<()> {
+    Err(anyhow!("--pty-dir needs Linux pseudo-terminals"))
 }
