@@ -1,7 +1,11 @@
 //! `vigil replay`: feed a recording's raw chunks through the drivers' decoders and write every
 //! decoded message as one JSON line: `device`, `index` (0-based order of decoded messages of that
-//! device), `t_host_ns` (host receive time of the chunk holding the message's first byte, found
-//! from `Located::offset`) and `message` (the driver's message as serde writes it).
+//! device), `offset` (the stream offset of its first byte, `Located::offset`), `t_host_ns` (host
+//! receive time of the chunk holding that byte) and `message` (the driver's message as serde
+//! writes it).
+//!
+//! `index` equals the truth file's `index` as long as no message of that device was lost or
+//! damaged; `offset` equals the truth's `rx_offset` for every intact message, always.
 //!
 //! Output is a deterministic function of the file: replaying twice gives identical bytes. Devices
 //! without a decoder here (VN-200, TT-Multi-RF until their drivers land) are counted in the summary
@@ -35,6 +39,7 @@ pub struct ReplayArgs {
 struct Line<'a, M: Serialize> {
     device: &'a str,
     index: u64,
+    offset: u64,
     t_host_ns: u64,
     message: &'a M,
 }
@@ -82,6 +87,7 @@ where
             &Line {
                 device,
                 index: self.index,
+                offset,
                 t_host_ns,
                 message: m,
             },

@@ -134,3 +134,41 @@ fn unknown_scenario_is_an_error() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("nominal"));
 }
+
+#[test]
+fn replay_offsets_join_the_truth_under_link_faults() {
+    let (m, t) = (tmp("faults.mcap"), tmp("faults.jsonl"));
+    sim("link-errors", "45", "8", &m, &t);
+    let truth = lines(&std::fs::read(&t).unwrap());
+    let o = vigil(&["replay", m.to_str().unwrap()]);
+    assert!(o.status.success());
+    let replayed = lines(&o.stdout);
+    for device in ["bahrs", "watson"] {
+        let by_offset: std::collections::BTreeMap<u64, &Value> = replayed
+            .iter()
+            .filter(|v| v["device"] == device)
+            .map(|v| (v["offset"].as_u64().unwrap(), v))
+            .collect();
+        let (mut intact, mut corrupted) = (0, 0);
+        for r in truth.iter().filter(|v| v["device"] == device) {
+            if r["corrupted"] == true {
+                corrupted += 1;
+                continue;
+            }
+            intact += 1;
+            let d = by_offset
+                .get(&r["rx_offset"].as_u64().unwrap())
+                .unwrap_or_else(|| panic!("{device} truth index {} not replayed", r["index"]));
+            if device == "bahrs" {
+                assert_eq!(d["message"]["type"], r["type"]);
+                assert_eq!(d["message"].get("seq"), r.get("seq"));
+            }
+        }
+        assert!(
+            corrupted > 0 && intact > 0,
+            "{device}: {intact} intact, {corrupted} corrupted"
+        );
+        // Decoded messages that match no intact truth message come from corrupted ones.
+        assert!(by_offset.len() - intact <= corrupted);
+    }
+}

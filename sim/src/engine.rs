@@ -205,6 +205,7 @@ impl Simulator {
                         t_gps_ns: e.t_gps_ns,
                         t_tx_gps_ns: tx.t_tx_gps_ns,
                         corrupted: tx.corrupted,
+                        rx_offset: tx.rx_offset,
                         values: e.values,
                         wire: e.bytes,
                     };

@@ -53,6 +53,9 @@ pub struct Transmission {
     pub t_tx_gps_ns: i64,
     /// A fault damaged or lost at least one of its bytes.
     pub corrupted: bool,
+    /// Offset in the port's received byte stream at which the message's first byte arrived (or
+    /// would have, had it been lost): the join key between truth and a decoder's `Located.offset`.
+    pub rx_offset: u64,
 }
 
 struct OpenChunk {
@@ -71,6 +74,7 @@ pub struct Link {
     rng: Rng,
     last_host_ns: u64,
     open: Option<OpenChunk>,
+    rx_bytes: u64,
 }
 
 impl Link {
@@ -85,6 +89,7 @@ impl Link {
             rng: Rng::stream(seed, &format!("link/{device}")),
             last_host_ns: 0,
             open: None,
+            rx_bytes: 0,
         }
     }
 
@@ -104,6 +109,7 @@ impl Link {
             self.close(clock, out);
         }
         let mut corrupted = false;
+        let rx_offset = self.rx_bytes;
         let t0_s = world.elapsed_s(start as i64);
         let ber = faults.bit_error_rate(self.device, t0_s);
         let drop = faults.drop_rate(self.device, t0_s);
@@ -129,6 +135,7 @@ impl Link {
                 open.target = self.rng.one_to(self.host.max_chunk_bytes) as usize;
             }
             open.bytes.push(byte);
+            self.rx_bytes += 1;
             open.last_done_gps_ns = done;
             if open.bytes.len() >= open.target {
                 self.close(clock, out);
@@ -138,6 +145,7 @@ impl Link {
         Transmission {
             t_tx_gps_ns: start.round() as i64,
             corrupted,
+            rx_offset,
         }
     }
 

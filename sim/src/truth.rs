@@ -278,6 +278,10 @@ pub struct TruthRecord {
     pub t_tx_gps_ns: i64,
     /// True when a link fault (bit error, dropped byte, link loss) damaged the message's bytes.
     pub corrupted: bool,
+    /// Offset of the message's first byte in the port's received byte stream (where it would
+    /// have been if lost). A decoder's `Located.offset` of an intact message equals it, so it joins
+    /// `vigil replay` output (`offset`) to the truth even after losses shifted the indices.
+    pub rx_offset: u64,
     /// The true values it encodes (names carry units), before noise, plus the device's own
     /// stamps (e.g. `mcu_time_us`).
     #[serde(flatten)]

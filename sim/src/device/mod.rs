@@ -46,6 +46,12 @@ pub trait DeviceModel: Send {
         until_gps_ns: i64,
         out: &mut Vec<Emission>,
     );
+    /// Bytes the host wrote to the device's port at `t_gps_ns` (commands: the VN-200 ASCII
+    /// protocol, TT-Multi-RF AT commands). The default ignores them (BAHRS and Watson only talk).
+    /// Answers come out of the next `advance`.
+    fn receive(&mut self, t_gps_ns: i64, bytes: &[u8]) {
+        let _ = (t_gps_ns, bytes);
+    }
 }
 
 /// The scenario's fault schedule with the queries device and link models need.
