@@ -75,6 +75,7 @@ pub struct Simulator {
     clock: HostClock,
     ports: Vec<Port>,
     devices_without_model: Vec<&'static str>,
+    ran: bool,
 }
 
 impl Simulator {
@@ -118,7 +119,14 @@ impl Simulator {
             .into_iter()
             .enumerate()
             .map(|(i, model)| Port {
-                link: Link::new(model.name(), i as u16, model.baud(), &scenario.host, seed),
+                link: Link::new(
+                    model.name(),
+                    i as u16,
+                    model.baud(),
+                    &scenario.host,
+                    world.start_gps_ns,
+                    seed,
+                ),
                 model,
                 next_index: 0,
             })
@@ -131,13 +139,21 @@ impl Simulator {
             clock,
             ports,
             devices_without_model,
+            ran: false,
         })
     }
 
     /// Adds a device model (e.g. the VN-200 model once it exists) on a new port.
     pub fn add_device(&mut self, model: Box<dyn DeviceModel>, host: &crate::scenario::HostConfig) {
         let i = self.ports.len() as u16;
-        let link = Link::new(model.name(), i, model.baud(), host, self.seed);
+        let link = Link::new(
+            model.name(),
+            i,
+            model.baud(),
+            host,
+            self.world.start_gps_ns,
+            self.seed,
+        );
         self.devices_without_model.retain(|d| *d != model.name());
         self.ports.push(Port {
             model,
@@ -168,8 +184,12 @@ impl Simulator {
             .collect()
     }
 
-    /// Runs `duration_ns` of the scenario from its start into `sink`.
+    /// Runs `duration_ns` of the scenario from its start into `sink`. A simulator runs once (its
+    /// device models keep their state): a second call is an error.
     pub fn run(&mut self, duration_ns: i64, sink: &mut dyn Sink) -> Result<(), SinkError> {
+        if std::mem::replace(&mut self.ran, true) {
+            return Err("a simulator runs once: build a new one for another run".into());
+        }
         let info = RunInfo {
             scenario: self.scenario_name.clone(),
             seed: self.seed,
@@ -191,13 +211,9 @@ impl Simulator {
                 port.model
                     .advance(&self.world, &self.faults, until, &mut emissions);
                 for e in emissions.drain(..) {
-                    let tx = port.link.transmit(
-                        &e,
-                        &self.world,
-                        &self.faults,
-                        &self.clock,
-                        &mut pending,
-                    );
+                    let tx = port
+                        .link
+                        .transmit(&e, &self.faults, &self.clock, &mut pending);
                     let record = TruthRecord {
                         device: port.model.name(),
                         index: port.next_index,
@@ -210,11 +226,11 @@ impl Simulator {
                         wire: e.bytes,
                     };
                     port.next_index += 1;
-                    sink.truth(&record, self.clock.host_ns(tx.t_tx_gps_ns as f64))?;
+                    sink.truth(&record, self.clock.host_ns(tx.t_tx_gps_ns))?;
                 }
                 port.link.close(&self.clock, &mut pending);
             }
-            let horizon = self.clock.host_ns(until as f64);
+            let horizon = self.clock.host_ns(until);
             release(&mut pending, Some(horizon), sink)?;
             t = until;
         }
