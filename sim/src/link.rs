@@ -10,10 +10,16 @@
 //! - Faults: a bit error flips one random bit of a byte (probability `1 - (1 - rate)^10` per byte);
 //!   a dropped byte and every byte sent during a link loss never reach the host; they all still
 //!   take their time on the line. A message with any such byte is marked corrupted in the truth.
+//! - A device holds at most [`TX_BUFFER_BYTES`] unsent bytes: a message that does not fit (the
+//!   configured output exceeds the baud rate) is discarded by the device and marked corrupted
+//!   (it never reaches the host).
 
 use crate::device::{Emission, FaultSchedule};
 use crate::rng::Rng;
 use crate::scenario::HostConfig;
+
+/// Transmit buffer of a device, bytes.
+pub const TX_BUFFER_BYTES: f64 = 4096.0;
 
 /// Host monotonic clock: `t_host = offset + (t_gps - start) (1 + drift)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -119,6 +125,14 @@ impl Link {
         out: &mut Vec<Chunk>,
     ) -> Transmission {
         let ready = (e.t_ready_gps_ns - self.start_gps_ns) as f64;
+        let backlog_bytes = ((self.line_free_ns - ready) / self.byte_ns).max(0.0);
+        if backlog_bytes + e.bytes.len() as f64 > TX_BUFFER_BYTES {
+            return Transmission {
+                t_tx_gps_ns: e.t_ready_gps_ns,
+                corrupted: true,
+                rx_offset: self.rx_bytes,
+            };
+        }
         let start = ready.max(self.line_free_ns);
         if start > self.line_free_ns + 0.5 * self.byte_ns {
             // The line was idle: the adapter has flushed what it held.
@@ -314,5 +328,24 @@ mod tests {
         link.close(&clock, &mut out);
         let n: usize = out.iter().map(|c| c.bytes.len()).sum();
         assert!((199_990..=200_010).contains(&n), "{n}");
+    }
+
+    #[test]
+    fn a_full_transmit_buffer_discards_messages() {
+        let (w, f, clock) = setup(vec![]);
+        let mut link = Link::new("watson", 0, 9600, &HostConfig::default(), w.start_gps_ns, 3);
+        let mut out = Vec::new();
+        // 100 messages of 100 bytes ready at once: 40 fill the 4096-byte buffer (4000 bytes), the
+        // 41st would make 4100.
+        let lost: Vec<bool> = (0..100)
+            .map(|_| {
+                link.transmit(&emission(w.start_gps_ns, 100), &f, &clock, &mut out)
+                    .corrupted
+            })
+            .collect();
+        assert!(lost[..40].iter().all(|l| !l));
+        assert!(lost[40..].iter().all(|l| *l));
+        link.close(&clock, &mut out);
+        assert_eq!(out.iter().map(|c| c.bytes.len()).sum::<usize>(), 4000);
     }
 }

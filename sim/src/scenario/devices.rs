@@ -34,6 +34,22 @@ impl Devices {
                     ));
                 }
             }
+            // Frame lengths (BAHRS protocol 2.0 with padding and CRC): 0x01 28, 0x05 20, 0x02 24,
+            // 0x04 20, 0x03 28 bytes; 0x06 (20 bytes) once a second.
+            let bytes_per_s = 48.0 * b.inertial_rate_hz
+                + 44.0 * b.navigation_rate_hz
+                + 28.0 * b.accuracy_rate_hz
+                + 20.0;
+            if bytes_per_s > f64::from(b.baud) / 10.0 {
+                return Err(invalid(
+                    "devices.bahrs.baud",
+                    format!(
+                        "{} baud carries {} bytes/s, the rates need {bytes_per_s:.0}",
+                        b.baud,
+                        b.baud / 10
+                    ),
+                ));
+            }
             if !(0.0..=1000.0).contains(&b.clock_drift_ppm_max) {
                 return Err(invalid(
                     "devices.bahrs.clock_drift_ppm_max",
