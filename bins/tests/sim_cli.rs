@@ -172,3 +172,50 @@ fn replay_offsets_join_the_truth_under_link_faults() {
         assert!(by_offset.len() - intact <= corrupted);
     }
 }
+
+#[test]
+fn scenario_from_a_toml_file() {
+    let file = tmp("mine.toml");
+    std::fs::write(
+        &file,
+        r#"
+name = "mine"
+start_utc = "2026-03-01T08:00:00Z"
+[ownship]
+lat_deg = -33.9
+lon_deg = 151.2
+height_m = 50.0
+track_deg = 270.0
+speed_mps = 25.0
+segments = [{ kind = "turn", duration_s = 10.0, rate_dps = -6.0 }]
+[devices.watson]
+"#,
+    )
+    .unwrap();
+    let (m, t) = (tmp("mine.mcap"), tmp("mine.jsonl"));
+    sim(file.to_str().unwrap(), "3", "1", &m, &t);
+    let truth = lines(&std::fs::read(&t).unwrap());
+    // Only the Watson is present: about 11.85 lines per second.
+    assert!(truth.iter().all(|v| v["device"] == "watson"));
+    assert!((34..=37).contains(&truth.len()), "{}", truth.len());
+    // Left turn at 6 deg/s and 25 m/s: bank = -atan(25 x 0.10472 / 9.80665) = -14.95 deg.
+    let bank = truth[5]["bank_deg"].as_f64().unwrap();
+    assert!((bank + 14.95).abs() < 0.01, "{bank}");
+    // A bad key in the file is named in the error.
+    std::fs::write(
+        &file,
+        std::fs::read_to_string(&file)
+            .unwrap()
+            .replace("speed_mps", "sped_mps"),
+    )
+    .unwrap();
+    let o = vigil(&[
+        "sim",
+        "--scenario",
+        file.to_str().unwrap(),
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("sped_mps"));
+}

@@ -348,4 +348,43 @@ mod tests {
                 && (q[3] - h).abs() < 1e-15
         );
     }
+
+    fn separation_m(w: &World, t_s: i64) -> (f64, f64) {
+        let t = w.start_gps_ns + t_s * NS_PER_S;
+        let o = w.ownship(t);
+        let i = &w.intruders(t)[0];
+        let (on, oe) = w.frame.to_local_m(o.lat_deg, o.lon_deg);
+        let (inn, ie) = w.frame.to_local_m(i.lat_deg, i.lon_deg);
+        ((on - inn).hypot(oe - ie), i.height_m - o.height_m)
+    }
+
+    #[test]
+    fn encounter_geometry_of_the_builtins() {
+        let mag = || {
+            Box::new(ConstantDeclination(Declination {
+                declination_rad: 0.0,
+                sigma_rad: 0.0,
+            }))
+        };
+        // headon: 8000 m apart closing at 40 + 60 m/s: together at t = 80 s, 1000 m apart at 70 s.
+        let w = World::new(&builtin("headon").unwrap(), mag()).unwrap();
+        assert!(separation_m(&w, 80).0 < 1e-3);
+        assert!((separation_m(&w, 70).0 - 1000.0).abs() < 1e-3);
+        // crossing: ownship 40 m/s north reaches 4000 m N at 100 s; the intruder starts 5000 m E
+        // flying west at 50 m/s: there at 100 s as well, 30 m above.
+        let w = World::new(&builtin("crossing").unwrap(), mag()).unwrap();
+        let (d, dh) = separation_m(&w, 100);
+        assert!(d < 1e-3 && (dh - 30.0).abs() < 1e-9, "{d} {dh}");
+        // The intruder's pressure altitude is that of its height.
+        let i = &w.intruders(w.start_gps_ns)[0];
+        assert!((i.alt_pressure_m - geopotential_m(630.0)).abs() < 1e-6);
+        // spoofed-target: the reported position is 2 km north and 2 km east of the true one.
+        let w = World::new(&builtin("spoofed-target").unwrap(), mag()).unwrap();
+        let i = &w.intruders(w.start_gps_ns)[0];
+        let rep = i.reported_position.unwrap();
+        let (tn, te) = w.frame.to_local_m(i.lat_deg, i.lon_deg);
+        let (rn, re) = w.frame.to_local_m(rep[0], rep[1]);
+        assert!((rn - tn - 2000.0).abs() < 1e-6 && (re - te - 2000.0).abs() < 1e-6);
+        assert!(w.intruders(w.start_gps_ns)[1].reported_position.is_none());
+    }
 }
