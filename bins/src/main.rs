@@ -1,7 +1,8 @@
-//! `vigil`: the one command-line program (decode, sim and replay now; run, demo, record, listen and
+//! `vigil`: the one command-line program (decode, sim, record and replay now; run, demo, listen and
 //! geometry as their issues land).
 
 mod decode;
+mod record_cmd;
 mod replay;
 mod sim_cmd;
 #[cfg(target_os = "linux")]
@@ -25,6 +26,8 @@ enum Command {
     Decode(decode::DecodeArgs),
     /// Simulate a scenario into an MCAP recording (and a truth JSON Lines file).
     Sim(sim_cmd::SimArgs),
+    /// Record live serial ports into an MCAP file (Ctrl-C ends it cleanly).
+    Record(record_cmd::RecordArgs),
     /// Decode a recording's raw chunks into JSON Lines (device, index, host receive time, message).
     Replay(replay::ReplayArgs),
 }
@@ -34,6 +37,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Decode(args) => decode::run(&args),
         Command::Sim(args) => sim_cmd::run(&args),
+        Command::Record(args) => record_cmd::run(&args),
         Command::Replay(args) => replay::run(&args),
     };
     match result {

@@ -101,3 +101,122 @@ fn live_ptys_are_read_with_tokio_serial() {
     // 11.85 lines per second at 9600 baud.
     assert!(lines.len() >= 20, "{} watson lines", lines.len());
 }
+
+/// Starts a live simulation and returns it with its (device, path, baud) lines.
+fn start_live(
+    dir: &std::path::Path,
+    seconds: &str,
+) -> (std::process::Child, Vec<(String, String, u32)>) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args([
+            "sim",
+            "--scenario",
+            "nominal",
+            "--duration",
+            seconds,
+            "--seed",
+            "4",
+            "--pty-dir",
+        ])
+        .arg(dir)
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("start vigil sim");
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let ports = (0..2)
+        .map(|_| {
+            let l = lines.next().expect("port line").unwrap();
+            let f: Vec<&str> = l.split(' ').collect();
+            (
+                f[0].to_string(),
+                f[1].to_string(),
+                f[2].parse::<u32>().unwrap(),
+            )
+        })
+        .collect();
+    (child, ports)
+}
+
+#[test]
+fn record_live_ports_then_replay() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_record");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (mut sim, ports) = start_live(&dir.join("ports"), "7");
+    let config = dir.join("record.toml");
+    let mut text = String::new();
+    for (device, path, baud) in &ports {
+        text += &format!("[[ports]]\ndevice = \"{device}\"\npath = \"{path}\"\nbaud = {baud}\n\n");
+    }
+    std::fs::write(&config, text).unwrap();
+    let vigil = env!("CARGO_BIN_EXE_vigil");
+    // 1: a fixed duration.
+    let a = dir.join("a.mcap");
+    let o = Command::new(vigil)
+        .args(["record", "--duration", "2"])
+        .arg("--config")
+        .arg(&config)
+        .arg("--out")
+        .arg(&a)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // 2: ended by Ctrl-C (SIGINT).
+    let b = dir.join("b.mcap");
+    let rec = Command::new(vigil)
+        .arg("record")
+        .arg("--config")
+        .arg(&config)
+        .arg("--out")
+        .arg(&b)
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2000));
+    let kill = Command::new("kill")
+        .args(["-INT", &rec.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = rec.wait_with_output().unwrap();
+    assert!(o.status.success());
+    assert!(sim.wait().unwrap().success());
+
+    for file in [&a, &b] {
+        let o = Command::new(vigil)
+            .arg("replay")
+            .arg(file)
+            .output()
+            .unwrap();
+        assert!(o.status.success());
+        let summary: serde_json::Value = serde_json::from_slice(o.stderr.trim_ascii()).unwrap();
+        assert_eq!(
+            summary["damage"],
+            serde_json::Value::Null,
+            "{}",
+            file.display()
+        );
+        // About 1.5 s or more of 300 BAHRS messages per second, none damaged on the way.
+        let bahrs = &summary["devices"]["bahrs"];
+        assert!(bahrs["frames_decoded"].as_u64().unwrap() > 300, "{summary}");
+        assert_eq!(bahrs["checksum_failures"], 0);
+        assert!(
+            summary["devices"]["watson"]["frames_decoded"]
+                .as_u64()
+                .unwrap()
+                > 10,
+            "{summary}"
+        );
+        // Host receive times are CLOCK_MONOTONIC ns and increase.
+        let lines: Vec<serde_json::Value> = o
+            .stdout
+            .split(|&c| c == b'\n')
+            .filter(|l| !l.is_empty())
+            .map(|l| serde_json::from_slice(l).unwrap())
+            .collect();
+        let t: Vec<u64> = lines
+            .iter()
+            .filter(|l| l["device"] == "bahrs")
+            .map(|l| l["t_host_ns"].as_u64().unwrap())
+            .collect();
+        assert!(t.windows(2).all(|w| w[0] <= w[1]));
+    }
+}

@@ -31,36 +31,69 @@ pub fn raw_topic(device: &str) -> String {
     format!("/{device}/raw")
 }
 
-/// A [`Sink`] writing an MCAP file, and optionally the truth as JSON Lines.
-pub struct McapSink<W: Write + Seek> {
+/// An MCAP writer with one raw channel per device port (used by the simulator's [`McapSink`] and
+/// by live recording).
+pub struct RawRecorder<W: Write + Seek> {
     writer: Writer<W>,
     port_channels: Vec<u16>,
-    truth_channel: u16,
     sequences: BTreeMap<u16, u32>,
-    truth_lines: Option<Box<dyn Write>>,
-    line: Vec<u8>,
 }
 
-impl<W: Write + Seek> McapSink<W> {
-    /// A sink writing to `w`; `truth_lines` also receives one JSON line per truth record.
-    pub fn new(w: W, truth_lines: Option<Box<dyn Write>>) -> Result<Self, mcap::McapError> {
-        let writer = WriteOptions::new()
+impl<W: Write + Seek> RawRecorder<W> {
+    /// A recorder writing to `w` with a `/<device>/raw` channel per port, given as
+    /// (device, protocol, baud) in port-index order.
+    pub fn new(w: W, ports: &[(&str, &str, u32)]) -> Result<Self, mcap::McapError> {
+        let mut writer = WriteOptions::new()
             .compression(None)
             .chunk_size(Some(CHUNK_BYTES))
             .profile("vigil")
             .library("vigil")
             .create(w)?;
+        let mut port_channels = Vec::with_capacity(ports.len());
+        for (device, protocol, baud) in ports {
+            let meta = BTreeMap::from([
+                ("device".to_string(), device.to_string()),
+                ("protocol".to_string(), protocol.to_string()),
+                ("baud".to_string(), baud.to_string()),
+            ]);
+            port_channels.push(writer.add_channel(
+                0,
+                &raw_topic(device),
+                "application/octet-stream",
+                &meta,
+            )?);
+        }
         Ok(Self {
             writer,
-            port_channels: Vec::new(),
-            truth_channel: 0,
+            port_channels,
             sequences: BTreeMap::new(),
-            truth_lines,
-            line: Vec::with_capacity(512),
         })
     }
 
-    fn write(&mut self, channel_id: u16, t_host_ns: u64, data: &[u8]) -> Result<(), SinkError> {
+    /// Adds a JSON channel and returns its id.
+    pub fn add_json_channel(&mut self, topic: &str) -> Result<u16, mcap::McapError> {
+        self.writer.add_channel(0, topic, "json", &BTreeMap::new())
+    }
+
+    /// Writes a metadata record.
+    pub fn write_metadata(
+        &mut self,
+        name: &str,
+        metadata: BTreeMap<String, String>,
+    ) -> Result<(), mcap::McapError> {
+        self.writer.write_metadata(&Metadata {
+            name: name.to_string(),
+            metadata,
+        })
+    }
+
+    /// Writes one message on a channel.
+    pub fn write(
+        &mut self,
+        channel_id: u16,
+        t_host_ns: u64,
+        data: &[u8],
+    ) -> Result<(), mcap::McapError> {
         let seq = self.sequences.entry(channel_id).or_insert(0);
         *seq = seq.wrapping_add(1);
         let header = MessageHeader {
@@ -69,40 +102,87 @@ impl<W: Write + Seek> McapSink<W> {
             log_time: t_host_ns,
             publish_time: t_host_ns,
         };
-        self.writer.write_to_known_channel(&header, data)?;
-        Ok(())
+        self.writer.write_to_known_channel(&header, data)
+    }
+
+    /// Writes one raw chunk of port `port` (index in the order given to [`RawRecorder::new`]).
+    pub fn write_raw(
+        &mut self,
+        port: u16,
+        t_host_ns: u64,
+        bytes: &[u8],
+    ) -> Result<(), mcap::McapError> {
+        let id = *self
+            .port_channels
+            .get(usize::from(port))
+            .ok_or(mcap::McapError::UnknownChannel(0, port))?;
+        self.write(id, t_host_ns, bytes)
+    }
+
+    /// Ends the open chunk and flushes it to the output, so a recorder killed later loses nothing
+    /// written so far.
+    pub fn flush(&mut self) -> Result<(), mcap::McapError> {
+        self.writer.flush()
+    }
+
+    /// Writes the summary and returns the inner writer.
+    pub fn finish(mut self) -> Result<W, mcap::McapError> {
+        self.writer.finish()?;
+        Ok(self.writer.into_inner())
+    }
+}
+
+/// A [`Sink`] writing an MCAP file, and optionally the truth as JSON Lines.
+pub struct McapSink<W: Write + Seek> {
+    output: Option<W>,
+    recorder: Option<RawRecorder<W>>,
+    truth_channel: u16,
+    truth_lines: Option<Box<dyn Write>>,
+    line: Vec<u8>,
+}
+
+impl<W: Write + Seek> McapSink<W> {
+    /// A sink writing to `w`; `truth_lines` also receives one JSON line per truth record.
+    pub fn new(w: W, truth_lines: Option<Box<dyn Write>>) -> Result<Self, mcap::McapError> {
+        Ok(Self {
+            output: Some(w),
+            recorder: None,
+            truth_channel: 0,
+            truth_lines,
+            line: Vec::with_capacity(512),
+        })
+    }
+
+    fn recorder(&mut self) -> Result<&mut RawRecorder<W>, SinkError> {
+        self.recorder
+            .as_mut()
+            .ok_or_else(|| "mcap sink used before start".into())
     }
 
     /// Writes the summary and returns the inner writer.
     pub fn finish(mut self) -> Result<W, SinkError> {
-        self.writer.finish()?;
         if let Some(t) = self.truth_lines.as_mut() {
             t.flush()?;
         }
-        Ok(self.writer.into_inner())
+        match (self.recorder.take(), self.output.take()) {
+            (Some(r), _) => Ok(r.finish()?),
+            (None, Some(w)) => Ok(w),
+            (None, None) => Err("mcap sink has no output".into()),
+        }
     }
 }
 
 impl<W: Write + Seek> Sink for McapSink<W> {
     fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
-        for p in &info.ports {
-            let meta = BTreeMap::from([
-                ("device".to_string(), p.device.to_string()),
-                ("protocol".to_string(), p.protocol.to_string()),
-                ("baud".to_string(), p.baud.to_string()),
-            ]);
-            let id = self.writer.add_channel(
-                0,
-                &raw_topic(p.device),
-                "application/octet-stream",
-                &meta,
-            )?;
-            self.port_channels.push(id);
-        }
-        self.truth_channel = self
-            .writer
-            .add_channel(0, TRUTH_TOPIC, "json", &BTreeMap::new())?;
-        let ports: Vec<String> = info.ports.iter().map(|p| p.device.to_string()).collect();
+        let w = self.output.take().ok_or("mcap sink started twice")?;
+        let ports: Vec<(&str, &str, u32)> = info
+            .ports
+            .iter()
+            .map(|p| (p.device, p.protocol, p.baud))
+            .collect();
+        let mut rec = RawRecorder::new(w, &ports)?;
+        self.truth_channel = rec.add_json_channel(TRUTH_TOPIC)?;
+        let names: Vec<&str> = info.ports.iter().map(|p| p.device).collect();
         let metadata = BTreeMap::from([
             ("scenario".to_string(), info.scenario.clone()),
             ("seed".to_string(), info.seed.to_string()),
@@ -116,32 +196,31 @@ impl<W: Write + Seek> Sink for McapSink<W> {
                 "host_clock_drift".to_string(),
                 format!("{:e}", info.host_clock.drift),
             ),
-            ("ports".to_string(), ports.join(",")),
+            ("ports".to_string(), names.join(",")),
             (
                 "devices_without_model".to_string(),
                 info.devices_without_model.join(","),
             ),
         ]);
-        self.writer.write_metadata(&Metadata {
-            name: METADATA_NAME.to_string(),
-            metadata,
-        })?;
+        rec.write_metadata(METADATA_NAME, metadata)?;
+        self.recorder = Some(rec);
         Ok(())
     }
 
     fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError> {
-        let id = *self
-            .port_channels
-            .get(usize::from(chunk.port))
-            .ok_or_else(|| format!("chunk of unknown port {}", chunk.port))?;
-        self.write(id, chunk.t_host_ns, &chunk.bytes)
+        self.recorder()?
+            .write_raw(chunk.port, chunk.t_host_ns, &chunk.bytes)?;
+        Ok(())
     }
 
     fn truth(&mut self, record: &TruthRecord, t_host_ns: u64) -> Result<(), SinkError> {
         self.line.clear();
         serde_json::to_writer(&mut self.line, record)?;
         let line = std::mem::take(&mut self.line);
-        let r = self.write(self.truth_channel, t_host_ns, &line);
+        let channel = self.truth_channel;
+        let r = self
+            .recorder()
+            .and_then(|rec| Ok(rec.write(channel, t_host_ns, &line)?));
         if let Some(t) = self.truth_lines.as_mut() {
             t.write_all(&line)?;
             t.write_all(b"\n")?;
