@@ -141,7 +141,7 @@ fn start_live(
 fn record_live_ports_then_replay() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_record");
     std::fs::create_dir_all(&dir).unwrap();
-    let (mut sim, ports) = start_live(&dir.join("ports"), "7");
+    let (mut sim, ports) = start_live(&dir.join("ports"), "10");
     let config = dir.join("record.toml");
     let mut text = String::new();
     for (device, path, baud) in &ports {
@@ -178,7 +178,31 @@ fn record_live_ports_then_replay() {
     assert!(kill.success());
     let o = rec.wait_with_output().unwrap();
     assert!(o.status.success());
+    // 3: killed (SIGKILL) after 2.5 s: readable up to its last flush (at most a second lost).
+    let c = dir.join("c.mcap");
+    let mut rec = Command::new(vigil)
+        .arg("record")
+        .arg("--config")
+        .arg(&config)
+        .arg("--out")
+        .arg(&c)
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2500));
+    rec.kill().unwrap();
+    let _ = rec.wait();
     assert!(sim.wait().unwrap().success());
+    let o = Command::new(vigil).arg("replay").arg(&c).output().unwrap();
+    assert!(o.status.success());
+    let summary: serde_json::Value = serde_json::from_slice(o.stderr.trim_ascii()).unwrap();
+    assert!(summary["damage"].is_string(), "{summary}");
+    assert!(
+        summary["devices"]["bahrs"]["frames_decoded"]
+            .as_u64()
+            .unwrap()
+            > 200,
+        "{summary}"
+    );
 
     for file in [&a, &b] {
         let o = Command::new(vigil)
