@@ -238,3 +238,70 @@ fn attitude_fault_and_health_reach_the_wire() {
     let t80 = at80.t_gps_ns - truth[0].t_gps_ns;
     assert!((t80 - 79_700_000_000).abs() < 400_000_000, "{t80}");
 }
+
+#[test]
+fn magnetic_disturbance_shifts_both_magnetic_headings() {
+    let sink = run("magnetic-disturbance", 130, 4);
+    let streams = streams(&sink);
+    let start = sink.truth[0].t_gps_ns;
+    // BAHRS: decoded heading minus the true magnetic heading, wrapped to +-180 deg.
+    let nav: Vec<_> = decode_slice(&mut bahrs::Decoder::new(), &streams["bahrs"])
+        .into_iter()
+        .filter_map(|m| match m {
+            bahrs::Message::Navigation(n) => Some(n),
+            _ => None,
+        })
+        .collect();
+    let truth: Vec<_> = sink
+        .truth
+        .iter()
+        .filter(|r| r.device == "bahrs" && r.kind == "navigation")
+        .collect();
+    assert_eq!(nav.len(), truth.len());
+    let wrap = |d: f64| (d + 180.0).rem_euclid(360.0) - 180.0;
+    for (n, r) in nav.iter().zip(&truth) {
+        let t_s = (r.t_gps_ns - start) as f64 / 1e9;
+        let err = wrap(
+            (n.heading_mag_rad() - r.values["heading_mag_rad"].as_f64().unwrap()).to_degrees(),
+        );
+        let expected = if (60.0..120.0).contains(&t_s) {
+            15.0
+        } else {
+            0.0
+        };
+        // Heading noise 0.5 deg 1-sigma.
+        assert!((err - expected).abs() < 3.0, "bahrs t {t_s}: {err}");
+    }
+    // Watson: its truth heading already includes the disturbance; check against the BAHRS truth
+    // of the undisturbed magnetic heading at the nearest time instead: within 60..120 s the line
+    // reads 15 deg more.
+    let lines = decode_slice(&mut watson::Decoder::new(), &streams["watson"]);
+    let wt: Vec<_> = sink.truth.iter().filter(|r| r.device == "watson").collect();
+    assert_eq!(lines.len(), wt.len());
+    let mut inside = 0;
+    for (l, r) in lines.iter().zip(&wt) {
+        let t_s = (r.t_gps_ns - start) as f64 / 1e9;
+        let near = truth
+            .iter()
+            .min_by_key(|b| (b.t_gps_ns - r.t_gps_ns).abs())
+            .unwrap();
+        let undisturbed = near.values["heading_mag_rad"]
+            .as_f64()
+            .unwrap()
+            .to_degrees();
+        let err = wrap(l.heading_deg - undisturbed);
+        let expected = if (60.05..119.95).contains(&t_s) {
+            15.0
+        } else if (59.95..120.05).contains(&t_s) {
+            continue;
+        } else {
+            0.0
+        };
+        inside += usize::from(expected > 0.0);
+        // Heading noise 1 deg 1-sigma, 0.1 deg resolution, up to 10 ms between the two samples
+        // in the 3 deg/s turn.
+        assert!((err - expected).abs() < 5.0, "watson t {t_s}: {err}");
+    }
+    // 60 s at 11.85 lines per second.
+    assert!(inside > 700, "{inside}");
+}

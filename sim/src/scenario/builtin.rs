@@ -4,7 +4,7 @@
 use super::{Scenario, ScenarioError};
 
 /// Names of the built-in scenarios.
-pub const BUILTIN_NAMES: [&str; 8] = [
+pub const BUILTIN_NAMES: [&str; 9] = [
     "nominal",
     "headon",
     "crossing",
@@ -13,6 +13,7 @@ pub const BUILTIN_NAMES: [&str; 8] = [
     "gnss-outage",
     "spoofed-target",
     "link-errors",
+    "magnetic-disturbance",
 ];
 
 fn text(name: &str) -> Option<&'static str> {
@@ -25,6 +26,7 @@ fn text(name: &str) -> Option<&'static str> {
         "gnss-outage" => include_str!("../../scenarios/gnss-outage.toml"),
         "spoofed-target" => include_str!("../../scenarios/spoofed-target.toml"),
         "link-errors" => include_str!("../../scenarios/link-errors.toml"),
+        "magnetic-disturbance" => include_str!("../../scenarios/magnetic-disturbance.toml"),
         _ => return None,
     })
 }
