@@ -43,6 +43,7 @@ fn replay(mcap: &[u8]) -> u64 {
             device,
             t_host_ns,
             bytes,
+            ..
         } = m
         {
             match device {

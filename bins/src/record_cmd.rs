@@ -8,10 +8,11 @@
 //! Configuration (TOML):
 //! ```toml
 //! [[ports]]
-//! device = "bahrs"          # channel name; also selects the decoder in `vigil replay`
+//! device = "bahrs"          # channel name
 //! path = "/dev/ttyUSB0"
 //! baud = 115200
-//! protocol = "bahrs-2.0"    # optional, kept in the channel metadata
+//! protocol = "bahrs-2.0"    # optional: selects the decoder in `vigil replay` (else the device
+//!                           # name does: "bahrs", "watson")
 //! ```
 
 use std::collections::BTreeMap;

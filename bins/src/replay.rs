@@ -7,6 +7,9 @@
 //! `index` equals the truth file's `index` as long as no message of that device was lost or
 //! damaged; `offset` equals the truth's `rx_offset` for every intact message, always.
 //!
+//! The decoder of a channel is chosen by its `protocol` metadata (`bahrs-2.0`, `watson-ahrs-e304`),
+//! or by the device name when the channel has none.
+//!
 //! Output is a deterministic function of the file: replaying twice gives identical bytes. Devices
 //! without a decoder here (VN-200, TT-Multi-RF until their drivers land) are counted in the summary
 //! on stderr, with each decoder's counters and any damage found in the file.
@@ -147,6 +150,7 @@ pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<
     let outcome = read_recording(mcap, |m| -> Result<()> {
         let Recorded::Raw {
             device,
+            protocol,
             t_host_ns,
             bytes,
         } = m
@@ -162,9 +166,13 @@ pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<
         }
         let port = ports
             .entry(device.to_string())
-            .or_insert_with(|| match device {
-                "bahrs" => AnyPort::Bahrs(Port::new(bahrs::Decoder::new())),
-                "watson" => AnyPort::Watson(Port::new(watson::Decoder::new())),
+            .or_insert_with(|| match (protocol, device) {
+                ("bahrs-2.0", _) | ("", "bahrs") => {
+                    AnyPort::Bahrs(Port::new(bahrs::Decoder::new()))
+                }
+                ("watson-ahrs-e304", _) | ("", "watson") => {
+                    AnyPort::Watson(Port::new(watson::Decoder::new()))
+                }
                 _ => AnyPort::NoDecoder {
                     chunks: 0,
                     bytes: 0,

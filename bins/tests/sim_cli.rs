@@ -219,3 +219,19 @@ segments = [{ kind = "turn", duration_s = 10.0, rate_dps = -6.0 }]
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("sped_mps"));
 }
+
+#[test]
+fn replay_at_a_given_speed_is_paced_and_gives_the_same_output() {
+    let (m, t) = (tmp("speed.mcap"), tmp("speed.jsonl"));
+    sim("headon", "2", "1", &m, &t);
+    let fast = vigil(&["replay", m.to_str().unwrap()]);
+    let start = std::time::Instant::now();
+    let paced = vigil(&["replay", m.to_str().unwrap(), "--speed", "4"]);
+    let wall = start.elapsed().as_secs_f64();
+    assert!(paced.status.success());
+    assert!(paced.stdout == fast.stdout);
+    // 2 s of recording at 4x: about 0.5 s (the first chunk arrives a few ms after the start).
+    assert!(wall > 0.45, "{wall}");
+    let o = vigil(&["replay", m.to_str().unwrap(), "--speed", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+}

@@ -237,6 +237,8 @@ pub enum Recorded<'a> {
     Raw {
         /// Device name (channel metadata `device`, else the topic).
         device: &'a str,
+        /// Wire protocol (channel metadata `protocol`; empty when absent).
+        protocol: &'a str,
         /// Host receive time, ns.
         t_host_ns: u64,
         /// The bytes.
@@ -306,6 +308,11 @@ pub fn read_recording<E>(
                 .map_or(stripped.trim_start_matches('/'), |d| d.as_str());
             Recorded::Raw {
                 device,
+                protocol: m
+                    .channel
+                    .metadata
+                    .get("protocol")
+                    .map_or("", |p| p.as_str()),
                 t_host_ns: m.log_time,
                 bytes: &m.data,
             }

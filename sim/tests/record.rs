@@ -40,6 +40,7 @@ fn recording_reads_back_the_chunks_and_truth() {
                 device,
                 t_host_ns,
                 bytes,
+                ..
             } => chunks.push((device.to_string(), t_host_ns, bytes.to_vec())),
             Recorded::Truth { json, .. } => {
                 truth.push(serde_json::from_slice::<serde_json::Value>(json).unwrap())
