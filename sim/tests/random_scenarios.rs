@@ -56,6 +56,7 @@ fn random_scenario(r: &mut Rng) -> Scenario {
         inertial_rate_hz: r.range(1.0, 150.0),
         navigation_rate_hz: r.range(1.0, 100.0),
         accuracy_rate_hz: r.range(0.5, 5.0),
+        time_message_lag: r.one_to(4) - 1,
         ..BahrsConfig::default()
     });
     s.devices.watson = Some(WatsonConfig {

@@ -305,3 +305,38 @@ fn magnetic_disturbance_shifts_both_magnetic_headings() {
     // 60 s at 11.85 lines per second.
     assert!(inside > 700, "{inside}");
 }
+
+#[test]
+fn late_time_messages_follow_later_data_messages() {
+    let mut s = builtin("headon").unwrap();
+    s.devices.bahrs.as_mut().unwrap().time_message_lag = 3;
+    let mut sim = Simulator::new(&s, 2).unwrap();
+    let mut sink = MemorySink::default();
+    sim.run(3_000_000_000, &mut sink).unwrap();
+    let msgs = decode_slice(&mut bahrs::Decoder::new(), &streams(&sink)["bahrs"]);
+    // Every 0x05 names the inertial message sent 3 inertial messages before it, with its time.
+    let mut inertial: Vec<(u8, usize)> = Vec::new();
+    let mut checked = 0;
+    for m in &msgs {
+        match m {
+            bahrs::Message::Inertial(i) => inertial.push((i.seq, inertial.len())),
+            bahrs::Message::InertialTime(t) => {
+                let (seq, k) = *inertial.last().unwrap();
+                let lagged = inertial[k - 3];
+                assert_eq!(t.data_seq, lagged.0, "after inertial seq {seq}");
+                checked += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(checked > 250, "{checked}");
+    // The truth of a late 0x05 still refers to its data's sample time.
+    let recs: Vec<_> = sink.truth.iter().filter(|r| r.device == "bahrs").collect();
+    let t5 = recs.iter().find(|r| r.kind == "inertial_time").unwrap();
+    let data = recs
+        .iter()
+        .find(|r| r.kind == "inertial" && r.values["seq"] == t5.values["data_seq"])
+        .unwrap();
+    assert_eq!(t5.t_gps_ns, data.t_gps_ns);
+    assert!(t5.t_tx_gps_ns > data.t_tx_gps_ns + 25_000_000);
+}

@@ -10,12 +10,15 @@
 //!   VN-200 with `pps = true` is present and no PPS loss is scheduled); 0x06 carries the MCU time of
 //!   the pulse (truncated to the us) and is ready `latency_us` after it.
 //! - Every message of a sample is ready `latency_us` after the sample; 0x05 follows its 0x01 and
-//!   0x04 its 0x02 immediately. Each message type has its own sequence counter (wrapping at 256).
+//!   0x04 its 0x02 immediately, or, with `time_message_lag = n`, after the n-th later data message
+//!   of its stream (the time message arrives late; its truth `t_gps_ns` stays the data's). Each message type has its own sequence counter (wrapping at 256).
 //! - Noise: white Gaussian on every signal (sigmas in the configuration); the attitude biases and
 //!   health words of the fault schedule; the magnetic disturbance adds to the heading.
 //!
 //! Truth values are the true (noise- and fault-free) quantities in SI, plus `mcu_time_us` where the
 //! message carries one and `attitude_fault_rad` (roll, pitch, heading error injected by faults).
+
+use std::collections::VecDeque;
 
 use serde_json::{Map, Value, json};
 use vigil_drivers::bahrs::{
@@ -78,6 +81,8 @@ pub struct BahrsModel {
     resets_s: Vec<f64>,
     next_reset: usize,
     unique_id: [u32; 3],
+    /// Time messages (0x05, 0x04) waiting for `time_message_lag` later data messages.
+    lagged: [VecDeque<(i64, Message, Value)>; 2],
 }
 
 impl BahrsModel {
@@ -117,6 +122,7 @@ impl BahrsModel {
             resets_s: faults.resets("bahrs"),
             next_reset: 0,
             unique_id,
+            lagged: [VecDeque::new(), VecDeque::new()],
         };
         m.align_schedules();
         m
@@ -194,6 +200,26 @@ impl BahrsModel {
         )
     }
 
+    /// Queues a time message of stream `i` (0 = 0x05, 1 = 0x04) and sends the ones that have
+    /// waited for `time_message_lag` data messages, ready with the current data message.
+    fn emit_time(
+        &mut self,
+        i: usize,
+        out: &mut Vec<Emission>,
+        t: i64,
+        ready: i64,
+        m: Message,
+        v: Value,
+    ) {
+        self.lagged[i].push_back((t, m, v));
+        while self.lagged[i].len() > self.cfg.time_message_lag as usize {
+            let Some((t, m, v)) = self.lagged[i].pop_front() else {
+                break;
+            };
+            self.emit(out, t, ready, m, v);
+        }
+    }
+
     fn emit(&self, out: &mut Vec<Emission>, t_gps_ns: i64, ready: i64, m: Message, values: Value) {
         let kind = match m {
             Message::Inertial(_) => "inertial",
@@ -260,13 +286,8 @@ impl BahrsModel {
                     data_seq: seq,
                     mcu_time_us: mcu,
                 });
-                self.emit(
-                    out,
-                    t,
-                    ready,
-                    tm,
-                    json!({ "data_seq": seq, "mcu_time_us": mcu }),
-                );
+                let v = json!({ "data_seq": seq, "mcu_time_us": mcu });
+                self.emit_time(0, out, t, ready, tm, v);
             }
             1 => {
                 let (seq, tseq) = (c.navigation, c.navigation_time);
@@ -304,13 +325,8 @@ impl BahrsModel {
                     data_seq: seq,
                     mcu_time_us: mcu,
                 });
-                self.emit(
-                    out,
-                    t,
-                    ready,
-                    tm,
-                    json!({ "data_seq": seq, "mcu_time_us": mcu }),
-                );
+                let v = json!({ "data_seq": seq, "mcu_time_us": mcu });
+                self.emit_time(1, out, t, ready, tm, v);
             }
             _ => {
                 let seq = c.accuracy;
@@ -375,6 +391,8 @@ impl DeviceModel for BahrsModel {
                     self.outputs_from_gps_ns = t + BOOT_NS;
                     self.versions_pending = true;
                     self.counters = Counters::default();
+                    // Time messages still queued in the device are lost with the reset.
+                    self.lagged.iter_mut().for_each(VecDeque::clear);
                     self.align_schedules();
                 }
                 Event::Versions => {

@@ -50,6 +50,12 @@ impl Devices {
                     ),
                 ));
             }
+            if b.time_message_lag > 100 {
+                return Err(invalid(
+                    "devices.bahrs.time_message_lag",
+                    "must be within 0 .. 100",
+                ));
+            }
             if !(0.0..=1000.0).contains(&b.clock_drift_ppm_max) {
                 return Err(invalid(
                     "devices.bahrs.clock_drift_ppm_max",
@@ -101,6 +107,9 @@ pub struct BahrsConfig {
     pub clock_drift_ppm_max: f64,
     /// Time from a sample to its message being ready to send, us.
     pub latency_us: u32,
+    /// How many later data messages of its stream a 0x05 / 0x04 waits for (0 = right after its
+    /// data message), to exercise late time messages.
+    pub time_message_lag: u32,
     /// 1-sigma noise of every signal.
     pub noise: BahrsNoise,
 }
@@ -114,6 +123,7 @@ impl Default for BahrsConfig {
             accuracy_rate_hz: 1.0,
             clock_drift_ppm_max: 50.0,
             latency_us: 500,
+            time_message_lag: 0,
             noise: BahrsNoise::default(),
         }
     }
