@@ -34,6 +34,9 @@ pub struct SimArgs {
     /// Also write the truth as JSON Lines to this file.
     #[arg(long)]
     pub truth: Option<PathBuf>,
+    /// Leave the `/truth` channel out of the MCAP file (most of its size; `--truth` still works).
+    #[arg(long)]
+    pub no_truth_channel: bool,
 }
 
 /// Resolves a built-in name or reads a TOML file.
@@ -102,6 +105,9 @@ pub fn run(args: &SimArgs) -> Result<()> {
         None => None,
     };
     let mut sink = McapSink::new(BufWriter::new(out), truth)?;
+    if args.no_truth_channel {
+        sink = sink.without_truth_channel();
+    }
     let mut progress = Progress {
         inner: &mut sink,
         start_host_ns: 0,

@@ -235,3 +235,38 @@ fn replay_at_a_given_speed_is_paced_and_gives_the_same_output() {
     let o = vigil(&["replay", m.to_str().unwrap(), "--speed", "0"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn truth_channel_can_be_left_out() {
+    let (a, ta, b, tb) = (
+        tmp("with.mcap"),
+        tmp("with.jsonl"),
+        tmp("without.mcap"),
+        tmp("without.jsonl"),
+    );
+    sim("headon", "5", "3", &a, &ta);
+    let o = vigil(&[
+        "sim",
+        "--scenario",
+        "headon",
+        "--duration",
+        "5",
+        "--seed",
+        "3",
+        "--no-truth-channel",
+        "--out",
+        b.to_str().unwrap(),
+        "--truth",
+        tb.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    assert!(std::fs::read(&ta).unwrap() == std::fs::read(&tb).unwrap());
+    let (la, lb) = (
+        std::fs::metadata(&a).unwrap().len(),
+        std::fs::metadata(&b).unwrap().len(),
+    );
+    assert!(lb * 3 < la, "{lb} vs {la}");
+    let ra = vigil(&["replay", a.to_str().unwrap()]);
+    let rb = vigil(&["replay", b.to_str().unwrap()]);
+    assert!(ra.stdout == rb.stdout);
+}

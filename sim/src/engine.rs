@@ -4,6 +4,8 @@
 //! The run advances in 100 ms windows of GPS time. After a window, every chunk whose receive time
 //! is before the host time of the window's end is final (later messages are ready later, and
 //! latency is never negative), so chunks are released in (receive time, port) order across ports.
+//! Each link also ends its open read chunk at the end of a window (a chunk boundary every 100 ms
+//! at most, as a USB adapter's latency timer would).
 
 use crate::device::bahrs::BahrsModel;
 use crate::device::watson::WatsonModel;

@@ -136,7 +136,9 @@ impl<W: Write + Seek> RawRecorder<W> {
 pub struct McapSink<W: Write + Seek> {
     output: Option<W>,
     recorder: Option<RawRecorder<W>>,
-    truth_channel: u16,
+    /// The `/truth` channel, `None` when truth stays out of the recording.
+    truth_channel: Option<u16>,
+    truth_in_mcap: bool,
     truth_lines: Option<Box<dyn Write>>,
     line: Vec<u8>,
 }
@@ -147,10 +149,18 @@ impl<W: Write + Seek> McapSink<W> {
         Ok(Self {
             output: Some(w),
             recorder: None,
-            truth_channel: 0,
+            truth_channel: None,
+            truth_in_mcap: true,
             truth_lines,
             line: Vec::with_capacity(512),
         })
+    }
+
+    /// Leaves the `/truth` channel out of the recording (it is about 85 % of a recording's size;
+    /// the truth JSON Lines file still gets every record).
+    pub fn without_truth_channel(mut self) -> Self {
+        self.truth_in_mcap = false;
+        self
     }
 
     fn recorder(&mut self) -> Result<&mut RawRecorder<W>, SinkError> {
@@ -181,7 +191,9 @@ impl<W: Write + Seek> Sink for McapSink<W> {
             .map(|p| (p.device, p.protocol, p.baud))
             .collect();
         let mut rec = RawRecorder::new(w, &ports)?;
-        self.truth_channel = rec.add_json_channel(TRUTH_TOPIC)?;
+        if self.truth_in_mcap {
+            self.truth_channel = Some(rec.add_json_channel(TRUTH_TOPIC)?);
+        }
         let names: Vec<&str> = info.ports.iter().map(|p| p.device).collect();
         let metadata = BTreeMap::from([
             ("scenario".to_string(), info.scenario.clone()),
@@ -217,10 +229,12 @@ impl<W: Write + Seek> Sink for McapSink<W> {
         self.line.clear();
         serde_json::to_writer(&mut self.line, record)?;
         let line = std::mem::take(&mut self.line);
-        let channel = self.truth_channel;
-        let r = self
-            .recorder()
-            .and_then(|rec| Ok(rec.write(channel, t_host_ns, &line)?));
+        let r = match self.truth_channel {
+            Some(channel) => self
+                .recorder()
+                .and_then(|rec| Ok(rec.write(channel, t_host_ns, &line)?)),
+            None => Ok(()),
+        };
         if let Some(t) = self.truth_lines.as_mut() {
             t.write_all(&line)?;
             t.write_all(b"\n")?;

@@ -3,7 +3,15 @@
 //!
 //! A model plugs in through [`DeviceModel`]; the engine owns one serial link per model. The VN-200
 //! and TT-Multi-RF models will implement the same trait with their drivers' encoders (their
-//! configuration is already part of the scenario).
+//! configuration is already part of the scenario). Adding one:
+//! 1. `sim/src/device/<name>.rs`: a struct implementing [`DeviceModel`]; draw randomness only from
+//!    `Rng::stream(seed, "<name>/...")`; emit each message with the driver's encoder, its true
+//!    `t_gps_ns` and its true values (SI, units in names); answer host commands in `receive`;
+//!    use [`FaultSchedule`] (`gnss_lost`, `pps_lost`, `resets`) and `World::intruders`.
+//! 2. Build it in `Simulator::with_magnetic` from `scenario.devices.<name>` and drop the name from
+//!    `devices_without_model`.
+//! 3. `vigil replay`: add the driver's decoder to `bins/src/replay.rs` (keyed by the model's
+//!    `protocol()` string).
 
 pub mod bahrs;
 pub mod watson;
