@@ -1,18 +1,15 @@
 //! Simulating and replaying `nominal` (the devices that have models: BAHRS and Watson) as a
 //! multiple of real time. Goals: simulation (MCAP with truth, in memory) >= 200x, replay (read the
-//! MCAP, decode every chunk through the drivers' `Codec`, write JSON Lines to a null sink as
-//! `vigil replay` does) >= 1000x. Each iteration covers 60 simulated seconds: the multiple of real
-//! time is 60 s divided by the reported time.
+//! MCAP, decode every chunk through `vigil_sim::replay::Replayer` and write JSON Lines to a null
+//! sink, exactly as `vigil replay` does) >= 1000x. Each iteration covers 60 simulated seconds: the
+//! multiple of real time is 60 s divided by the reported time.
 
 use std::io::{Cursor, Write};
 
-use bytes::BytesMut;
 use criterion::{Criterion, criterion_group, criterion_main};
-use serde::Serialize;
-use tokio_util::codec::Decoder as _;
-use vigil_drivers::{Codec, bahrs, watson};
 use vigil_sim::Simulator;
 use vigil_sim::record::{McapSink, Recorded, read_recording};
+use vigil_sim::replay::{Decoded, Replayer};
 use vigil_sim::scenario::builtin;
 
 const SECONDS: i64 = 60;
@@ -25,66 +22,26 @@ fn simulate() -> Vec<u8> {
     sink.finish().unwrap().into_inner()
 }
 
-#[derive(Serialize)]
-struct Line<'a, M: Serialize> {
-    device: &'a str,
-    index: u64,
-    t_host_ns: u64,
-    message: &'a M,
-}
-
 fn replay(mcap: &[u8]) -> u64 {
-    let mut b = (Codec(bahrs::Decoder::new()), BytesMut::new());
-    let mut w = (Codec(watson::Decoder::new()), BytesMut::new());
     let mut out = std::io::BufWriter::new(std::io::sink());
     let mut n = 0u64;
-    read_recording::<()>(mcap, |m| {
-        if let Recorded::Raw {
+    let mut emit = |d: Decoded<'_>| -> std::io::Result<()> {
+        n += 1;
+        serde_json::to_writer(&mut out, &d)?;
+        out.write_all(b"\n")
+    };
+    let mut r = Replayer::new();
+    read_recording(mcap, |m| match m {
+        Recorded::Raw {
             device,
+            protocol,
             t_host_ns,
             bytes,
-            ..
-        } = m
-        {
-            match device {
-                "bahrs" => {
-                    b.1.extend_from_slice(bytes);
-                    while let Ok(Some(l)) = b.0.decode(&mut b.1) {
-                        let _ = serde_json::to_writer(
-                            &mut out,
-                            &Line {
-                                device,
-                                index: n,
-                                t_host_ns,
-                                message: &l.message,
-                            },
-                        );
-                        let _ = out.write_all(b"\n");
-                        n += 1;
-                    }
-                }
-                "watson" => {
-                    w.1.extend_from_slice(bytes);
-                    while let Ok(Some(l)) = w.0.decode(&mut w.1) {
-                        let _ = serde_json::to_writer(
-                            &mut out,
-                            &Line {
-                                device,
-                                index: n,
-                                t_host_ns,
-                                message: &l.message,
-                            },
-                        );
-                        let _ = out.write_all(b"\n");
-                        n += 1;
-                    }
-                }
-                _ => {}
-            }
-        }
-        Ok(())
+        } => r.feed(device, protocol, t_host_ns, bytes, &mut emit),
+        _ => Ok(()),
     })
     .unwrap();
+    r.finish(&mut emit).unwrap();
     n
 }
 

@@ -14,19 +14,16 @@
 //! without a decoder here (VN-200, TT-Multi-RF until their drivers land) are counted in the summary
 //! on stderr, with each decoder's counters and any damage found in the file.
 
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::BTreeMap;
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
-use bytes::BytesMut;
 use clap::Args;
 use serde::Serialize;
-use serde_json::json;
-use tokio_util::codec::Decoder as _;
-use vigil_drivers::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
 use vigil_sim::record::{Recorded, read_recording};
+use vigil_sim::replay::{Decoded, PortSummary, Replayer};
 
 /// Arguments of `vigil replay`.
 #[derive(Debug, Args)]
@@ -38,100 +35,15 @@ pub struct ReplayArgs {
     pub speed: Option<f64>,
 }
 
-#[derive(Serialize)]
-struct Line<'a, M: Serialize> {
-    device: &'a str,
-    index: u64,
-    offset: u64,
-    t_host_ns: u64,
-    message: &'a M,
-}
-
-/// One port's decoder with the map from stream offsets to chunk receive times.
-struct Port<D: DeviceDecoder> {
-    codec: Codec<D>,
-    buf: BytesMut,
-    chunks: VecDeque<(u64, u64)>,
-    fed: u64,
-    index: u64,
-}
-
-impl<D: DeviceDecoder> Port<D>
-where
-    D::Message: Serialize,
-{
-    fn new(decoder: D) -> Self {
-        Self {
-            codec: Codec(decoder),
-            buf: BytesMut::with_capacity(1 << 12),
-            chunks: VecDeque::new(),
-            fed: 0,
-            index: 0,
-        }
-    }
-
-    fn t_host_of(&mut self, offset: u64) -> u64 {
-        while self.chunks.len() > 1 && self.chunks[1].0 <= offset {
-            self.chunks.pop_front();
-        }
-        self.chunks.front().map_or(0, |c| c.1)
-    }
-
-    fn emit<W: Write>(
-        &mut self,
-        device: &str,
-        offset: u64,
-        m: &D::Message,
-        out: &mut W,
-    ) -> Result<()> {
-        let t_host_ns = self.t_host_of(offset);
-        serde_json::to_writer(
-            &mut *out,
-            &Line {
-                device,
-                index: self.index,
-                offset,
-                t_host_ns,
-                message: m,
-            },
-        )?;
-        out.write_all(b"\n")?;
-        self.index += 1;
-        Ok(())
-    }
-
-    fn feed<W: Write>(
-        &mut self,
-        device: &str,
-        t_host_ns: u64,
-        bytes: &[u8],
-        out: &mut W,
-    ) -> Result<()> {
-        self.chunks.push_back((self.fed, t_host_ns));
-        self.fed += bytes.len() as u64;
-        self.buf.extend_from_slice(bytes);
-        while let Some(l) = self.codec.decode(&mut self.buf)? {
-            self.emit(device, l.offset, &l.message, out)?;
-        }
-        Ok(())
-    }
-
-    fn finish<W: Write>(&mut self, device: &str, out: &mut W) -> Result<DecodeStats> {
-        while let Some(l) = self.codec.decode_eof(&mut self.buf)? {
-            self.emit(device, l.offset, &l.message, out)?;
-        }
-        Ok(*self.codec.0.stats())
-    }
-}
-
-enum AnyPort {
-    Bahrs(Port<bahrs::Decoder>),
-    Watson(Port<watson::Decoder>),
-    NoDecoder { chunks: u64, bytes: u64 },
+/// Writes one decoded message as a JSON line.
+fn write_line<W: Write>(out: &mut W, d: Decoded<'_>) -> Result<()> {
+    serde_json::to_writer(&mut *out, &d)?;
+    out.write_all(b"\n")?;
+    Ok(())
 }
 
 /// Summary of a replay (written to stderr as JSON).
-#[derive(Debug, Serialize, Default)]
+#[derive(Debug, Serialize)]
 pub struct ReplaySummary {
     /// Always "summary".
     pub kind: &'static str,
@@ -140,13 +52,14 @@ pub struct ReplaySummary {
     /// Where reading stopped early (truncated or damaged file).
     pub damage: Option<String>,
     /// Per device: decoder counters, or chunks/bytes for devices without a decoder.
-    pub devices: BTreeMap<String, serde_json::Value>,
+    pub devices: BTreeMap<String, PortSummary>,
 }
 
 /// Replays `mcap` into `out`. `speed`: pace at this multiple of real time.
 pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<ReplaySummary> {
-    let mut ports: BTreeMap<String, AnyPort> = BTreeMap::new();
+    let mut replayer = Replayer::new();
     let mut pace: Option<(u64, Instant)> = None;
+    let mut emit = |d: Decoded<'_>| write_line(out, d);
     let outcome = read_recording(mcap, |m| -> Result<()> {
         let Recorded::Raw {
             device,
@@ -164,47 +77,15 @@ pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<
                 std::thread::sleep(wait);
             }
         }
-        let port = ports
-            .entry(device.to_string())
-            .or_insert_with(|| match (protocol, device) {
-                ("bahrs-2.0", _) | ("", "bahrs") => {
-                    AnyPort::Bahrs(Port::new(bahrs::Decoder::new()))
-                }
-                ("watson-ahrs-e304", _) | ("", "watson") => {
-                    AnyPort::Watson(Port::new(watson::Decoder::new()))
-                }
-                _ => AnyPort::NoDecoder {
-                    chunks: 0,
-                    bytes: 0,
-                },
-            });
-        match port {
-            AnyPort::Bahrs(p) => p.feed(device, t_host_ns, bytes, out),
-            AnyPort::Watson(p) => p.feed(device, t_host_ns, bytes, out),
-            AnyPort::NoDecoder { chunks, bytes: n } => {
-                *chunks += 1;
-                *n += bytes.len() as u64;
-                Ok(())
-            }
-        }
+        replayer.feed(device, protocol, t_host_ns, bytes, &mut emit)
     })?;
-    let mut summary = ReplaySummary {
+    let devices = replayer.finish(&mut emit)?;
+    Ok(ReplaySummary {
         kind: "summary",
         mcap_messages: outcome.messages,
         damage: outcome.damage,
-        ..Default::default()
-    };
-    for (device, port) in &mut ports {
-        let v = match port {
-            AnyPort::Bahrs(p) => serde_json::to_value(p.finish(device, out)?)?,
-            AnyPort::Watson(p) => serde_json::to_value(p.finish(device, out)?)?,
-            AnyPort::NoDecoder { chunks, bytes } => {
-                json!({ "no_decoder": true, "chunks": chunks, "bytes": bytes })
-            }
-        };
-        summary.devices.insert(device.clone(), v);
-    }
-    Ok(summary)
+        devices,
+    })
 }
 
 /// Runs `vigil replay`.
