@@ -6,6 +6,7 @@
 //! wall clock (`--speed` times real time). The slave side is kept open here in raw mode, so no line
 //! discipline changes a byte (a CR stays a CR) before a reader opens it. A terminal nobody reads
 //! fills up; further bytes are dropped and counted, as a serial line without a listener loses them.
+//! What a reader writes to a terminal is handed to that port's device model (`host_input`).
 
 use std::os::fd::OwnedFd;
 use std::path::{Path, PathBuf};
@@ -113,5 +114,21 @@ impl Sink for LiveSink {
 
     fn truth(&mut self, _record: &TruthRecord, _t_host_ns: u64) -> Result<(), SinkError> {
         Ok(())
+    }
+
+    /// What readers wrote to the terminals (commands to the devices), read without blocking.
+    fn host_input(&mut self) -> Vec<(u16, Vec<u8>)> {
+        let mut input = Vec::new();
+        let mut buf = [0u8; 4096];
+        for (i, pty) in self.ptys.iter().enumerate() {
+            let mut bytes = Vec::new();
+            while let Ok(n @ 1..) = rustix::io::read(&pty.master, &mut buf) {
+                bytes.extend_from_slice(&buf[..n]);
+            }
+            if !bytes.is_empty() {
+                input.push((i as u16, bytes));
+            }
+        }
+        input
     }
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use tokio::io::AsyncReadExt;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio_serial::SerialPortBuilderExt;
 use vigil_drivers::{bahrs, decode_slice, watson};
 
@@ -15,6 +15,8 @@ async fn read_for(path: String, baud: u32, d: Duration) -> Vec<u8> {
     let mut port = tokio_serial::new(&path, baud)
         .open_native_async()
         .expect("open pty with tokio-serial");
+    // The host may write too (commands); the models that do not listen ignore it.
+    port.write_all(b"\r\n").await.expect("write to the pty");
     let mut out = Vec::new();
     let mut buf = [0u8; 4096];
     let deadline = tokio::time::Instant::now() + d;

@@ -27,6 +27,12 @@ pub trait Sink {
     fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError>;
     /// One truth record; `t_host_ns` is the host time of its first byte's start on the wire.
     fn truth(&mut self, record: &TruthRecord, t_host_ns: u64) -> Result<(), SinkError>;
+    /// Bytes the host wrote to the ports since the last call, as (port index, bytes); polled
+    /// at every window start and handed to the device models (`DeviceModel::receive`) with the
+    /// window's start time. Recordings have none (the default); live terminals do.
+    fn host_input(&mut self) -> Vec<(u16, Vec<u8>)> {
+        Vec::new()
+    }
 }
 
 /// One simulated serial port.
@@ -208,6 +214,11 @@ impl Simulator {
         let mut pending: Vec<Chunk> = Vec::new();
         while t < end {
             let until = (t + WINDOW_NS).min(end);
+            for (port, bytes) in sink.host_input() {
+                if let Some(p) = self.ports.get_mut(usize::from(port)) {
+                    p.model.receive(t, &bytes);
+                }
+            }
             for port in &mut self.ports {
                 emissions.clear();
                 port.model
@@ -281,5 +292,106 @@ impl Sink for MemorySink {
     fn truth(&mut self, record: &TruthRecord, _t_host_ns: u64) -> Result<(), SinkError> {
         self.truth.push(record.clone());
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::Map;
+
+    use super::*;
+    use crate::device::FaultSchedule;
+    use crate::scenario::builtin;
+
+    /// A device that echoes what the host wrote, 1 ms after the window that delivered it.
+    struct Echo {
+        pending: Vec<(i64, Vec<u8>)>,
+    }
+
+    impl DeviceModel for Echo {
+        fn name(&self) -> &'static str {
+            "echo"
+        }
+        fn protocol(&self) -> &'static str {
+            "echo"
+        }
+        fn baud(&self) -> u32 {
+            115_200
+        }
+        fn advance(&mut self, _: &World, _: &FaultSchedule, until: i64, out: &mut Vec<Emission>) {
+            while self
+                .pending
+                .first()
+                .is_some_and(|p| p.0 + 1_000_000 < until)
+            {
+                let (t, bytes) = self.pending.remove(0);
+                out.push(Emission {
+                    t_ready_gps_ns: t + 1_000_000,
+                    bytes,
+                    kind: "echo",
+                    t_gps_ns: t,
+                    values: Map::new(),
+                });
+            }
+        }
+        fn receive(&mut self, t: i64, bytes: &[u8]) {
+            self.pending.push((t, bytes.to_vec()));
+        }
+    }
+
+    /// A memory sink whose host writes "$VNRRG,01*XX" at the first poll.
+    struct Commanding {
+        inner: MemorySink,
+        sent: bool,
+    }
+
+    impl Sink for Commanding {
+        fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
+            self.inner.start(info)
+        }
+        fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError> {
+            self.inner.chunk(chunk)
+        }
+        fn truth(&mut self, record: &TruthRecord, t: u64) -> Result<(), SinkError> {
+            self.inner.truth(record, t)
+        }
+        fn host_input(&mut self) -> Vec<(u16, Vec<u8>)> {
+            if std::mem::replace(&mut self.sent, true) {
+                Vec::new()
+            } else {
+                vec![(0, b"$VNRRG,01*XX\r\n".to_vec())]
+            }
+        }
+    }
+
+    #[test]
+    fn host_input_reaches_an_added_device_model() {
+        let mut s = builtin("headon").unwrap();
+        s.devices.bahrs = None;
+        s.devices.watson = None;
+        let mut sim = Simulator::new(&s, 1).unwrap();
+        sim.add_device(
+            Box::new(Echo {
+                pending: Vec::new(),
+            }),
+            &s.host,
+        );
+        let mut sink = Commanding {
+            inner: MemorySink::default(),
+            sent: false,
+        };
+        sim.run(300_000_000, &mut sink).unwrap();
+        let got: Vec<u8> = sink
+            .inner
+            .chunks
+            .iter()
+            .flat_map(|c| c.bytes.clone())
+            .collect();
+        assert_eq!(got, b"$VNRRG,01*XX\r\n");
+        assert_eq!(sink.inner.truth.len(), 1);
+        assert_eq!(
+            sink.inner.info.unwrap().devices_without_model,
+            vec!["vn200", "ttmrf"]
+        );
     }
 }
