@@ -67,4 +67,29 @@ mod tests {
         let e = Scenario::from_toml(&t).unwrap_err().to_string();
         assert!(e.contains("trak_deg"), "{e}");
     }
+
+    #[test]
+    fn bad_faults_are_named() {
+        let base = text("link-errors").unwrap();
+        for (from, to, key) in [
+            (
+                "device = \"watson\"\nfrom_s = 25.0",
+                "device = \"gps\"\nfrom_s = 25.0",
+                "faults[4].device",
+            ),
+            ("rate = 1.0e-4", "rate = 0.9", "faults[2].rate"),
+            (
+                "from_s = 20.0\nto_s = 22.0",
+                "from_s = 20.0\nto_s = 19.0",
+                "faults[3].to_s",
+            ),
+            ("at_s = 40.0", "at_s = -1.0", "faults[5].from_s"),
+        ] {
+            assert!(base.contains(from), "{from}");
+            let e = Scenario::from_toml(&base.replacen(from, to, 1))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(key), "{key}: {e}");
+        }
+    }
 }
