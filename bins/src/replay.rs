@@ -107,6 +107,14 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
         }
         Err(e) => return Err(e),
     };
+    if summary.mcap_messages == 0
+        && let Some(d) = &summary.damage
+    {
+        return Err(anyhow!(
+            "{}: not a readable mcap recording ({d})",
+            args.input.display()
+        ));
+    }
     match out.flush() {
         Err(e) if e.kind() != io::ErrorKind::BrokenPipe => {
             return Err(e).context("writing standard output");

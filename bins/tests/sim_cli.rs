@@ -270,3 +270,14 @@ fn truth_channel_can_be_left_out() {
     let rb = vigil(&["replay", b.to_str().unwrap()]);
     assert!(ra.stdout == rb.stdout);
 }
+
+#[test]
+fn replaying_something_else_is_an_error() {
+    let f = tmp("not.mcap");
+    std::fs::write(&f, b"hello, not a recording").unwrap();
+    let o = vigil(&["replay", f.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not a readable mcap recording"));
+    let o = vigil(&["replay", tmp("missing.mcap").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+}
