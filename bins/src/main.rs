@@ -1,8 +1,13 @@
-//! `vigil`: the one command-line program (decode and geometry now; run, demo, sim, record, replay
+//! `vigil`: the one command-line program (decode, geometry, sim, record and replay now; run, demo
 //! and listen as their issues land).
 
 mod decode;
 mod geometry;
+mod record_cmd;
+mod replay;
+mod sim_cmd;
+#[cfg(target_os = "linux")]
+mod sim_live;
 
 use std::process::ExitCode;
 
@@ -22,6 +27,12 @@ enum Command {
     Decode(decode::DecodeArgs),
     /// DO-365 well-clear geometry of ownship/intruder pairs (JSON Lines in and out).
     Geometry(geometry::GeometryArgs),
+    /// Simulate a scenario into an MCAP recording (and a truth JSON Lines file).
+    Sim(sim_cmd::SimArgs),
+    /// Record live serial ports into an MCAP file (Ctrl-C ends it cleanly).
+    Record(record_cmd::RecordArgs),
+    /// Decode a recording's raw chunks into JSON Lines (device, index, host receive time, message).
+    Replay(replay::ReplayArgs),
 }
 
 fn main() -> ExitCode {
@@ -29,6 +40,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Decode(args) => decode::run(&args),
         Command::Geometry(args) => geometry::run(&args),
+        Command::Sim(args) => sim_cmd::run(&args),
+        Command::Record(args) => record_cmd::run(&args),
+        Command::Replay(args) => replay::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,126 @@
+//! `vigil replay`: feed a recording's raw chunks through the drivers' decoders and write every
+//! decoded message as one JSON line: `device`, `index` (0-based order of decoded messages of that
+//! device), `offset` (the stream offset of its first byte, `Located::offset`), `t_host_ns` (host
+//! receive time of the chunk holding that byte) and `message` (the driver's message as serde
+//! writes it).
+//!
+//! `index` equals the truth file's `index` as long as no message of that device was lost or
+//! damaged; `offset` equals the truth's `rx_offset` for every intact message, always.
+//!
+//! The decoder of a channel is chosen by its `protocol` metadata (`bahrs-2.0`, `watson-ahrs-e304`),
+//! or by the device name when the channel has none.
+//!
+//! Output is a deterministic function of the file: replaying twice gives identical bytes. Devices
+//! without a decoder here (VN-200, TT-Multi-RF until their drivers land) are counted in the summary
+//! on stderr, with each decoder's counters and any damage found in the file.
+
+use std::collections::BTreeMap;
+use std::io::{self, BufWriter, Write};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, anyhow};
+use clap::Args;
+use serde::Serialize;
+use vigil_sim::record::{Recorded, read_recording};
+use vigil_sim::replay::{Decoded, PortSummary, Replayer};
+
+/// Arguments of `vigil replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The MCAP recording.
+    pub input: PathBuf,
+    /// Pace the replay at this multiple of real time (default: as fast as possible).
+    #[arg(long)]
+    pub speed: Option<f64>,
+}
+
+/// Writes one decoded message as a JSON line.
+fn write_line<W: Write>(out: &mut W, d: Decoded<'_>) -> Result<()> {
+    serde_json::to_writer(&mut *out, &d)?;
+    out.write_all(b"\n")?;
+    Ok(())
+}
+
+/// Summary of a replay (written to stderr as JSON).
+#[derive(Debug, Serialize)]
+pub struct ReplaySummary {
+    /// Always "summary".
+    pub kind: &'static str,
+    /// MCAP messages read.
+    pub mcap_messages: u64,
+    /// Where reading stopped early (truncated or damaged file).
+    pub damage: Option<String>,
+    /// Per device: decoder counters, or chunks/bytes for devices without a decoder.
+    pub devices: BTreeMap<String, PortSummary>,
+}
+
+/// Replays `mcap` into `out`. `speed`: pace at this multiple of real time.
+pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<ReplaySummary> {
+    let mut replayer = Replayer::new();
+    let mut pace: Option<(u64, Instant)> = None;
+    let mut emit = |d: Decoded<'_>| write_line(out, d);
+    let outcome = read_recording(mcap, |m| -> Result<()> {
+        let Recorded::Raw {
+            device,
+            protocol,
+            t_host_ns,
+            bytes,
+        } = m
+        else {
+            return Ok(());
+        };
+        if let Some(x) = speed {
+            let (t0, wall0) = *pace.get_or_insert((t_host_ns, Instant::now()));
+            let due = Duration::from_secs_f64(t_host_ns.saturating_sub(t0) as f64 / 1e9 / x);
+            if let Some(wait) = due.checked_sub(wall0.elapsed()) {
+                std::thread::sleep(wait);
+            }
+        }
+        replayer.feed(device, protocol, t_host_ns, bytes, &mut emit)
+    })?;
+    let devices = replayer.finish(&mut emit)?;
+    Ok(ReplaySummary {
+        kind: "summary",
+        mcap_messages: outcome.messages,
+        damage: outcome.damage,
+        devices,
+    })
+}
+
+/// Runs `vigil replay`.
+pub fn run(args: &ReplayArgs) -> Result<()> {
+    if args.speed.is_some_and(|x| !(x.is_finite() && x > 0.0)) {
+        return Err(anyhow!("--speed must be a positive number"));
+    }
+    let data = std::fs::read(&args.input)
+        .with_context(|| format!("cannot read {}", args.input.display()))?;
+    let stdout = io::stdout();
+    let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+    let summary = match replay(&data, &mut out, args.speed) {
+        Ok(s) => s,
+        Err(e)
+            if e.downcast_ref::<io::Error>()
+                .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe) =>
+        {
+            return Ok(());
+        }
+        Err(e) => return Err(e),
+    };
+    if summary.mcap_messages == 0
+        && let Some(d) = &summary.damage
+    {
+        return Err(anyhow!(
+            "{}: not a readable mcap recording ({d})",
+            args.input.display()
+        ));
+    }
+    match out.flush() {
+        Err(e) if e.kind() != io::ErrorKind::BrokenPipe => {
+            return Err(e).context("writing standard output");
+        }
+        _ => {}
+    }
+    eprintln!("{}", serde_json::to_string(&summary)?);
+    Ok(())
+}

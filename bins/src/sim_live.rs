@@ -1,0 +1,134 @@
+//! `vigil sim --pty-dir DIR`: the simulation live on Linux pseudo-terminals, one per device port,
+//! so vigil's real serial path (tokio-serial) reads them. `DIR/<device>` is a symbolic link to the
+//! port's terminal (e.g. `/dev/pts/7`); the device/path pairs are also printed on stdout.
+//!
+//! Chunks are written to the terminal's master side at their host receive time, paced against the
+//! wall clock (`--speed` times real time). The slave side is kept open here in raw mode, so no line
+//! discipline changes a byte (a CR stays a CR) before a reader opens it. A terminal nobody reads
+//! fills up; further bytes are dropped and counted, as a serial line without a listener loses them.
+//! What a reader writes to a terminal is handed to that port's device model (`host_input`).
+
+use std::os::fd::OwnedFd;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use rustix::fs::{Mode, OFlags};
+use rustix::io::Errno;
+use vigil_sim::{Chunk, RunInfo, Sink, SinkError, TruthRecord};
+
+/// One pseudo-terminal.
+pub struct Pty {
+    master: OwnedFd,
+    _slave: OwnedFd,
+    /// Path of the slave side.
+    pub path: PathBuf,
+}
+
+/// Opens a pseudo-terminal with its slave side in raw mode and its master non-blocking.
+pub fn open_pty() -> Result<Pty> {
+    use rustix::pty::{OpenptFlags, grantpt, openpt, ptsname, unlockpt};
+    let master = openpt(OpenptFlags::RDWR | OpenptFlags::NOCTTY).context("openpt")?;
+    grantpt(&master).context("grantpt")?;
+    unlockpt(&master).context("unlockpt")?;
+    let name = ptsname(&master, Vec::new()).context("ptsname")?;
+    let path = PathBuf::from(name.to_string_lossy().into_owned());
+    let slave = rustix::fs::open(&path, OFlags::RDWR | OFlags::NOCTTY, Mode::empty())
+        .with_context(|| format!("open {}", path.display()))?;
+    let mut t = rustix::termios::tcgetattr(&slave).context("tcgetattr")?;
+    t.make_raw();
+    rustix::termios::tcsetattr(&slave, rustix::termios::OptionalActions::Now, &t)
+        .context("tcsetattr")?;
+    rustix::fs::fcntl_setfl(&master, OFlags::NONBLOCK).context("fcntl")?;
+    Ok(Pty {
+        master,
+        _slave: slave,
+        path,
+    })
+}
+
+/// Creates `dir/<device>` links to the ports' terminals (replacing old links).
+pub fn link_ports(dir: &Path, names: &[&str], ptys: &[Pty]) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
+    for (name, pty) in names.iter().zip(ptys) {
+        let link = dir.join(name);
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&pty.path, &link)
+            .with_context(|| format!("link {}", link.display()))?;
+    }
+    Ok(())
+}
+
+/// A sink writing chunks to the terminals at their (scaled) host times.
+pub struct LiveSink {
+    ptys: Vec<Pty>,
+    speed: f64,
+    start: Option<(u64, Instant)>,
+    /// Bytes dropped because a terminal was full (nobody reading).
+    pub dropped_bytes: u64,
+}
+
+impl LiveSink {
+    /// A sink over the ports' terminals, paced at `speed` times real time.
+    pub fn new(ptys: Vec<Pty>, speed: f64) -> Self {
+        Self {
+            ptys,
+            speed,
+            start: None,
+            dropped_bytes: 0,
+        }
+    }
+}
+
+impl Sink for LiveSink {
+    fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
+        self.start = Some((info.host_clock.offset_ns, Instant::now()));
+        Ok(())
+    }
+
+    fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError> {
+        let (t0, wall0) = *self.start.get_or_insert((chunk.t_host_ns, Instant::now()));
+        let due =
+            Duration::from_secs_f64(chunk.t_host_ns.saturating_sub(t0) as f64 / 1e9 / self.speed);
+        if let Some(wait) = due.checked_sub(wall0.elapsed()) {
+            std::thread::sleep(wait);
+        }
+        let pty = self
+            .ptys
+            .get(usize::from(chunk.port))
+            .ok_or("chunk of an unknown port")?;
+        let mut rest = &chunk.bytes[..];
+        while !rest.is_empty() {
+            match rustix::io::write(&pty.master, rest) {
+                Ok(n) => rest = &rest[n..],
+                Err(Errno::AGAIN) => {
+                    self.dropped_bytes += rest.len() as u64;
+                    break;
+                }
+                Err(Errno::INTR) => {}
+                Err(e) => return Err(Box::new(std::io::Error::from(e))),
+            }
+        }
+        Ok(())
+    }
+
+    fn truth(&mut self, _record: &TruthRecord, _t_host_ns: u64) -> Result<(), SinkError> {
+        Ok(())
+    }
+
+    /// What readers wrote to the terminals (commands to the devices), read without blocking.
+    fn host_input(&mut self) -> Vec<(u16, Vec<u8>)> {
+        let mut input = Vec::new();
+        let mut buf = [0u8; 4096];
+        for (i, pty) in self.ptys.iter().enumerate() {
+            let mut bytes = Vec::new();
+            while let Ok(n @ 1..) = rustix::io::read(&pty.master, &mut buf) {
+                bytes.extend_from_slice(&buf[..n]);
+            }
+            if !bytes.is_empty() {
+                input.push((i as u16, bytes));
+            }
+        }
+        input
+    }
+}

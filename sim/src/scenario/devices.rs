@@ -1,0 +1,307 @@
+//! Device presence, rates, output protocols and host link parameters of a scenario.
+
+use serde::{Deserialize, Serialize};
+
+use super::{ScenarioError, invalid_key as invalid};
+
+/// Which devices are on board. A missing table means the device is absent.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Devices {
+    /// BAHRS baro-inertial AHRS.
+    pub bahrs: Option<BahrsConfig>,
+    /// Watson AHRS-E304.
+    pub watson: Option<WatsonConfig>,
+    /// VectorNav VN-200 (configuration only until its device model exists).
+    pub vn200: Option<Vn200Config>,
+    /// Aerobits TT-Multi-RF (configuration only until its device model exists).
+    pub ttmrf: Option<TtmrfConfig>,
+}
+
+impl Devices {
+    pub(crate) fn validate(&self) -> Result<(), ScenarioError> {
+        if let Some(b) = &self.bahrs {
+            check_baud("devices.bahrs.baud", b.baud)?;
+            for (key, hz, max) in [
+                ("inertial_rate_hz", b.inertial_rate_hz, 1000.0),
+                ("navigation_rate_hz", b.navigation_rate_hz, 1000.0),
+                ("accuracy_rate_hz", b.accuracy_rate_hz, 100.0),
+            ] {
+                if !(hz > 0.0 && hz <= max) {
+                    return Err(invalid(
+                        &format!("devices.bahrs.{key}"),
+                        format!("must be within 0 .. {max}"),
+                    ));
+                }
+            }
+            // Frame lengths (BAHRS protocol 2.0 with padding and CRC): 0x01 28, 0x05 20, 0x02 24,
+            // 0x04 20, 0x03 28 bytes; 0x06 (20 bytes) once a second.
+            let bytes_per_s = 48.0 * b.inertial_rate_hz
+                + 44.0 * b.navigation_rate_hz
+                + 28.0 * b.accuracy_rate_hz
+                + 20.0;
+            if bytes_per_s > f64::from(b.baud) / 10.0 {
+                return Err(invalid(
+                    "devices.bahrs.baud",
+                    format!(
+                        "{} baud carries {} bytes/s, the rates need {bytes_per_s:.0}",
+                        b.baud,
+                        b.baud / 10
+                    ),
+                ));
+            }
+            if b.time_message_lag > 100 {
+                return Err(invalid(
+                    "devices.bahrs.time_message_lag",
+                    "must be within 0 .. 100",
+                ));
+            }
+            if !(0.0..=1000.0).contains(&b.clock_drift_ppm_max) {
+                return Err(invalid(
+                    "devices.bahrs.clock_drift_ppm_max",
+                    "must be within 0 .. 1000",
+                ));
+            }
+        }
+        if let Some(w) = &self.watson {
+            check_baud("devices.watson.baud", w.baud)?;
+            if !(w.rate_hz > 0.0 && w.rate_hz <= 100.0) {
+                return Err(invalid("devices.watson.rate_hz", "must be within 0 .. 100"));
+            }
+        }
+        if let Some(v) = &self.vn200 {
+            check_baud("devices.vn200.baud", v.baud)?;
+            if !(v.rate_hz > 0.0 && v.rate_hz <= 400.0) {
+                return Err(invalid("devices.vn200.rate_hz", "must be within 0 .. 400"));
+            }
+        }
+        if let Some(t) = &self.ttmrf {
+            check_baud("devices.ttmrf.baud", t.baud)?;
+        }
+        Ok(())
+    }
+}
+
+fn check_baud(key: &str, baud: u32) -> Result<(), ScenarioError> {
+    if (1200..=4_000_000).contains(&baud) {
+        Ok(())
+    } else {
+        Err(invalid(key, "must be within 1200 .. 4000000"))
+    }
+}
+
+/// BAHRS output configuration and error model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BahrsConfig {
+    /// Baud rate. Decision: the protocol document names none; at the default rates the stream is
+    /// about 7 050 bytes/s (70.5 kbit/s with 10 bits per byte), so 115 200 baud (61 % load).
+    pub baud: u32,
+    /// Rate of 0x01 (each followed by its 0x05), Hz.
+    pub inertial_rate_hz: f64,
+    /// Rate of 0x02 (each followed by its 0x04), Hz.
+    pub navigation_rate_hz: f64,
+    /// Rate of 0x03, Hz.
+    pub accuracy_rate_hz: f64,
+    /// Largest MCU clock drift, ppm; the run draws one uniformly within +-this.
+    pub clock_drift_ppm_max: f64,
+    /// Time from a sample to its message being ready to send, us.
+    pub latency_us: u32,
+    /// How many later data messages of its stream a 0x05 / 0x04 waits for (0 = right after its
+    /// data message), to exercise late time messages.
+    pub time_message_lag: u32,
+    /// 1-sigma noise of every signal.
+    pub noise: BahrsNoise,
+}
+
+impl Default for BahrsConfig {
+    fn default() -> Self {
+        Self {
+            baud: 115_200,
+            inertial_rate_hz: 100.0,
+            navigation_rate_hz: 50.0,
+            accuracy_rate_hz: 1.0,
+            clock_drift_ppm_max: 50.0,
+            latency_us: 500,
+            time_message_lag: 0,
+            noise: BahrsNoise::default(),
+        }
+    }
+}
+
+/// 1-sigma white noise of the BAHRS signals (also what 0x03 reports for the angles).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BahrsNoise {
+    /// Specific force, m/s^2.
+    pub specific_force_mps2: f64,
+    /// Angular rate, rad/s.
+    pub angular_rate_radps: f64,
+    /// Pressure height, m.
+    pub pressure_height_m: f64,
+    /// Downward velocity, m/s.
+    pub velocity_down_mps: f64,
+    /// Roll and pitch, rad.
+    pub tilt_rad: f64,
+    /// Magnetic heading, rad.
+    pub heading_rad: f64,
+}
+
+impl Default for BahrsNoise {
+    fn default() -> Self {
+        Self {
+            specific_force_mps2: 0.02,
+            angular_rate_radps: 0.001,
+            pressure_height_m: 0.5,
+            velocity_down_mps: 0.05,
+            tilt_rad: 0.1f64.to_radians(),
+            heading_rad: 0.5f64.to_radians(),
+        }
+    }
+}
+
+/// Watson AHRS-E304 output configuration and error model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WatsonConfig {
+    /// Baud rate (document: 9600 8N1).
+    pub baud: u32,
+    /// Line rate, Hz (document: about 11.85).
+    pub rate_hz: f64,
+    /// 1-sigma noise.
+    pub noise: WatsonNoise,
+}
+
+impl Default for WatsonConfig {
+    fn default() -> Self {
+        Self {
+            baud: 9600,
+            rate_hz: 11.85,
+            noise: WatsonNoise::default(),
+        }
+    }
+}
+
+/// 1-sigma white noise of the Watson signals, in its own units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WatsonNoise {
+    /// Bank and elevation, deg.
+    pub tilt_deg: f64,
+    /// Heading, deg.
+    pub heading_deg: f64,
+    /// Accelerations, g.
+    pub accel_g: f64,
+    /// Rates, deg/s.
+    pub rate_dps: f64,
+    /// Velocity, km/h.
+    pub velocity_kmh: f64,
+}
+
+impl Default for WatsonNoise {
+    fn default() -> Self {
+        Self {
+            tilt_deg: 0.2,
+            heading_deg: 1.0,
+            accel_g: 0.005,
+            rate_dps: 0.1,
+            velocity_kmh: 1.0,
+        }
+    }
+}
+
+/// VN-200 configuration (consumed by its device model once it exists).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Vn200Config {
+    /// Baud rate.
+    pub baud: u32,
+    /// Binary output rate, Hz (up to 400).
+    pub rate_hz: f64,
+    /// Whether the PPS output is wired (to the BAHRS sync input).
+    pub pps: bool,
+}
+
+impl Default for Vn200Config {
+    fn default() -> Self {
+        Self {
+            baud: 921_600,
+            rate_hz: 200.0,
+            pps: true,
+        }
+    }
+}
+
+/// TT-Multi-RF configuration (consumed by its device model once it exists).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TtmrfConfig {
+    /// Baud rate.
+    pub baud: u32,
+    /// Decoded output protocol: "csv", "json", "mavlink", "gdl90", "asterix".
+    pub protocol: String,
+    /// Raw Mode S output: "off", "hex", "hexd", "beast".
+    pub raw: String,
+    /// Whether the GNSS section / NMEA output is enabled.
+    pub gnss: bool,
+}
+
+impl Default for TtmrfConfig {
+    fn default() -> Self {
+        Self {
+            baud: 921_600,
+            protocol: "json".into(),
+            raw: "off".into(),
+            gnss: true,
+        }
+    }
+}
+
+/// Host side of every serial link: USB/OS latency and read chunking, and the host clock.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct HostConfig {
+    /// Mean latency from a byte's last bit to the host read returning it, ms.
+    pub latency_ms: f64,
+    /// Half-width of the uniform latency spread, ms (latency is uniform in mean +- this).
+    pub latency_jitter_ms: f64,
+    /// Largest chunk a host read returns, bytes (chunks are uniform in 1 ..= this).
+    pub max_chunk_bytes: u32,
+    /// Largest host monotonic clock drift against GPS time, ppm (drawn within +-this).
+    pub clock_drift_ppm_max: f64,
+}
+
+impl Default for HostConfig {
+    fn default() -> Self {
+        Self {
+            latency_ms: 1.0,
+            latency_jitter_ms: 0.5,
+            max_chunk_bytes: 64,
+            clock_drift_ppm_max: 10.0,
+        }
+    }
+}
+
+impl HostConfig {
+    pub(crate) fn validate(&self) -> Result<(), ScenarioError> {
+        if !(self.latency_ms >= 0.0 && self.latency_ms <= 1000.0) {
+            return Err(invalid("host.latency_ms", "must be within 0 .. 1000"));
+        }
+        if !(self.latency_jitter_ms >= 0.0 && self.latency_jitter_ms <= self.latency_ms) {
+            return Err(invalid(
+                "host.latency_jitter_ms",
+                "must be within 0 .. latency_ms",
+            ));
+        }
+        if !(1..=65_536).contains(&self.max_chunk_bytes) {
+            return Err(invalid("host.max_chunk_bytes", "must be within 1 .. 65536"));
+        }
+        if !(0.0..=500.0).contains(&self.clock_drift_ppm_max) {
+            return Err(invalid(
+                "host.clock_drift_ppm_max",
+                "must be within 0 .. 500",
+            ));
+        }
+        Ok(())
+    }
+}

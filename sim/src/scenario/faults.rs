@@ -1,0 +1,197 @@
+//! The fault schedule: what goes wrong, when (seconds from the scenario start) and on which device.
+
+use serde::{Deserialize, Serialize};
+
+use super::{Devices, ScenarioError, invalid_key as invalid};
+
+/// An attitude axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    /// Roll.
+    Roll,
+    /// Pitch.
+    Pitch,
+    /// Magnetic heading.
+    Heading,
+}
+
+/// A BAHRS signal whose 2-bit health the schedule sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HealthSignal {
+    /// Every signal of 0x01 and 0x02.
+    All,
+    /// Specific force, all axes.
+    SpecificForce,
+    /// Angular rate, all axes.
+    AngularRate,
+    /// Pressure height.
+    PressureHeight,
+    /// Downward velocity.
+    VelocityDown,
+    /// Roll.
+    Roll,
+    /// Pitch.
+    Pitch,
+    /// Magnetic heading.
+    Heading,
+}
+
+/// A health value (section 2.4 of the BAHRS protocol).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HealthWord {
+    /// 00.
+    Unavailable,
+    /// 01.
+    Safe,
+    /// 10.
+    IntegrityRisk,
+    /// 11.
+    Undefined,
+}
+
+/// One scheduled fault. `to_s` absent means "until the end".
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Fault {
+    /// A BAHRS attitude bias: `bias_deg + rate_dps x (t - from_s)` added to one axis.
+    BahrsAttitudeBias {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Axis.
+        axis: Axis,
+        /// Constant part, deg.
+        #[serde(default)]
+        bias_deg: f64,
+        /// Ramp, deg/s.
+        #[serde(default)]
+        rate_dps: f64,
+    },
+    /// BAHRS health bits forced to a value.
+    BahrsHealth {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Which signal(s).
+        signal: HealthSignal,
+        /// The value sent.
+        health: HealthWord,
+    },
+    /// A magnetic disturbance: the magnetic heading of BAHRS and Watson is off by this much.
+    MagneticDisturbance {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Heading error, deg.
+        heading_offset_deg: f64,
+    },
+    /// A device restarts: counters and its clock start again, versions are sent again.
+    DeviceReset {
+        /// Device name.
+        device: String,
+        /// When, s.
+        at_s: f64,
+    },
+    /// No PPS reaches the BAHRS sync input (and no PPS-based timing).
+    PpsLoss {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+    },
+    /// The VN-200 / TT-Multi-RF lose GNSS (used by their device models).
+    GnssOutage {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+    },
+    /// The link of a device is cut: bytes sent meanwhile are lost.
+    LinkLoss {
+        /// Device name.
+        device: String,
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+    },
+    /// Random bit errors on a link, at `rate` per bit.
+    BitErrors {
+        /// Device name.
+        device: String,
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Probability per bit.
+        rate: f64,
+    },
+    /// Random dropped bytes on a link, at `rate` per byte.
+    DroppedBytes {
+        /// Device name.
+        device: String,
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Probability per byte.
+        rate: f64,
+    },
+}
+
+/// Whether `t_s` lies in [from, to).
+pub(crate) fn active(t_s: f64, from_s: f64, to_s: Option<f64>) -> bool {
+    t_s >= from_s && to_s.is_none_or(|to| t_s < to)
+}
+
+const DEVICES: [&str; 4] = ["bahrs", "watson", "vn200", "ttmrf"];
+
+impl Fault {
+    pub(crate) fn validate(&self, key: &str, _devices: &Devices) -> Result<(), ScenarioError> {
+        let (from, to) = match self {
+            Fault::BahrsAttitudeBias { from_s, to_s, .. }
+            | Fault::BahrsHealth { from_s, to_s, .. }
+            | Fault::MagneticDisturbance { from_s, to_s, .. }
+            | Fault::PpsLoss { from_s, to_s }
+            | Fault::GnssOutage { from_s, to_s }
+            | Fault::LinkLoss { from_s, to_s, .. }
+            | Fault::BitErrors { from_s, to_s, .. }
+            | Fault::DroppedBytes { from_s, to_s, .. } => (*from_s, *to_s),
+            Fault::DeviceReset { at_s, .. } => (*at_s, None),
+        };
+        if !(from.is_finite() && from >= 0.0) {
+            return Err(invalid(&format!("{key}.from_s"), "must be finite and >= 0"));
+        }
+        if to.is_some_and(|t| !(t.is_finite() && t > from)) {
+            return Err(invalid(
+                &format!("{key}.to_s"),
+                "must be finite and after from_s",
+            ));
+        }
+        match self {
+            Fault::DeviceReset { device, .. }
+            | Fault::LinkLoss { device, .. }
+            | Fault::BitErrors { device, .. }
+            | Fault::DroppedBytes { device, .. }
+                if !DEVICES.contains(&device.as_str()) =>
+            {
+                Err(invalid(
+                    &format!("{key}.device"),
+                    format!("must be one of {}", DEVICES.join(", ")),
+                ))
+            }
+            Fault::BitErrors { rate, .. } | Fault::DroppedBytes { rate, .. }
+                if !(0.0..=0.5).contains(rate) =>
+            {
+                Err(invalid(&format!("{key}.rate"), "must be within 0 .. 0.5"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
