@@ -29,7 +29,7 @@ pub use state::ModuleState;
 mod tests {
     use super::*;
     use crate::testkit::{assert_split_invariant, assert_survives_random};
-    use crate::{DeviceDecoder, decode_slice};
+    use crate::decode_slice;
 
     #[test]
     fn manual_write_read_describe_examples() {

@@ -10,11 +10,10 @@
 //!
 //! The OCR writes `AT+0K` and `AT+CONF IG_START`; the wire form is `AT+OK` and `AT+CONFIG_START`.
 
-use bytes::BytesMut;
 use serde::Serialize;
 
-use crate::ttmrf::text::line::{LineFramer, LineStep};
-use crate::{DecodeStats, DeviceDecoder};
+use crate::DecodeStats;
+use crate::ttmrf::text::line::{LineDecoder, LineProtocol};
 
 /// Longest AT line accepted (HELP lines are the longest, about 120 bytes).
 pub const MAX_LINE: usize = 1024;
@@ -153,90 +152,27 @@ pub fn parse_response(line: &[u8]) -> Option<AtResponse> {
     })
 }
 
-/// Sans-IO decoder of the module's AT output (CONFIGURATION or BOOTLOADER state, or the state
-/// messages in RUN). Empty lines are skipped; lines that are not printable text are malformed.
-#[derive(Debug, Clone, Default)]
-pub struct AtDecoder {
-    framer: LineFramer,
-    stats: DecodeStats,
-}
+/// Sans-IO decoder of the module's AT responses and state messages, line by line.
+pub type AtDecoder = LineDecoder<AtLines>;
 
-impl AtDecoder {
-    /// A fresh decoder.
-    pub fn new() -> Self {
-        Self::default()
-    }
+/// The AtLines line protocol for [`LineDecoder`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AtLines;
 
-    /// Drops buffered state (after a baud change the old bytes are garbage).
-    pub fn reset_framing(&mut self) {
-        self.framer = LineFramer::default();
-    }
+impl LineProtocol for AtLines {
+    type Message = AtResponse;
+    const START: Option<u8> = None;
+    const MAX_LINE: usize = MAX_LINE;
 
-    fn finish(
-        &mut self,
-        buf: &mut BytesMut,
-        frame_len: usize,
-        content_len: usize,
-    ) -> Option<AtResponse> {
-        let content = &buf[..content_len];
+    fn parse(content: &[u8], stats: &mut DecodeStats) -> Option<AtResponse> {
+        // Blank lines between responses are ignored, not malformed.
         if content.iter().all(|b| b.is_ascii_whitespace()) {
-            self.stats.skip(buf, frame_len);
             return None;
         }
-        match parse_response(content) {
-            Some(r) => {
-                self.stats.take_frame(buf, frame_len);
-                Some(r)
-            }
-            None => {
-                self.stats.malformed += 1;
-                self.stats.skip(buf, frame_len);
-                None
-            }
+        let r = parse_response(content);
+        if r.is_none() {
+            stats.malformed += 1;
         }
-    }
-}
-
-impl DeviceDecoder for AtDecoder {
-    type Message = AtResponse;
-
-    fn decode(&mut self, buf: &mut BytesMut) -> Option<AtResponse> {
-        loop {
-            match self.framer.next_line(buf, &mut self.stats, MAX_LINE) {
-                LineStep::NeedMore => return None,
-                LineStep::Skipped => {}
-                LineStep::Line {
-                    frame_len,
-                    content_len,
-                } => {
-                    if let Some(r) = self.finish(buf, frame_len, content_len) {
-                        return Some(r);
-                    }
-                }
-            }
-        }
-    }
-
-    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<AtResponse> {
-        if let Some(r) = self.decode(buf) {
-            return Some(r);
-        }
-        if !buf.is_empty() && !self.framer.is_discarding() && buf.len() <= MAX_LINE {
-            let len = buf.len();
-            let content_len = if buf.ends_with(b"\r") { len - 1 } else { len };
-            self.framer.reset();
-            return self.finish(buf, len, content_len);
-        }
-        let n = buf.len();
-        self.stats.skip(buf, n);
-        None
-    }
-
-    fn stats(&self) -> &DecodeStats {
-        &self.stats
-    }
-
-    fn stats_mut(&mut self) -> &mut DecodeStats {
-        &mut self.stats
+        r
     }
 }

@@ -28,16 +28,15 @@ pub mod stats;
 #[cfg(test)]
 mod tests;
 
-use bytes::BytesMut;
 use serde::Serialize;
 
 pub use aircraft::{AdsbAircraft, AircraftFlags, AircraftState, NicNac, UatAircraft, UatFlags};
 pub use flarm::FlarmAircraft;
 pub use stats::{AdsbStats, FlarmStats, SystemStats};
 
+use crate::DecodeStats;
 use crate::traffic::TrafficReport;
-use crate::ttmrf::text::line::{LineFramer, LineStep};
-use crate::{DecodeStats, DeviceDecoder};
+use crate::ttmrf::text::line::{LineDecoder, LineProtocol};
 use fields::Fields;
 
 /// Longest CSV line accepted, bytes without terminator. A full `#A` line is about 110 bytes;
@@ -261,88 +260,19 @@ pub(crate) fn count_error(stats: &mut DecodeStats, e: &CsvError) {
     }
 }
 
-/// Sans-IO decoder of a CSV-only byte stream.
-#[derive(Debug, Clone, Default)]
-pub struct CsvDecoder {
-    framer: LineFramer,
-    stats: DecodeStats,
-}
+/// Sans-IO decoder of a CSV ("AERO") line stream: lines start with `#`.
+pub type CsvDecoder = LineDecoder<CsvLines>;
 
-impl CsvDecoder {
-    /// A fresh decoder.
-    pub fn new() -> Self {
-        Self::default()
-    }
+/// The CsvLines line protocol for [`LineDecoder`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CsvLines;
 
-    fn finish_line(
-        &mut self,
-        buf: &mut BytesMut,
-        frame_len: usize,
-        content_len: usize,
-    ) -> Option<CsvMessage> {
-        match parse_line(&buf[..content_len]) {
-            Ok(m) => {
-                self.stats.take_frame(buf, frame_len);
-                Some(m)
-            }
-            Err(e) => {
-                count_error(&mut self.stats, &e);
-                self.stats.skip(buf, frame_len);
-                None
-            }
-        }
-    }
-}
-
-impl DeviceDecoder for CsvDecoder {
+impl LineProtocol for CsvLines {
     type Message = CsvMessage;
+    const START: Option<u8> = Some(b'#');
+    const MAX_LINE: usize = MAX_LINE;
 
-    fn decode(&mut self, buf: &mut BytesMut) -> Option<CsvMessage> {
-        loop {
-            if !self.framer.is_discarding() && buf.first().is_some_and(|&b| b != b'#') {
-                let n = buf.iter().position(|&b| b == b'#').unwrap_or(buf.len());
-                self.stats.skip(buf, n);
-                self.framer.reset();
-            }
-            if buf.is_empty() {
-                return None;
-            }
-            match self.framer.next_line(buf, &mut self.stats, MAX_LINE) {
-                LineStep::NeedMore => return None,
-                LineStep::Skipped => {}
-                LineStep::Line {
-                    frame_len,
-                    content_len,
-                } => {
-                    if let Some(m) = self.finish_line(buf, frame_len, content_len) {
-                        return Some(m);
-                    }
-                }
-            }
-        }
-    }
-
-    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<CsvMessage> {
-        if let Some(m) = self.decode(buf) {
-            return Some(m);
-        }
-        // A last line without its terminator is still a line.
-        if !buf.is_empty() && !self.framer.is_discarding() && buf.len() <= MAX_LINE {
-            let len = buf.len();
-            let content_len = if buf.ends_with(b"\r") { len - 1 } else { len };
-            self.framer.reset();
-            return self.finish_line(buf, len, content_len);
-        }
-        let n = buf.len();
-        self.stats.skip(buf, n);
-        None
-    }
-
-    fn stats(&self) -> &DecodeStats {
-        &self.stats
-    }
-
-    fn stats_mut(&mut self) -> &mut DecodeStats {
-        &mut self.stats
+    fn parse(content: &[u8], stats: &mut DecodeStats) -> Option<CsvMessage> {
+        parse_line(content).map_err(|e| count_error(stats, &e)).ok()
     }
 }

@@ -14,13 +14,12 @@ pub mod sentences;
 #[cfg(test)]
 mod tests;
 
-use bytes::BytesMut;
 use serde::Serialize;
 
 pub use sentences::{Date, Gga, Gsa, Rmc, Vtg, Zda};
 
-use crate::ttmrf::text::line::{LineFramer, LineStep};
-use crate::{DecodeStats, DeviceDecoder};
+use crate::DecodeStats;
+use crate::ttmrf::text::line::{LineDecoder, LineProtocol};
 
 /// Longest sentence accepted (NMEA allows 82 bytes; receivers exceed it, e.g. NMEA 4.1 GSA).
 pub const MAX_LINE: usize = 256;
@@ -126,87 +125,21 @@ pub(crate) fn count_error(stats: &mut DecodeStats, e: &NmeaError) {
     }
 }
 
-/// Sans-IO decoder of an NMEA-only byte stream.
-#[derive(Debug, Clone, Default)]
-pub struct NmeaDecoder {
-    framer: LineFramer,
-    stats: DecodeStats,
-}
+/// Sans-IO decoder of an NMEA sentence stream: sentences start with `$`.
+pub type NmeaDecoder = LineDecoder<NmeaLines>;
 
-impl NmeaDecoder {
-    /// A fresh decoder.
-    pub fn new() -> Self {
-        Self::default()
-    }
+/// The NmeaLines line protocol for [`LineDecoder`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NmeaLines;
 
-    fn finish(
-        &mut self,
-        buf: &mut BytesMut,
-        frame_len: usize,
-        content_len: usize,
-    ) -> Option<NmeaSentence> {
-        match parse_sentence(&buf[..content_len]) {
-            Ok(s) => {
-                self.stats.take_frame(buf, frame_len);
-                Some(s)
-            }
-            Err(e) => {
-                count_error(&mut self.stats, &e);
-                self.stats.skip(buf, frame_len);
-                None
-            }
-        }
-    }
-}
-
-impl DeviceDecoder for NmeaDecoder {
+impl LineProtocol for NmeaLines {
     type Message = NmeaSentence;
+    const START: Option<u8> = Some(b'$');
+    const MAX_LINE: usize = MAX_LINE;
 
-    fn decode(&mut self, buf: &mut BytesMut) -> Option<NmeaSentence> {
-        loop {
-            if !self.framer.is_discarding() && buf.first().is_some_and(|&b| b != b'$') {
-                let n = buf.iter().position(|&b| b == b'$').unwrap_or(buf.len());
-                self.stats.skip(buf, n);
-                self.framer.reset();
-            }
-            if buf.is_empty() {
-                return None;
-            }
-            match self.framer.next_line(buf, &mut self.stats, MAX_LINE) {
-                LineStep::NeedMore => return None,
-                LineStep::Skipped => {}
-                LineStep::Line {
-                    frame_len,
-                    content_len,
-                } => {
-                    if let Some(s) = self.finish(buf, frame_len, content_len) {
-                        return Some(s);
-                    }
-                }
-            }
-        }
-    }
-
-    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<NmeaSentence> {
-        if let Some(s) = self.decode(buf) {
-            return Some(s);
-        }
-        if !buf.is_empty() && !self.framer.is_discarding() && buf.len() <= MAX_LINE {
-            let len = buf.len();
-            let content_len = if buf.ends_with(b"\r") { len - 1 } else { len };
-            self.framer.reset();
-            return self.finish(buf, len, content_len);
-        }
-        let n = buf.len();
-        self.stats.skip(buf, n);
-        None
-    }
-
-    fn stats(&self) -> &DecodeStats {
-        &self.stats
-    }
-
-    fn stats_mut(&mut self) -> &mut DecodeStats {
-        &mut self.stats
+    fn parse(content: &[u8], stats: &mut DecodeStats) -> Option<NmeaSentence> {
+        parse_sentence(content)
+            .map_err(|e| count_error(stats, &e))
+            .ok()
     }
 }

@@ -5,9 +5,135 @@
 //! one byte at a time stays linear, and it bounds the line length: a candidate longer than `max`
 //! bytes is discarded up to its end of line and counted once as malformed.
 
+use std::marker::PhantomData;
+
 use bytes::BytesMut;
 
-use crate::DecodeStats;
+use crate::{DecodeStats, DeviceDecoder};
+
+/// One line-oriented protocol: where its lines start and how one parses. [`LineDecoder`] does the
+/// framing, resynchronisation and byte accounting for all of them.
+pub trait LineProtocol {
+    /// The message a line gives.
+    type Message;
+    /// The byte every line starts with, if the protocol has one: input before it is skipped.
+    const START: Option<u8>;
+    /// Longest line content, bytes.
+    const MAX_LINE: usize;
+    /// Parses one line's content (terminator removed). `None` rejects the line; the parser counts
+    /// why in `stats` (a line that is simply ignored, such as a blank one, counts nothing).
+    fn parse(content: &[u8], stats: &mut DecodeStats) -> Option<Self::Message>;
+}
+
+/// The sans-IO decoder of a [`LineProtocol`]: lines ending in `\r\n` or `\n`, bounded length,
+/// a last line without terminator still decoded at the end of the stream.
+#[derive(Debug, Clone)]
+pub struct LineDecoder<P> {
+    framer: LineFramer,
+    stats: DecodeStats,
+    protocol: PhantomData<P>,
+}
+
+impl<P> Default for LineDecoder<P> {
+    fn default() -> Self {
+        Self {
+            framer: LineFramer::default(),
+            stats: DecodeStats::default(),
+            protocol: PhantomData,
+        }
+    }
+}
+
+impl<P: LineProtocol> LineDecoder<P> {
+    /// A fresh decoder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The counters (also through [`DeviceDecoder::stats`]).
+    pub fn stats(&self) -> &DecodeStats {
+        &self.stats
+    }
+
+    /// Drops buffered framing state (after a baud change the old bytes are garbage).
+    pub fn reset_framing(&mut self) {
+        self.framer = LineFramer::default();
+    }
+
+    fn finish(
+        &mut self,
+        buf: &mut BytesMut,
+        frame_len: usize,
+        content_len: usize,
+    ) -> Option<P::Message> {
+        match P::parse(&buf[..content_len], &mut self.stats) {
+            Some(m) => {
+                self.stats.take_frame(buf, frame_len);
+                Some(m)
+            }
+            None => {
+                self.stats.skip(buf, frame_len);
+                None
+            }
+        }
+    }
+}
+
+impl<P: LineProtocol> DeviceDecoder for LineDecoder<P> {
+    type Message = P::Message;
+
+    fn decode(&mut self, buf: &mut BytesMut) -> Option<P::Message> {
+        loop {
+            if let Some(start) = P::START
+                && !self.framer.is_discarding()
+                && buf.first().is_some_and(|&b| b != start)
+            {
+                let n = memchr::memchr(start, buf).unwrap_or(buf.len());
+                self.stats.skip(buf, n);
+                self.framer.reset();
+            }
+            if buf.is_empty() {
+                return None;
+            }
+            match self.framer.next_line(buf, &mut self.stats, P::MAX_LINE) {
+                LineStep::NeedMore => return None,
+                LineStep::Skipped => {}
+                LineStep::Line {
+                    frame_len,
+                    content_len,
+                } => {
+                    if let Some(m) = self.finish(buf, frame_len, content_len) {
+                        return Some(m);
+                    }
+                }
+            }
+        }
+    }
+
+    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<P::Message> {
+        if let Some(m) = self.decode(buf) {
+            return Some(m);
+        }
+        // A last line without its terminator is still a line.
+        if !buf.is_empty() && !self.framer.is_discarding() && buf.len() <= P::MAX_LINE {
+            let len = buf.len();
+            let content_len = if buf.ends_with(b"\r") { len - 1 } else { len };
+            self.framer.reset();
+            return self.finish(buf, len, content_len);
+        }
+        let n = buf.len();
+        self.stats.skip(buf, n);
+        None
+    }
+
+    fn stats(&self) -> &DecodeStats {
+        &self.stats
+    }
+
+    fn stats_mut(&mut self) -> &mut DecodeStats {
+        &mut self.stats
+    }
+}
 
 /// Result of looking for the next complete line at the front of the buffer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
