@@ -49,11 +49,7 @@ impl AirbornePosition {
             altitude_baro_ft: if gnss { None } else { alt },
             altitude_gnss_ft: if gnss { alt } else { None },
             utc_sync: bits(me, 21, 1) == 1,
-            cpr: CprFrame {
-                odd: bits(me, 22, 1) == 1,
-                lat: bits(me, 23, 17) as u32,
-                lon: bits(me, 40, 17) as u32,
-            },
+            cpr: CprFrame::from_me(me),
         }
     }
 }

@@ -107,6 +107,18 @@ pub struct CprFrame {
     pub lon: u32,
 }
 
+impl CprFrame {
+    /// The CPR fields of a position ME field (airborne and surface share the layout): F at ME
+    /// bit 22, 17-bit latitude at 23-39, 17-bit longitude at 40-56 (1-based, as [`crate::modes::bits`] numbers them).
+    pub fn from_me(me: u64) -> Self {
+        Self {
+            odd: crate::modes::bits(me, 22, 1) == 1,
+            lat: crate::modes::bits(me, 23, 17) as u32,
+            lon: crate::modes::bits(me, 40, 17) as u32,
+        }
+    }
+}
+
 /// Why a CPR decode gave no position.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum CprError {

@@ -86,11 +86,7 @@ impl SurfacePosition {
             speed: movement(movement_code),
             track_deg: (bits(me, 13, 1) == 1).then(|| bits(me, 14, 7) as f64 * 360.0 / 128.0),
             utc_sync: bits(me, 21, 1) == 1,
-            cpr: CprFrame {
-                odd: bits(me, 22, 1) == 1,
-                lat: bits(me, 23, 17) as u32,
-                lon: bits(me, 40, 17) as u32,
-            },
+            cpr: CprFrame::from_me(me),
         }
     }
 }

@@ -28,8 +28,8 @@ pub use state::ModuleState;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testkit::{assert_split_invariant, assert_survives_random};
     use crate::decode_slice;
+    use crate::testkit::{assert_split_invariant, assert_survives_random};
 
     #[test]
     fn manual_write_read_describe_examples() {
