@@ -4,5 +4,6 @@
 
 pub mod angles;
 pub mod isolation;
+pub mod params;
 pub mod persistence;
 pub mod stats;
