@@ -3,7 +3,10 @@
 //! isolation. The per-sample comparison that uses them arrives with the attitude issue.
 
 pub mod angles;
+pub mod compare;
+pub mod gates;
 pub mod isolation;
 pub mod params;
 pub mod persistence;
+pub mod samples;
 pub mod stats;
