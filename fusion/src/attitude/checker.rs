@@ -383,7 +383,7 @@ impl AttitudeChecker {
             });
         }
         let pr = |pi: usize| {
-            let a = |ai: usize| pair_records[pi][ai].unwrap_or_else(|| unreachable_pair());
+            let a = |ai: usize| pair_records[pi][ai].unwrap_or_else(not_compared_pair);
             PairRecord {
                 roll: a(0),
                 pitch: a(1),
@@ -409,7 +409,17 @@ impl AttitudeChecker {
             roll: isolate(&verdicts(&|r| r.roll.verdict), false, vn_healthy),
             pitch: isolate(&verdicts(&|r| r.pitch.verdict), false, vn_healthy),
             heading: isolate(&verdicts(&|r| r.heading.verdict), true, vn_healthy),
-            joint: isolate(&verdicts(&|r| r.joint.verdict), false, vn_healthy),
+            joint: Isolation::NoFault,
+        };
+        // The joint test includes the heading: when the heading alone is a magnetic disturbance,
+        // the same rule keeps the joint test from isolating a healthy VN-200.
+        let isolation = IsolationRecord {
+            joint: isolate(
+                &verdicts(&|r| r.joint.verdict),
+                isolation.heading == Isolation::MagneticDisturbance,
+                vn_healthy,
+            ),
+            ..isolation
         };
         let all = [
             isolation.roll,
@@ -651,7 +661,7 @@ impl AttitudeChecker {
     }
 }
 
-fn unreachable_pair() -> AxisPair {
+fn not_compared_pair() -> AxisPair {
     AxisPair {
         verdict: PairVerdict::NotCompared,
         comparison: None,

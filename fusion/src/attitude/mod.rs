@@ -22,3 +22,6 @@ pub mod stats;
 pub mod synthetic;
 pub mod vertical;
 pub mod vote;
+
+#[cfg(test)]
+mod checker_tests;

@@ -274,7 +274,7 @@ impl Stream {
                 yaw - sc.declination_deg * DEG + dist + 0.8 * DEG * n.gauss(),
             )),
             over_range: false,
-            rates_radps: rates.map(|r| q01(r)),
+            rates_radps: rates.map(q01),
         }
     }
 }

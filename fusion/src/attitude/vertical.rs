@@ -114,11 +114,7 @@ impl VerticalChannel {
                     gate: None,
                 }
             }
-            _ => not_compared(
-                Some(b.velocity_down_mps),
-                vn.vel_down_mps.map(|v| v),
-                gate_v,
-            ),
+            _ => not_compared(Some(b.velocity_down_mps), vn.vel_down_mps, gate_v),
         };
         // Height rates over the window, from pairs recorded when both heights were usable.
         let gate_h = health_gate(b.health.pressure_height())
