@@ -164,6 +164,9 @@ pub struct OwnshipSolution {
     pub heading_source: &'static str,
 }
 
+/// The vote at a time: GPS ns, roll, pitch, true heading (deg).
+type VoteAt = (i64, Option<f64>, Option<f64>, Option<f64>);
+
 /// Collects the latest inputs and builds the ownship at a time.
 #[derive(Debug, Clone, Default)]
 pub struct OwnshipBuilder {
@@ -171,7 +174,7 @@ pub struct OwnshipBuilder {
     vn: Option<Vn200Sample>,
     gnss: Option<GnssFix>,
     pressure: Option<(i64, f64)>,
-    vote: Option<(i64, Option<f64>, Option<f64>, Option<f64>)>,
+    vote: Option<VoteAt>,
 }
 
 fn age_ok(t: i64, t_sample: i64, max_s: f64) -> bool {
