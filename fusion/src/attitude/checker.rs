@@ -212,7 +212,7 @@ impl AttitudeChecker {
         let stale = match &self.decl {
             None => true,
             Some(c) => {
-                t_ns.saturating_sub(c.t_ns).abs() > refresh_ns
+                t_ns.saturating_sub(c.t_ns).unsigned_abs() > refresh_ns.unsigned_abs()
                     || (pos[0] - c.lat_deg).abs() > 0.1
                     || ((pos[1] - c.lon_deg) * (pos[0] * DEG).cos()).abs() > 0.1
             }
@@ -236,7 +236,7 @@ impl AttitudeChecker {
         let p = self.params;
         let t = b.t_gps_ns;
         let dt_s = match self.last_t_ns {
-            Some(t0) if t > t0 => ((t - t0) as f64 * 1e-9).min(1.0),
+            Some(t0) if t > t0 => (t.saturating_sub(t0) as f64 * 1e-9).min(1.0),
             _ => p.bahrs_period_s,
         };
         self.last_t_ns = Some(t);
@@ -343,7 +343,11 @@ impl AttitudeChecker {
                 };
                 let bank = 0.5 * (va[0] + vb[0]);
                 let c = compare_axis(&p, axis, va[ai], vb[ai], &var, self.k_axis, bank);
-                let sf = st.stat.update(c.stat_ratio, c.z, dt_s, &p.persistence);
+                // The CUSUM gets z clamped to the threshold: it is the slow-drift detector, and a
+                // glitch of a sample or two must not declare through it. It then declares no
+                // sooner than limit / (k - slack) samples (25 at the defaults, 0.5 s at 50 Hz).
+                let zc = c.z.clamp(-self.k_axis, self.k_axis);
+                let sf = st.stat.update(c.stat_ratio, zc, dt_s, &p.persistence);
                 let ff = st.fixed.update(c.fixed_ratio, 0.0, dt_s, &p.persistence);
                 zs[ai] = Some(c.z);
                 pair_records[pi][ai] = Some(AxisPair {
@@ -530,10 +534,10 @@ impl AttitudeChecker {
         let Some(&(s0, f0)) = prev else {
             return none(GateReason::NoData);
         };
-        let age_ns = t - s0.t_gps_ns;
+        let age_ns = t.saturating_sub(s0.t_gps_ns);
         let (q, frozen, gate_src, lin) = match next {
             Some(&(s1, f1)) => {
-                let span = (s1.t_gps_ns - s0.t_gps_ns) as f64;
+                let span = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64;
                 let u = if span > 0.0 {
                     age_ns as f64 / span
                 } else {
@@ -619,10 +623,10 @@ impl AttitudeChecker {
             };
         };
         let q_of = |s: &WatsonSample| from_ypr(s.heading_mag_rad, s.pitch_rad, s.roll_rad);
-        let age_ns = t - s0.t_gps_ns;
+        let age_ns = t.saturating_sub(s0.t_gps_ns);
         let (q, frozen, gate_src) = match next {
             Some(&(s1, f1)) => {
-                let span = (s1.t_gps_ns - s0.t_gps_ns) as f64;
+                let span = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64;
                 let u = if span > 0.0 {
                     age_ns as f64 / span
                 } else {

@@ -299,3 +299,126 @@ fn a_frozen_vn200_is_not_compared() {
     // Identical for more than 1 s: from just after t = 11 s.
     assert!((11.0..11.1).contains(&frozen), "{frozen}");
 }
+
+#[test]
+fn a_vn200_roll_fault_and_a_watson_pitch_fault_are_isolated() {
+    let sc = Scenario {
+        duration_s: 40.0,
+        vn200_roll_step: Some((20.0, 8.0)),
+        ..Default::default()
+    };
+    let recs = run(sc, &mut checker_with(fixed(3.0)));
+    let iso = first(&recs, |r| r.isolated == Some(Unit::Vn200)).unwrap();
+    // A step of 8 deg: every detector exceeds at once. The CUSUM (z clamped to 4.42, slack 2:
+    // +2.42 per sample, limit 60) declares after 25 samples = 0.5 s, before the 1 s counter.
+    assert!((20.45..20.6).contains(&iso), "{iso}");
+    let (_, r) = recs.last().unwrap();
+    assert_eq!(r.isolation.roll, Isolation::Isolated(Unit::Vn200));
+    assert_eq!(r.isolation.pitch, Isolation::NoFault);
+    // The vote leaves the VN-200 out on roll and keeps it on pitch and heading.
+    assert_eq!(
+        r.voted.roll.as_ref().unwrap().used,
+        vec![Unit::Bahrs, Unit::Watson]
+    );
+    assert_eq!(r.voted.pitch.as_ref().unwrap().used.len(), 3);
+    assert!(recs.iter().all(|(_, r)| r.isolated != Some(Unit::Bahrs)));
+
+    let sc = Scenario {
+        duration_s: 40.0,
+        watson_pitch_step: Some((20.0, 6.0)),
+        ..Default::default()
+    };
+    let recs = run(sc, &mut checker_with(fixed(3.0)));
+    let (_, r) = recs.last().unwrap();
+    assert_eq!(r.isolated, Some(Unit::Watson));
+    assert_eq!(r.isolation.pitch, Isolation::Isolated(Unit::Watson));
+    assert!(r.fault);
+}
+
+#[test]
+fn two_faulty_units_are_a_multiple_fault() {
+    // VN-200 roll +8 deg and Watson roll -8 deg: no pair agrees on roll.
+    let sc = Scenario {
+        duration_s: 30.0,
+        vn200_roll_step: Some((10.0, 8.0)),
+        roll_ramp: Some((10.0, 100.0)), // BAHRS roll off by far more, at once
+        ..Default::default()
+    };
+    let recs = run(sc, &mut checker_with(fixed(3.0)));
+    let (_, r) = recs.last().unwrap();
+    assert_eq!(r.isolation.roll, Isolation::MultipleFault);
+    assert!(r.fault && r.multiple_fault && r.isolated.is_none());
+}
+
+#[test]
+fn mounting_offsets_are_configured_away() {
+    // The BAHRS is mounted 3 deg rolled and 2 deg pitched: without the offsets it fails against
+    // the others on roll; with them, nothing.
+    let sc = Scenario {
+        duration_s: 30.0,
+        bahrs_mounting_deg: [0.0, 2.0, 3.0],
+        ..Default::default()
+    };
+    let recs = run(sc, &mut checker_with(fixed(3.0)));
+    assert_eq!(recs.last().unwrap().1.isolated, Some(Unit::Bahrs));
+    let mut p = CheckParams::default();
+    p.mounting_bahrs.pitch_deg = 2.0;
+    p.mounting_bahrs.roll_deg = 3.0;
+    let mut c = AttitudeChecker::new(p, fixed(3.0)).unwrap();
+    let recs = run(sc, &mut c);
+    assert!(recs.iter().all(|(_, r)| !r.fault));
+    let d = recs[1000]
+        .1
+        .pairs
+        .bahrs_vn200
+        .roll
+        .comparison
+        .unwrap()
+        .diff_deg;
+    assert!(d.abs() < 1.0, "{d}");
+}
+
+#[test]
+fn heading_checks_are_suppressed_near_the_magnetic_poles() {
+    for (zone, h) in [
+        (MagneticZone::Caution, 4000.0),
+        (MagneticZone::Blackout, 1000.0),
+    ] {
+        let model = FixedDeclination(Declination {
+            declination_rad: 3.0 * DEG,
+            sigma_rad: 5.0 * DEG,
+            horizontal_nt: h,
+            zone,
+        });
+        let sc = Scenario {
+            duration_s: 5.0,
+            // Even a large heading disturbance raises nothing there.
+            magnetic_disturbance: Some((1.0, 30.0)),
+            ..Default::default()
+        };
+        let recs = run(sc, &mut checker_with(Box::new(model)));
+        for (_, r) in &recs[100..] {
+            assert_eq!(
+                r.bahrs.gates.heading,
+                Some(super::gates::GateReason::MagneticPole)
+            );
+            assert_eq!(
+                r.watson.gates.heading,
+                Some(super::gates::GateReason::MagneticPole)
+            );
+            assert!(r.vn200.gates.heading.is_none());
+            assert_eq!(
+                r.pairs.bahrs_vn200.heading.verdict,
+                PairVerdict::NotCompared
+            );
+            assert_eq!(
+                r.pairs.bahrs_watson.heading.verdict,
+                PairVerdict::NotCompared
+            );
+            assert_eq!(r.pairs.bahrs_vn200.roll.verdict, PairVerdict::Pass);
+            assert!(!r.fault && !r.magnetic_disturbance);
+            // The voted heading is the VN-200's alone.
+            assert_eq!(r.voted.heading.as_ref().unwrap().used, vec![Unit::Vn200]);
+        }
+    }
+}

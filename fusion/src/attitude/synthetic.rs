@@ -14,7 +14,7 @@ use vigil_drivers::bahrs::{
 };
 use vigil_drivers::vn200::status::InsStatus;
 
-use super::angles::{from_ypr, wrap_2pi};
+use super::angles::{from_ypr, to_ypr, wrap_2pi};
 use super::samples::{BahrsSample, Vn200Sample, WatsonSample};
 use crate::time::AlignedTime;
 use crate::time::{ClockStatus, TimeSource};
@@ -48,6 +48,12 @@ pub struct Scenario {
     pub watson_stops_s: Option<f64>,
     /// Position of the aircraft (lat deg, lon deg, height m), fixed (attitude tests).
     pub lla: [f64; 3],
+    /// VN-200 roll error step: from, s, and size, deg.
+    pub vn200_roll_step: Option<(f64, f64)>,
+    /// Watson pitch error step: from, s, and size, deg.
+    pub watson_pitch_step: Option<(f64, f64)>,
+    /// BAHRS mounting (yaw, pitch, roll offsets of its body frame), deg.
+    pub bahrs_mounting_deg: [f64; 3],
 }
 
 impl Default for Scenario {
@@ -67,6 +73,9 @@ impl Default for Scenario {
             gnss_lost_from_s: None,
             watson_stops_s: None,
             lla: [47.40, 8.50, 600.0],
+            vn200_roll_step: None,
+            watson_pitch_step: None,
+            bahrs_mounting_deg: [0.0; 3],
         }
     }
 }
@@ -199,6 +208,9 @@ impl Stream {
             Health::Safe,
         );
         self.seq = self.seq.wrapping_add(1);
+        // The unit's frame is the aircraft's rotated by the mounting: q_unit = q_aircraft q_mount.
+        let [my, mp, mr] = sc.bahrs_mounting_deg.map(|d| d * DEG);
+        let (yaw, pitch, roll) = to_ypr(&(from_ypr(yaw, pitch, roll) * from_ypr(my, mp, mr)));
         let nav = Navigation::from_si(
             self.seq,
             height - 40.0 + 0.3 * n.gauss(),
@@ -235,10 +247,15 @@ impl Stream {
         let lost = sc.gnss_lost_from_s.is_some_and(|from| t >= from);
         // 0x0006 Tracking + fix; 0x0043 GnssLost with the GNSS error bit.
         let ins = InsStatus(if lost { 0x0043 } else { 0x0006 });
+        let step = sc
+            .vn200_roll_step
+            .filter(|(from, _)| t >= *from)
+            .map(|(_, d)| d * DEG)
+            .unwrap_or(0.0);
         let attitude = from_ypr(
             yaw + 0.2 * DEG * n.gauss(),
             pitch + 0.05 * DEG * n.gauss(),
-            roll + 0.05 * DEG * n.gauss(),
+            roll + step + 0.05 * DEG * n.gauss(),
         );
         Vn200Sample {
             t_gps_ns: sc.t0_gps_ns + t_ns as i64,
@@ -264,12 +281,17 @@ impl Stream {
             .filter(|(from, _)| t >= *from)
             .map(|(_, d)| d * DEG)
             .unwrap_or(0.0);
+        let pstep = sc
+            .watson_pitch_step
+            .filter(|(from, _)| t >= *from)
+            .map(|(_, d)| d * DEG)
+            .unwrap_or(0.0);
         let q01 = |rad: f64| (rad / DEG * 10.0).round() / 10.0 * DEG;
         WatsonSample {
             t_gps_ns: sc.t0_gps_ns + t_ns as i64,
             sigma_ns: 2e6,
             roll_rad: q01(roll + 0.3 * DEG * n.gauss()),
-            pitch_rad: q01(pitch + 0.3 * DEG * n.gauss()),
+            pitch_rad: q01(pitch + pstep + 0.3 * DEG * n.gauss()),
             heading_mag_rad: q01(wrap_2pi(
                 yaw - sc.declination_deg * DEG + dist + 0.8 * DEG * n.gauss(),
             )),

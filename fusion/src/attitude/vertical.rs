@@ -128,7 +128,7 @@ impl VerticalChannel {
                 while self
                     .history
                     .get(1)
-                    .is_some_and(|h| b.t_gps_ns - h.0 >= window_ns)
+                    .is_some_and(|h| b.t_gps_ns.saturating_sub(h.0) >= window_ns)
                 {
                     self.history.pop_front();
                 }
@@ -136,8 +136,10 @@ impl VerticalChannel {
                     self.history.pop_front();
                 }
                 match self.history.front() {
-                    Some(&(t0, h0, a0)) if (b.t_gps_ns - t0) as f64 >= 0.8 * window_ns as f64 => {
-                        let span = (b.t_gps_ns - t0) as f64 * 1e-9;
+                    Some(&(t0, h0, a0))
+                        if b.t_gps_ns.saturating_sub(t0) as f64 >= 0.8 * window_ns as f64 =>
+                    {
+                        let span = b.t_gps_ns.saturating_sub(t0) as f64 * 1e-9;
                         let rb = (b.pressure_height_m - h0) / span;
                         let rv = (alt - a0) / span;
                         let sigma = (vp.pressure_rate_sigma_mps.powi(2)
