@@ -561,11 +561,18 @@ impl AttitudeChecker {
             gate = gate.or(Some(GateReason::Frozen));
         }
         let q = unmount(&q, &p.mounting_vn200);
-        let sig = s0.ypr_sigma_rad.unwrap_or([
-            p.vn200_default_sigma.heading_deg * DEG,
-            p.vn200_default_sigma.tilt_deg * DEG,
-            p.vn200_default_sigma.tilt_deg * DEG,
-        ]);
+        let values = ypr_to_rph(&q);
+        if !values.iter().all(|v| v.is_finite()) {
+            gate = gate.or(Some(GateReason::NotFinite));
+        }
+        let sig = s0
+            .ypr_sigma_rad
+            .filter(|s| s.iter().all(|x| x.is_finite() && *x > 0.0))
+            .unwrap_or([
+                p.vn200_default_sigma.heading_deg * DEG,
+                p.vn200_default_sigma.tilt_deg * DEG,
+                p.vn200_default_sigma.tilt_deg * DEG,
+            ]);
         let healthy = gates::vn200_healthy(&s0);
         // Vertical: linear interpolation of down velocity and altitude.
         let lerp = |a: Option<f64>, b: Option<f64>| match (a, b, lin) {
@@ -594,7 +601,7 @@ impl AttitudeChecker {
         };
         (
             Prepared {
-                values: Some(ypr_to_rph(&q)),
+                values: Some(values),
                 heading_mag: None,
                 var: [sig[2] * sig[2], sig[1] * sig[1], sig[0] * sig[0]],
                 gates: [gate; 3],
@@ -649,12 +656,16 @@ impl AttitudeChecker {
         }
         let (hm, _, _) = to_ypr(&q);
         let q = unmount(&(rz * q), &p.mounting_watson);
+        let values = ypr_to_rph(&q);
+        if !values.iter().all(|v| v.is_finite()) {
+            gate = gate.or(Some(GateReason::NotFinite));
+        }
         let (st, sh) = (
             p.watson_sigma.tilt_deg * DEG,
             p.watson_sigma.heading_deg * DEG,
         );
         Prepared {
-            values: Some(ypr_to_rph(&q)),
+            values: Some(values),
             heading_mag: Some(wrap_2pi(hm)),
             var: [st * st, st * st, sh * sh],
             gates: [gate, gate, gate.or(mag_gate)],

@@ -422,3 +422,89 @@ fn heading_checks_are_suppressed_near_the_magnetic_poles() {
         }
     }
 }
+
+#[test]
+fn arbitrary_samples_never_panic_and_non_finite_values_are_gated() {
+    use super::samples::{Vn200Sample, WatsonSample};
+    use super::synthetic::Noise;
+    use vigil_drivers::vn200::status::InsStatus;
+    let mut n = Noise::new(99);
+    let mut c = checker_with(Box::new(Wmm));
+    let base = Scenario::default().t0_gps_ns;
+    let wild = |n: &mut Noise| match (n.gauss() * 10.0) as i64 {
+        0 => f64::NAN,
+        1 => f64::INFINITY,
+        2 => -1e300,
+        _ => n.gauss() * 4.0,
+    };
+    let mut bahrs = Stream::new(Scenario {
+        duration_s: 200.0,
+        ..Default::default()
+    })
+    .filter_map(|e| match e {
+        Event::Bahrs(b) => Some(b),
+        _ => None,
+    });
+    let mut count = 0;
+    for i in 0..20_000i64 {
+        // Times jitter backwards and forwards, sometimes wildly.
+        let jitter = (n.gauss() * 3e7) as i64;
+        let t = if i % 997 == 0 {
+            i64::MAX - 5
+        } else {
+            base + i * 7_000_000 + jitter
+        };
+        match i % 3 {
+            0 => {
+                let mut b = bahrs.next().unwrap();
+                b.t_gps_ns = t;
+                b.accuracy_rad = Some([Some(wild(&mut n).abs()), None, Some(0.01)]);
+                b.rates_radps = Some([wild(&mut n), wild(&mut n), wild(&mut n)]);
+                c.push_bahrs(b);
+            }
+            1 => c.push_vn200(Vn200Sample {
+                t_gps_ns: t,
+                sigma_ns: wild(&mut n),
+                attitude: super::angles::from_ypr(wild(&mut n), wild(&mut n), wild(&mut n)),
+                ypr_sigma_rad: Some([wild(&mut n), 0.0, -1.0]),
+                ins_status: InsStatus((n.gauss() * 1000.0) as i64 as u16),
+                imu_status: None,
+                rates_radps: Some([wild(&mut n), 0.0, 0.0]),
+                lla: Some([wild(&mut n) * 30.0, wild(&mut n) * 50.0, wild(&mut n)]),
+                vel_ned_mps: Some([wild(&mut n), 0.0, wild(&mut n)]),
+                pos_u_m: None,
+                vel_u_mps: Some(wild(&mut n)),
+            }),
+            _ => c.push_watson(WatsonSample {
+                t_gps_ns: t,
+                sigma_ns: 1e6,
+                roll_rad: wild(&mut n),
+                pitch_rad: wild(&mut n),
+                heading_mag_rad: wild(&mut n),
+                over_range: n.gauss() > 1.0,
+                rates_radps: [wild(&mut n); 3],
+            }),
+        }
+        while let Some(r) = c.next_record() {
+            count += 1;
+            // A compared pair always carries finite numbers.
+            for pr in [
+                r.pairs.bahrs_vn200,
+                r.pairs.bahrs_watson,
+                r.pairs.vn200_watson,
+            ] {
+                for ax in [pr.roll, pr.pitch, pr.heading] {
+                    if let Some(cmp) = ax.comparison {
+                        assert!(cmp.diff_deg.is_finite(), "{cmp:?}");
+                    }
+                }
+            }
+            serde_json::to_string(&r).unwrap();
+        }
+    }
+    c.finish();
+    while c.next_record().is_some() {
+        count += 1;
+    }
+    assert_eq!(count, 6667);
+}
