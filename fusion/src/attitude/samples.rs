@@ -199,3 +199,25 @@ impl WatsonSample {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vn200_quaternion_convention_matches_the_manuals_example() {
+        // VN-200 manual, Set Initial Heading: yaw-pitch-roll 73.2, 87.1, 10.2 deg and the
+        // quaternion -0.3574, 0.5894, 0.3812, 0.6161 (x, y, z, scalar) are the same attitude.
+        // Hand check: Rz(73.2) Ry(87.1) Rx(10.2) as a Hamilton quaternion (w, x, y, z) is
+        // (0.61607, -0.35744, 0.58935, 0.38125): the manual's numbers, rounded to 4 digits.
+        let q = vn200_quaternion(-0.3574, 0.5894, 0.3812, 0.6161).unwrap();
+        let ypr = from_ypr(73.2 * DEG, 87.1 * DEG, 10.2 * DEG);
+        // Four digits per component: agreement to about 1e-4 rad.
+        assert!(q.angle_to(&ypr) < 2e-4, "{}", q.angle_to(&ypr));
+        // Not the conjugate (the other convention): far apart.
+        assert!(q.inverse().angle_to(&ypr) > 1.0);
+        // Non-unit or non-finite quaternions are refused.
+        assert!(vn200_quaternion(0.0, 0.0, 0.0, 0.5).is_none());
+        assert!(vn200_quaternion(f32::NAN, 0.0, 0.0, 1.0).is_none());
+    }
+}
