@@ -220,4 +220,120 @@ mod tests {
         assert!(vn200_quaternion(0.0, 0.0, 0.0, 0.5).is_none());
         assert!(vn200_quaternion(f32::NAN, 0.0, 0.0, 1.0).is_none());
     }
+
+    fn time() -> AlignedTime {
+        AlignedTime {
+            t_gps_ns: 1_000,
+            sigma_ns: 50.0,
+            source: crate::time::TimeSource::NativeGps,
+            status: crate::time::ClockStatus::Locked,
+        }
+    }
+
+    #[test]
+    fn vn200_sample_from_a_binary_output() {
+        use vigil_drivers::vn200::binary::wire::{Lla, Quaternion as VnQ, Ypr};
+        use vigil_drivers::vn200::binary::{AttitudeGroup, CommonGroup, InsGroup};
+        // Yaw 30 deg only: quaternion (0, 0, sin 15, cos 15).
+        let (s15, c15) = (15.0f64 * DEG).sin_cos();
+        let out = BinaryOutput {
+            common: Some(CommonGroup {
+                quaternion: Some(VnQ {
+                    x: 0.0,
+                    y: 0.0,
+                    z: s15 as f32,
+                    s: c15 as f32,
+                }),
+                // A contradicting YPR: the quaternion wins.
+                ypr: Some(Ypr {
+                    yaw_deg: 99.0,
+                    pitch_deg: 0.0,
+                    roll_deg: 0.0,
+                }),
+                ins_status: Some(InsStatus(0x0006)),
+                pos_lla: Some(Lla {
+                    lat_deg: 47.0,
+                    lon_deg: 8.0,
+                    alt_m: 500.0,
+                }),
+                vel_ned_mps: Some([1.0, 2.0, -0.5]),
+                ..Default::default()
+            }),
+            attitude: Some(AttitudeGroup {
+                ypr_u: Some(Ypr {
+                    yaw_deg: 0.5,
+                    pitch_deg: 0.1,
+                    roll_deg: 0.2,
+                }),
+                ..Default::default()
+            }),
+            ins: Some(InsGroup {
+                pos_u_m: Some(2.5),
+                vel_u_mps: Some(0.05),
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        let s = Vn200Sample::from_output(&time(), &out).unwrap();
+        let (y, p, r) = super::super::angles::to_ypr(&s.attitude);
+        assert!((y - 30.0 * DEG).abs() < 1e-6 && p.abs() < 1e-7 && r.abs() < 1e-7);
+        let u = s.ypr_sigma_rad.unwrap();
+        assert!((u[0] - 0.5 * DEG).abs() < 1e-9 && (u[2] - 0.2 * DEG).abs() < 1e-8);
+        assert_eq!(s.lla, Some([47.0, 8.0, 500.0]));
+        assert_eq!(s.vel_ned_mps, Some([1.0, 2.0, -0.5]));
+        assert_eq!(s.pos_u_m, Some(2.5));
+        assert_eq!((s.t_gps_ns, s.sigma_ns), (1_000, 50.0));
+        // Without InsStatus (validity unknown) or without attitude: no sample.
+        let mut no_status = out.clone();
+        no_status.common.as_mut().unwrap().ins_status = None;
+        assert!(Vn200Sample::from_output(&time(), &no_status).is_none());
+        assert!(Vn200Sample::from_output(&time(), &BinaryOutput::default()).is_none());
+    }
+
+    #[test]
+    fn bahrs_sample_from_messages() {
+        use vigil_drivers::bahrs::InertialHealth;
+        let h = NavigationHealth::new(
+            Health::Safe,
+            Health::Safe,
+            Health::Safe,
+            Health::Safe,
+            Health::Safe,
+        );
+        let nav = Navigation::from_si(1, 600.0, -1.0, 10.0 * DEG, 2.0 * DEG, 350.0 * DEG, h);
+        // Accuracy raw 100 LSB = 100 x 9.587526e-5 rad (the document's angle LSB) = 0.5493 deg;
+        // heading 0 = invalid.
+        let acc = Accuracy {
+            seq: 1,
+            std_north_raw: 100,
+            std_east_raw: 100,
+            std_heading_raw: 0,
+            mcu_time_us: 0,
+        };
+        let safe = [Health::Safe; 3];
+        let mut rate_h = safe;
+        let inertial = Inertial::from_si(
+            1,
+            [0.0; 3],
+            [0.01, 0.02, 0.03],
+            InertialHealth::new(safe, safe),
+        );
+        let s = BahrsSample::new(&time(), &nav, Some(&acc), Some(&inertial));
+        let a = s.accuracy_rad.unwrap();
+        assert!((a[0].unwrap() - 100.0 * 9.587_526e-5).abs() < 1e-15);
+        assert_eq!(a[2], None);
+        assert!((s.roll_rad - 10.0 * DEG).abs() < 1e-4);
+        assert!((s.heading_mag_rad - 350.0 * DEG).abs() < 1e-4);
+        assert!(s.rates_radps.is_some());
+        // A rate axis not safe: no rates (the timing term falls back to another unit).
+        rate_h[1] = Health::IntegrityRisk;
+        let inertial = Inertial::from_si(
+            1,
+            [0.0; 3],
+            [0.01, 0.02, 0.03],
+            InertialHealth::new(safe, rate_h),
+        );
+        let s = BahrsSample::new(&time(), &nav, None, Some(&inertial));
+        assert!(s.rates_radps.is_none() && s.accuracy_rad.is_none());
+    }
 }
