@@ -32,8 +32,6 @@ const DEG: f64 = std::f64::consts::PI / 180.0;
 const MAX_HISTORY: usize = 256;
 /// BAHRS samples waiting for the other units, at most.
 const MAX_PENDING: usize = 256;
-/// A pair not compared for longer than this forgets its persistence state, ns.
-const RESET_AFTER_NS: i64 = 5_000_000_000;
 
 #[derive(Debug, Clone, Copy, Default)]
 struct PairAxisState {
@@ -320,7 +318,7 @@ impl AttitudeChecker {
                 };
                 if st
                     .last_compared_ns
-                    .is_some_and(|t0| t.saturating_sub(t0) > RESET_AFTER_NS)
+                    .is_some_and(|t0| t.saturating_sub(t0) as f64 * 1e-9 > p.reset_after_gap_s)
                 {
                     st.stat.reset();
                     st.fixed.reset();

@@ -18,6 +18,7 @@
 //! | `vn200_period_s`           | s      | 0.001 .. 1     | 0.02 (50 Hz)       |
 //! | `watson_period_s`          | s      | 0.01 .. 1      | 0.0844 (11.85 Hz)  |
 //! | `frozen_window_s`          | s      | 0.1 .. 10      | 1                  |
+//! | `reset_after_gap_s`        | s      | 1 .. 600       | 5                  |
 //! | `bahrs_default_sigma_*_deg`| deg    | 0.01 .. 10     | tilt 0.5, heading 2|
 //! | `vn200_default_sigma_*_deg`| deg    | 0.01 .. 10     | tilt 0.3, heading 1|
 //! | `watson_sigma_*_deg`       | deg    | 0.01 .. 10     | tilt 0.75, heading 2|
@@ -124,6 +125,8 @@ pub struct CheckParams {
     pub bahrs_period_s: f64,
     /// Identical values over this window mean a frozen output, s.
     pub frozen_window_s: f64,
+    /// A pair not compared for longer than this forgets its persistence state, s.
+    pub reset_after_gap_s: f64,
     /// BAHRS sigmas used until its first 0x03.
     pub bahrs_default_sigma: AxisSigmas,
     /// VN-200 sigmas used when YprU is absent.
@@ -157,6 +160,7 @@ impl Default for CheckParams {
             watson_period_s: 1.0 / 11.85,
             bahrs_period_s: 0.02,
             frozen_window_s: 1.0,
+            reset_after_gap_s: 5.0,
             bahrs_default_sigma: AxisSigmas {
                 tilt_deg: 0.5,
                 heading_deg: 2.0,
@@ -195,7 +199,7 @@ pub struct ParamError {
 impl CheckParams {
     /// Checks every parameter against its range.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let checks: [(&'static str, f64, f64, f64); 16] = [
+        let checks: [(&'static str, f64, f64, f64); 17] = [
             ("p_false_alarm", self.p_false_alarm, 1e-12, 0.1),
             ("limit_pitch_deg", self.limit_pitch_deg, 0.5, 30.0),
             ("limit_roll_deg", self.limit_roll_deg, 0.5, 30.0),
@@ -241,6 +245,7 @@ impl CheckParams {
             ("watson_period_s", self.watson_period_s, 0.01, 1.0),
             ("bahrs_period_s", self.bahrs_period_s, 0.001, 1.0),
             ("frozen_window_s", self.frozen_window_s, 0.1, 10.0),
+            ("reset_after_gap_s", self.reset_after_gap_s, 1.0, 600.0),
             (
                 "declination_refresh_s",
                 self.declination_refresh_s,
