@@ -508,3 +508,26 @@ fn arbitrary_samples_never_panic_and_non_finite_values_are_gated() {
     }
     assert_eq!(count, 6667);
 }
+
+#[test]
+fn with_two_units_a_disagreement_is_detected_but_not_isolated() {
+    // No Watson at all: the BAHRS roll ramp is detected on the one pair left, and nobody is
+    // blamed (nothing says which of the two is right).
+    let sc = Scenario {
+        duration_s: 80.0,
+        roll_ramp: Some((60.0, 0.5)),
+        watson_stops_s: Some(0.0),
+        ..Default::default()
+    };
+    let recs = run(sc, &mut checker_with(fixed(3.0)));
+    assert_eq!(recs.len(), 4000);
+    assert!(
+        recs.iter()
+            .filter(|(t, _)| *t < 60.0)
+            .all(|(_, r)| !r.fault)
+    );
+    let (_, r) = recs.last().unwrap();
+    assert_eq!(r.watson.gates.roll, Some(super::gates::GateReason::NoData));
+    assert_eq!(r.isolation.roll, Isolation::DetectedNotIsolated);
+    assert!(r.fault && r.isolated.is_none() && !r.multiple_fault);
+}
