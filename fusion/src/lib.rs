@@ -5,6 +5,7 @@
 
 pub mod attitude;
 pub mod geometry;
+pub mod magnetic;
 pub mod ownship;
 pub mod time;
 pub mod traffic;

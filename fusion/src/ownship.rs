@@ -1,11 +1,18 @@
-//! The ownship state the traffic picture is computed against.
+//! The ownship state the traffic picture is computed against (issue 8, "Ownship").
 //!
-//! (The attitude issue fills it from the VN-200 INS, the TT-Multi-RF GNSS fallback and the BAHRS
-//! pressure altitude; here it is the input contract of the traffic fusion.)
+//! [`Ownship`] is the input contract of the traffic fusion. [`OwnshipBuilder`] fills it:
+//! position and velocity from the VN-200 INS while it is Tracking, else from the TT-Multi-RF's own
+//! GNSS (JSON `gnss` section or NMEA GGA/RMC), each with its source and uncertainty; pressure
+//! altitude from the BAHRS (for comparison with intruders' barometric altitude), geometric
+//! altitude from the same source as the position; attitude and heading from the cross-check's
+//! vote. The builder lives in [`builder`].
 
 use serde::Serialize;
 
 use crate::geometry::AircraftState;
+
+pub mod builder;
+pub use builder::{OwnshipBuilder, OwnshipParams, OwnshipSolution};
 
 /// Where the ownship position came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

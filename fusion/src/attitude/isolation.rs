@@ -163,4 +163,27 @@ mod tests {
             Isolation::Isolated(Unit::Bahrs)
         );
     }
+
+    #[test]
+    fn every_combination_on_heading_with_a_healthy_and_an_unhealthy_vn200() {
+        // On heading, the only difference from the other axes: BAHRS-VN200 and VN200-Watson fail
+        // while BAHRS-Watson passes -> magnetic disturbance when the VN-200 is healthy, VN-200
+        // isolated when it is not. Every other combination is as on roll and pitch.
+        let verdicts = [Pass, Fail, Nc];
+        for healthy in [true, false] {
+            for bv in verdicts {
+                for bw in verdicts {
+                    for vw in verdicts {
+                        let pairs = p(bv, bw, vw);
+                        let got = isolate(&pairs, true, healthy);
+                        let expected = match (bv, bw, vw) {
+                            (Fail, Pass, Fail) if healthy => Isolation::MagneticDisturbance,
+                            _ => isolate(&pairs, false, healthy),
+                        };
+                        assert_eq!(got, expected, "{bv:?} {bw:?} {vw:?} healthy {healthy}");
+                    }
+                }
+            }
+        }
+    }
 }

@@ -1,0 +1,732 @@
+//! The stateful cross-check (issue 8): BAHRS, VN-200 and Watson samples go in, one
+//! [`AttitudeRecord`] per BAHRS sample comes out.
+//!
+//! Comparisons happen at each BAHRS sample time. The VN-200 and the Watson are interpolated on
+//! the rotation group (slerp) between their samples around that time. Samples arrive in any
+//! interleaving, so a BAHRS sample waits until both other units have a sample after it, or until
+//! waiting longer could not help (a unit later than its freshness limit is "stale"). Records come
+//! out in BAHRS time order; [`AttitudeChecker::finish`] releases the rest at the end of a stream.
+//!
+//! Magnetic headings (BAHRS, Watson) become true by adding the declination at the VN-200
+//! position (or a fallback position from the ownship) from a [`DeclinationModel`], refreshed every
+//! `declination_refresh_s` or after about 10 km. Mounting offsets are removed from every unit.
+
+use std::collections::VecDeque;
+
+use nalgebra::UnitQuaternion;
+
+use super::angles::{from_ypr, interpolate, to_ypr, wrap_2pi};
+use super::compare::{Axis, VarianceTerms, compare_axis, euler_rates, tilt_variances, unmount};
+use super::gates::{self, FrozenDetector, Gate, GateReason};
+use super::isolation::{Isolation, PairVerdict, Pairs, Unit, isolate};
+use super::params::{CheckParams, ParamError};
+use super::persistence::Persistence;
+use super::record::*;
+use super::samples::{BahrsSample, Vn200Sample, WatsonSample};
+use super::vertical::{VerticalChannel, Vn200Vertical};
+use super::vote::vote;
+use crate::magnetic::{Declination, DeclinationModel, MagneticZone};
+
+const DEG: f64 = std::f64::consts::PI / 180.0;
+/// History kept per unit, samples (bounded memory).
+const MAX_HISTORY: usize = 256;
+/// BAHRS samples waiting for the other units, at most.
+const MAX_PENDING: usize = 256;
+
+#[derive(Debug, Clone, Copy, Default)]
+struct PairAxisState {
+    stat: Persistence,
+    fixed: Persistence,
+    last_compared_ns: Option<i64>,
+}
+
+/// A unit's attitude at the comparison time, ready to compare.
+#[derive(Debug, Clone, Copy)]
+struct Prepared {
+    /// Roll, pitch, true heading, rad (after mounting and declination).
+    values: Option<[f64; 3]>,
+    heading_mag: Option<f64>,
+    /// Variances roll, pitch, heading, rad^2.
+    var: [f64; 3],
+    gates: [Gate; 3],
+    sigma_ns: f64,
+    age_s: Option<f64>,
+    rates: Option<[f64; 3]>,
+}
+
+struct DeclinationCache {
+    t_ns: i64,
+    lat_deg: f64,
+    lon_deg: f64,
+    value: Option<Declination>,
+}
+
+/// The attitude and health cross-check (see the module documentation).
+pub struct AttitudeChecker {
+    params: CheckParams,
+    k_axis: f64,
+    k_joint: f64,
+    model: Box<dyn DeclinationModel + Send>,
+    vn: VecDeque<(Vn200Sample, bool)>,
+    watson: VecDeque<(WatsonSample, bool)>,
+    pending: VecDeque<(BahrsSample, bool)>,
+    frozen: [FrozenDetector; 3],
+    decl: Option<DeclinationCache>,
+    fallback_position: Option<[f64; 3]>,
+    /// [pair][axis]: pairs BAHRS-VN200, BAHRS-Watson, VN200-Watson; axes roll, pitch, heading.
+    pairs: [[PairAxisState; 3]; 3],
+    joint: [Persistence; 3],
+    last_t_ns: Option<i64>,
+    vertical: VerticalChannel,
+    finished: bool,
+}
+
+impl AttitudeChecker {
+    /// A checker with the given parameters and declination model.
+    pub fn new(
+        params: CheckParams,
+        model: Box<dyn DeclinationModel + Send>,
+    ) -> Result<Self, ParamError> {
+        params.validate()?;
+        Ok(Self {
+            k_axis: params.axis_threshold(),
+            k_joint: params.joint_threshold(),
+            params,
+            model,
+            vn: VecDeque::new(),
+            watson: VecDeque::new(),
+            pending: VecDeque::new(),
+            frozen: Default::default(),
+            decl: None,
+            fallback_position: None,
+            pairs: Default::default(),
+            joint: Default::default(),
+            last_t_ns: None,
+            vertical: VerticalChannel::default(),
+            finished: false,
+        })
+    }
+
+    /// The parameters in force.
+    pub fn params(&self) -> &CheckParams {
+        &self.params
+    }
+
+    /// A position (lat deg, lon deg, height m) for the declination when the VN-200 has none
+    /// (e.g. the TT-Multi-RF GNSS through the ownship).
+    pub fn set_fallback_position(&mut self, lla: Option<[f64; 3]>) {
+        self.fallback_position = lla;
+    }
+
+    /// Adds a BAHRS navigation sample (it is compared once the others catch up).
+    pub fn push_bahrs(&mut self, s: BahrsSample) {
+        let f = self.frozen[0].update(
+            [
+                s.roll_rad,
+                s.pitch_rad,
+                s.heading_mag_rad,
+                s.velocity_down_mps,
+            ],
+            s.t_gps_ns,
+            self.params.frozen_window_s,
+        );
+        self.pending.push_back((s, f));
+    }
+
+    /// Adds a VN-200 sample.
+    pub fn push_vn200(&mut self, s: Vn200Sample) {
+        let q = s.attitude.quaternion();
+        let f = self.frozen[1].update(
+            [q.w, q.i, q.j, q.k],
+            s.t_gps_ns,
+            self.params.frozen_window_s,
+        );
+        push_sorted(&mut self.vn, (s, f), |x| x.0.t_gps_ns);
+    }
+
+    /// Adds a Watson sample.
+    pub fn push_watson(&mut self, s: WatsonSample) {
+        let f = self.frozen[2].update(
+            [s.roll_rad, s.pitch_rad, s.heading_mag_rad, s.rates_radps[2]],
+            s.t_gps_ns,
+            self.params.frozen_window_s,
+        );
+        push_sorted(&mut self.watson, (s, f), |x| x.0.t_gps_ns);
+    }
+
+    /// Marks the end of the stream: every pending BAHRS sample is compared now.
+    pub fn finish(&mut self) {
+        self.finished = true;
+    }
+
+    fn horizon_ns(&self, period_s: f64) -> i64 {
+        (self.params.max_age_periods * period_s * 1e9) as i64
+    }
+
+    /// The next record, when a pending BAHRS sample can be compared.
+    pub fn next_record(&mut self) -> Option<AttitudeRecord> {
+        let &(b, _) = self.pending.front()?;
+        let newest = [
+            self.pending.back().map(|x| x.0.t_gps_ns),
+            self.vn.back().map(|x| x.0.t_gps_ns),
+            self.watson.back().map(|x| x.0.t_gps_ns),
+        ]
+        .into_iter()
+        .flatten()
+        .max()
+        .unwrap_or(b.t_gps_ns);
+        let waited = newest.saturating_sub(b.t_gps_ns);
+        let ready = |latest: Option<i64>, horizon: i64| {
+            latest.is_some_and(|t| t >= b.t_gps_ns) || waited > horizon
+        };
+        let go = self.finished
+            || self.pending.len() > MAX_PENDING
+            || (ready(
+                self.vn.back().map(|x| x.0.t_gps_ns),
+                self.horizon_ns(self.params.vn200_period_s),
+            ) && ready(
+                self.watson.back().map(|x| x.0.t_gps_ns),
+                self.horizon_ns(self.params.watson_period_s),
+            ));
+        if !go {
+            return None;
+        }
+        let (b, frozen) = self.pending.pop_front()?;
+        let rec = self.compare_at(&b, frozen);
+        prune(&mut self.vn, b.t_gps_ns, |x| x.0.t_gps_ns);
+        prune(&mut self.watson, b.t_gps_ns, |x| x.0.t_gps_ns);
+        Some(rec)
+    }
+
+    fn declination(&mut self, t_ns: i64) -> Option<Declination> {
+        let pos = self
+            .vn
+            .iter()
+            .rev()
+            .find(|x| x.0.ins_status.position_valid())
+            .and_then(|x| x.0.lla)
+            .or(self.fallback_position)?;
+        let refresh_ns = (self.params.declination_refresh_s * 1e9) as i64;
+        let stale = match &self.decl {
+            None => true,
+            Some(c) => {
+                t_ns.saturating_sub(c.t_ns).unsigned_abs() > refresh_ns.unsigned_abs()
+                    || (pos[0] - c.lat_deg).abs() > 0.1
+                    || ((pos[1] - c.lon_deg) * (pos[0] * DEG).cos()).abs() > 0.1
+            }
+        };
+        if stale {
+            // A refused query is remembered too, so it is retried at the refresh period only.
+            let value = self.model.declination(pos[0], pos[1], pos[2], t_ns).ok();
+            self.decl = Some(DeclinationCache {
+                t_ns,
+                lat_deg: pos[0],
+                lon_deg: pos[1],
+                value,
+            });
+        }
+        self.decl.as_ref().and_then(|c| c.value)
+    }
+
+    /// One comparison step at the BAHRS sample `b` against the buffered VN-200 and Watson
+    /// samples (`frozen`: the BAHRS frozen detector's verdict for `b`).
+    pub fn compare_at(&mut self, b: &BahrsSample, frozen: bool) -> AttitudeRecord {
+        let p = self.params;
+        let t = b.t_gps_ns;
+        let dt_s = match self.last_t_ns {
+            Some(t0) if t > t0 => (t.saturating_sub(t0) as f64 * 1e-9).min(1.0),
+            _ => p.bahrs_period_s,
+        };
+        self.last_t_ns = Some(t);
+        let decl = self.declination(t);
+        let mag_gate = match decl {
+            None => Some(GateReason::NoDeclination),
+            Some(d) if d.zone != MagneticZone::Normal => Some(GateReason::MagneticPole),
+            Some(_) => None,
+        };
+        let d_rad = decl.map(|d| d.declination_rad).unwrap_or(0.0);
+        let rz = UnitQuaternion::from_euler_angles(0.0, 0.0, d_rad);
+
+        // BAHRS.
+        let bq = unmount(
+            &(rz * from_ypr(b.heading_mag_rad, b.pitch_rad, b.roll_rad)),
+            &p.mounting_bahrs,
+        );
+        let mut bg = gates::bahrs_source(b);
+        if frozen {
+            bg = bg.map(|g| g.or(Some(GateReason::Frozen)));
+        }
+        bg[2] = bg[2].or(mag_gate);
+        let (sn, se, sh) = match b.accuracy_rad {
+            Some([n, e, h]) => (n.unwrap_or(0.0), e.unwrap_or(0.0), h.unwrap_or(0.0)),
+            None => (
+                p.bahrs_default_sigma.tilt_deg * DEG,
+                p.bahrs_default_sigma.tilt_deg * DEG,
+                p.bahrs_default_sigma.heading_deg * DEG,
+            ),
+        };
+        let (vr, vp) = tilt_variances(sn, se, b.heading_mag_rad + d_rad);
+        let bahrs = Prepared {
+            values: Some(ypr_to_rph(&bq)),
+            heading_mag: Some(b.heading_mag_rad),
+            var: [vr, vp, sh * sh],
+            gates: bg,
+            sigma_ns: b.sigma_ns,
+            age_s: None,
+            rates: b.rates_radps,
+        };
+
+        // VN-200.
+        let (vn, vn_healthy, vn_vertical) = self.prepare_vn200(t);
+        // Watson.
+        let watson = self.prepare_watson(t, &rz, mag_gate);
+
+        // Timing term: Euler rates from the first unit that has body rates.
+        let euler = [bahrs.rates, vn.rates, watson.rates]
+            .into_iter()
+            .flatten()
+            .next()
+            .map(|r| euler_rates(r, b.roll_rad, b.pitch_rad))
+            .unwrap_or([0.0; 3]);
+        let decl_var = decl.map(|d| d.sigma_rad * d.sigma_rad).unwrap_or(0.0);
+        let mount = [
+            p.mounting_bahrs.sigma_deg * DEG,
+            p.mounting_vn200.sigma_deg * DEG,
+            p.mounting_watson.sigma_deg * DEG,
+        ];
+        let units = [&bahrs, &vn, &watson];
+        let pair_units = [(0, 1), (0, 2), (1, 2)];
+        let mut pair_records = [[None; 3]; 3];
+        let mut joint_records = [None; 3];
+        for (pi, &(ia, ib)) in pair_units.iter().enumerate() {
+            let (ua, ub) = (units[ia], units[ib]);
+            let mut zs = [None; 3];
+            for (ai, axis) in Axis::ALL.into_iter().enumerate() {
+                let st = &mut self.pairs[pi][ai];
+                let open = ua.gates[ai].is_none() && ub.gates[ai].is_none();
+                let (Some(va), Some(vb), true) = (ua.values, ub.values, open) else {
+                    pair_records[pi][ai] = Some(AxisPair {
+                        verdict: PairVerdict::NotCompared,
+                        comparison: None,
+                        stat_exceeded: false,
+                        fixed_exceeded: false,
+                        stat_fault: st.stat.fault,
+                        fixed_fault: st.fixed.fault,
+                        cusum: st.stat.cusum,
+                    });
+                    continue;
+                };
+                if st
+                    .last_compared_ns
+                    .is_some_and(|t0| t.saturating_sub(t0) as f64 * 1e-9 > p.reset_after_gap_s)
+                {
+                    st.stat.reset();
+                    st.fixed.reset();
+                }
+                st.last_compared_ns = Some(t);
+                // Exactly one magnetic unit in the pair: the declination error shows.
+                let one_magnetic = (ia == 1) != (ib == 1);
+                let ts = (ua.sigma_ns.powi(2) + ub.sigma_ns.powi(2)).sqrt() * 1e-9;
+                let var = VarianceTerms {
+                    a: ua.var[ai],
+                    b: ub.var[ai],
+                    mounting: mount[ia].powi(2) + mount[ib].powi(2),
+                    rate_radps: euler[ai],
+                    timing_sigma_s: ts,
+                    declination: if axis == Axis::Heading && one_magnetic {
+                        decl_var
+                    } else {
+                        0.0
+                    },
+                };
+                let bank = 0.5 * (va[0] + vb[0]);
+                let c = compare_axis(&p, axis, va[ai], vb[ai], &var, self.k_axis, bank);
+                // The CUSUM gets z clamped to the threshold: it is the slow-drift detector, and a
+                // glitch of a sample or two must not declare through it. It then declares no
+                // sooner than limit / (k - slack) samples (25 at the defaults, 0.5 s at 50 Hz).
+                let zc = c.z.clamp(-self.k_axis, self.k_axis);
+                let sf = st.stat.update(c.stat_ratio, zc, dt_s, &p.persistence);
+                let ff = st.fixed.update(c.fixed_ratio, 0.0, dt_s, &p.persistence);
+                zs[ai] = Some(c.z);
+                pair_records[pi][ai] = Some(AxisPair {
+                    verdict: if sf || ff {
+                        PairVerdict::Fail
+                    } else {
+                        PairVerdict::Pass
+                    },
+                    comparison: Some(c),
+                    stat_exceeded: c.stat_ratio > 1.0,
+                    fixed_exceeded: c.fixed_ratio > 1.0,
+                    stat_fault: sf,
+                    fixed_fault: ff,
+                    cusum: st.stat.cusum,
+                });
+            }
+            joint_records[pi] = Some(match zs {
+                [Some(a), Some(b2), Some(c)] => {
+                    let chi2 = a * a + b2 * b2 + c * c;
+                    let ratio = chi2 / self.k_joint;
+                    let f = self.joint[pi].update(ratio, 0.0, dt_s, &p.persistence);
+                    JointTest {
+                        chi2: Some(chi2),
+                        ratio: Some(ratio),
+                        verdict: if f {
+                            PairVerdict::Fail
+                        } else {
+                            PairVerdict::Pass
+                        },
+                    }
+                }
+                _ => JointTest {
+                    chi2: None,
+                    ratio: None,
+                    verdict: PairVerdict::NotCompared,
+                },
+            });
+        }
+        let pr = |pi: usize| {
+            let a = |ai: usize| pair_records[pi][ai].unwrap_or_else(not_compared_pair);
+            PairRecord {
+                roll: a(0),
+                pitch: a(1),
+                heading: a(2),
+                joint: joint_records[pi].unwrap_or(JointTest {
+                    chi2: None,
+                    ratio: None,
+                    verdict: PairVerdict::NotCompared,
+                }),
+            }
+        };
+        let pairs = PairsRecord {
+            bahrs_vn200: pr(0),
+            bahrs_watson: pr(1),
+            vn200_watson: pr(2),
+        };
+        let verdicts = |f: &dyn Fn(&PairRecord) -> PairVerdict| Pairs {
+            bahrs_vn200: f(&pairs.bahrs_vn200),
+            bahrs_watson: f(&pairs.bahrs_watson),
+            vn200_watson: f(&pairs.vn200_watson),
+        };
+        let isolation = IsolationRecord {
+            roll: isolate(&verdicts(&|r| r.roll.verdict), false, vn_healthy),
+            pitch: isolate(&verdicts(&|r| r.pitch.verdict), false, vn_healthy),
+            heading: isolate(&verdicts(&|r| r.heading.verdict), true, vn_healthy),
+            joint: Isolation::NoFault,
+        };
+        // The joint test includes the heading: when the heading alone is a magnetic disturbance,
+        // the same rule keeps the joint test from isolating a healthy VN-200.
+        let isolation = IsolationRecord {
+            joint: isolate(
+                &verdicts(&|r| r.joint.verdict),
+                isolation.heading == Isolation::MagneticDisturbance,
+                vn_healthy,
+            ),
+            ..isolation
+        };
+        let all = [
+            isolation.roll,
+            isolation.pitch,
+            isolation.heading,
+            isolation.joint,
+        ];
+        let mut isolated: Option<Unit> = None;
+        let mut multiple = false;
+        let mut fault = false;
+        for i in all {
+            match i {
+                Isolation::NoFault | Isolation::NotCompared | Isolation::MagneticDisturbance => {}
+                Isolation::DetectedNotIsolated => fault = true,
+                Isolation::MultipleFault => {
+                    fault = true;
+                    multiple = true;
+                }
+                Isolation::Isolated(u) => {
+                    fault = true;
+                    match isolated {
+                        Some(v) if v != u => multiple = true,
+                        _ => isolated = Some(u),
+                    }
+                }
+            }
+        }
+        if multiple {
+            isolated = None;
+        }
+        // The vote: units open on the axis and not isolated on it.
+        let iso_axis = [isolation.roll, isolation.pitch, isolation.heading];
+        let names = [Unit::Bahrs, Unit::Vn200, Unit::Watson];
+        let mut voted = [None, None, None];
+        for (ai, v) in voted.iter_mut().enumerate() {
+            let cands: Vec<(Unit, f64)> = units
+                .iter()
+                .zip(names)
+                .filter(|(u, n)| u.gates[ai].is_none() && iso_axis[ai] != Isolation::Isolated(*n))
+                .filter_map(|(u, n)| u.values.map(|x| (n, x[ai])))
+                .collect();
+            *v = vote(&cands, ai == 2);
+        }
+        let [vr, vpi, vh] = voted;
+        let vertical = self.vertical.update(b, &vn_vertical, dt_s, self.k_axis, &p);
+        let h = b.health;
+        let bahrs_integrity_risk = [
+            h.roll(),
+            h.pitch(),
+            h.heading(),
+            h.velocity_down(),
+            h.pressure_height(),
+        ]
+        .contains(&vigil_drivers::bahrs::Health::IntegrityRisk);
+        AttitudeRecord {
+            kind: KIND,
+            t_gps_ns: t,
+            fault,
+            isolated,
+            multiple_fault: multiple,
+            magnetic_disturbance: isolation.heading == Isolation::MagneticDisturbance,
+            bahrs_integrity_risk,
+            vn200_healthy: vn_healthy,
+            bahrs: unit_values(&bahrs),
+            vn200: unit_values(&vn),
+            watson: unit_values(&watson),
+            declination: decl.map(|d| DeclinationRecord {
+                declination_deg: d.declination_rad / DEG,
+                sigma_deg: d.sigma_rad / DEG,
+                horizontal_nt: d.horizontal_nt,
+                zone: d.zone,
+            }),
+            pairs,
+            isolation,
+            voted: Voted {
+                roll: vr,
+                pitch: vpi,
+                heading: vh,
+            },
+            vertical,
+        }
+    }
+
+    fn prepare_vn200(&self, t: i64) -> (Prepared, bool, Vn200Vertical) {
+        let p = &self.params;
+        let horizon = self.horizon_ns(p.vn200_period_s);
+        let (prev, next) = bracket(&self.vn, t, |x| x.0.t_gps_ns);
+        let none = |g: GateReason| {
+            (
+                Prepared {
+                    values: None,
+                    heading_mag: None,
+                    var: [0.0; 3],
+                    gates: [Some(g); 3],
+                    sigma_ns: 0.0,
+                    age_s: None,
+                    rates: None,
+                },
+                false,
+                Vn200Vertical {
+                    vel_down_mps: None,
+                    alt_m: None,
+                    vel_u_mps: None,
+                    gate: Some(g),
+                },
+            )
+        };
+        let Some(&(s0, f0)) = prev else {
+            return none(GateReason::NoData);
+        };
+        let age_ns = t.saturating_sub(s0.t_gps_ns);
+        let (q, frozen, gate_src, lin) = match next {
+            Some(&(s1, f1)) => {
+                let span = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64;
+                let u = if span > 0.0 {
+                    age_ns as f64 / span
+                } else {
+                    0.0
+                };
+                let q = interpolate(0.0, &s0.attitude, 1.0, &s1.attitude, u);
+                (
+                    q,
+                    f0 || f1,
+                    gates::vn200_source(&s0).or(gates::vn200_source(&s1)),
+                    Some((s1, u)),
+                )
+            }
+            None => (s0.attitude, f0, gates::vn200_source(&s0), None),
+        };
+        let mut gate = gate_src;
+        if age_ns > horizon {
+            gate = gate.or(Some(GateReason::Stale));
+        }
+        if frozen {
+            gate = gate.or(Some(GateReason::Frozen));
+        }
+        let q = unmount(&q, &p.mounting_vn200);
+        let values = ypr_to_rph(&q);
+        if !values.iter().all(|v| v.is_finite()) {
+            gate = gate.or(Some(GateReason::NotFinite));
+        }
+        let sig = s0
+            .ypr_sigma_rad
+            .filter(|s| s.iter().all(|x| x.is_finite() && *x > 0.0))
+            .unwrap_or([
+                p.vn200_default_sigma.heading_deg * DEG,
+                p.vn200_default_sigma.tilt_deg * DEG,
+                p.vn200_default_sigma.tilt_deg * DEG,
+            ]);
+        let healthy = gates::vn200_healthy(&s0);
+        // Vertical: linear interpolation of down velocity and altitude.
+        let lerp = |a: Option<f64>, b: Option<f64>| match (a, b, lin) {
+            (Some(a), Some(b), Some((_, u))) => Some(a + (b - a) * u),
+            (Some(a), _, None) => Some(a),
+            _ => None,
+        };
+        let s1 = lin.map(|x| x.0);
+        let vert_gate = if !s0.ins_status.position_valid() {
+            Some(GateReason::InsModeNoAttitude)
+        } else if s0.ins_status.imu_error() {
+            Some(GateReason::InsErrorBits)
+        } else if age_ns > horizon {
+            Some(GateReason::Stale)
+        } else {
+            None
+        };
+        let vertical = Vn200Vertical {
+            vel_down_mps: lerp(
+                s0.vel_ned_mps.map(|v| v[2]),
+                s1.and_then(|s| s.vel_ned_mps).map(|v| v[2]),
+            ),
+            alt_m: lerp(s0.lla.map(|l| l[2]), s1.and_then(|s| s.lla).map(|l| l[2])),
+            vel_u_mps: s0.vel_u_mps,
+            gate: vert_gate,
+        };
+        (
+            Prepared {
+                values: Some(values),
+                heading_mag: None,
+                var: [sig[2] * sig[2], sig[1] * sig[1], sig[0] * sig[0]],
+                gates: [gate; 3],
+                sigma_ns: s0.sigma_ns,
+                age_s: Some(age_ns as f64 * 1e-9),
+                rates: s0.rates_radps,
+            },
+            healthy,
+            vertical,
+        )
+    }
+
+    fn prepare_watson(&self, t: i64, rz: &UnitQuaternion<f64>, mag_gate: Gate) -> Prepared {
+        let p = &self.params;
+        let horizon = self.horizon_ns(p.watson_period_s);
+        let (prev, next) = bracket(&self.watson, t, |x| x.0.t_gps_ns);
+        let Some(&(s0, f0)) = prev else {
+            return Prepared {
+                values: None,
+                heading_mag: None,
+                var: [0.0; 3],
+                gates: [Some(GateReason::NoData); 3],
+                sigma_ns: 0.0,
+                age_s: None,
+                rates: None,
+            };
+        };
+        let q_of = |s: &WatsonSample| from_ypr(s.heading_mag_rad, s.pitch_rad, s.roll_rad);
+        let age_ns = t.saturating_sub(s0.t_gps_ns);
+        let (q, frozen, gate_src) = match next {
+            Some(&(s1, f1)) => {
+                let span = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64;
+                let u = if span > 0.0 {
+                    age_ns as f64 / span
+                } else {
+                    0.0
+                };
+                (
+                    interpolate(0.0, &q_of(&s0), 1.0, &q_of(&s1), u),
+                    f0 || f1,
+                    gates::watson_source(&s0).or(gates::watson_source(&s1)),
+                )
+            }
+            None => (q_of(&s0), f0, gates::watson_source(&s0)),
+        };
+        let mut gate = gate_src;
+        if age_ns > horizon {
+            gate = gate.or(Some(GateReason::Stale));
+        }
+        if frozen {
+            gate = gate.or(Some(GateReason::Frozen));
+        }
+        let (hm, _, _) = to_ypr(&q);
+        let q = unmount(&(rz * q), &p.mounting_watson);
+        let values = ypr_to_rph(&q);
+        if !values.iter().all(|v| v.is_finite()) {
+            gate = gate.or(Some(GateReason::NotFinite));
+        }
+        let (st, sh) = (
+            p.watson_sigma.tilt_deg * DEG,
+            p.watson_sigma.heading_deg * DEG,
+        );
+        Prepared {
+            values: Some(values),
+            heading_mag: Some(wrap_2pi(hm)),
+            var: [st * st, st * st, sh * sh],
+            gates: [gate, gate, gate.or(mag_gate)],
+            sigma_ns: s0.sigma_ns,
+            age_s: Some(age_ns as f64 * 1e-9),
+            rates: Some(s0.rates_radps),
+        }
+    }
+}
+
+fn not_compared_pair() -> AxisPair {
+    AxisPair {
+        verdict: PairVerdict::NotCompared,
+        comparison: None,
+        stat_exceeded: false,
+        fixed_exceeded: false,
+        stat_fault: false,
+        fixed_fault: false,
+        cusum: 0.0,
+    }
+}
+
+/// Roll, pitch, true heading in [0, 2 pi) of an attitude, rad.
+fn ypr_to_rph(q: &UnitQuaternion<f64>) -> [f64; 3] {
+    let (y, p, r) = to_ypr(q);
+    [r, p, wrap_2pi(y)]
+}
+
+fn unit_values(u: &Prepared) -> UnitValues {
+    UnitValues {
+        roll_deg: u.values.map(|v| v[0] / DEG),
+        pitch_deg: u.values.map(|v| v[1] / DEG),
+        heading_deg: u.values.map(|v| v[2] / DEG),
+        heading_mag_deg: u.heading_mag.map(|h| h / DEG),
+        sigma_deg: u.values.map(|_| u.var.map(|v| v.sqrt() / DEG)),
+        age_s: u.age_s,
+        gates: AxisGates {
+            roll: u.gates[0],
+            pitch: u.gates[1],
+            heading: u.gates[2],
+        },
+    }
+}
+
+/// The last element at or before `t` and the first after it.
+fn bracket<T>(h: &VecDeque<T>, t: i64, time: impl Fn(&T) -> i64) -> (Option<&T>, Option<&T>) {
+    let i = h.partition_point(|x| time(x) <= t);
+    (i.checked_sub(1).and_then(|j| h.get(j)), h.get(i))
+}
+
+/// Inserts keeping time order (samples normally arrive in order: O(1)); bounded.
+fn push_sorted<T>(h: &mut VecDeque<T>, x: T, time: impl Fn(&T) -> i64) {
+    let t = time(&x);
+    let i = h.partition_point(|y| time(y) <= t);
+    h.insert(i, x);
+    while h.len() > MAX_HISTORY {
+        h.pop_front();
+    }
+}
+
+/// Drops samples no longer needed once comparisons reached `t` (keeps the last one at or before).
+fn prune<T>(h: &mut VecDeque<T>, t: i64, time: impl Fn(&T) -> i64) {
+    while h.get(1).is_some_and(|x| time(x) <= t) {
+        h.pop_front();
+    }
+}

@@ -1,0 +1,350 @@
+//! Synthetic, time-ordered streams of the three units for the cross-check's tests and benchmark
+//! (issue 8, "Done when": the `bahrs-attitude-fault`, `nominal`, magnetic-disturbance and
+//! GNSS-loss behaviours), generated from an analytic truth so every expected value is known.
+//!
+//! Truth: 40 m/s, pitch 2 deg, a 120 s cycle of straight flight, a 30 s right turn at 3 deg/s,
+//! straight, a 30 s left turn (turn rate ramped over 3 s, bank coordinated
+//! `phi = atan(V psi_dot / g)`, about 12 deg), and a gentle climb/descent (1 m/s amplitude over
+//! 100 s). BAHRS at 50 Hz (raw messages through `Navigation::from_si`, so quantised like the
+//! wire), VN-200 at 50 Hz offset by 7 ms, Watson at 11.85 Hz rounded to 0.1 deg like its string.
+//! Magnetic units report `true - declination`.
+
+use vigil_drivers::bahrs::{
+    Accuracy, Health, Inertial, InertialHealth, Navigation, NavigationHealth,
+};
+use vigil_drivers::vn200::status::InsStatus;
+
+use super::angles::{from_ypr, to_ypr, wrap_2pi};
+use super::samples::{BahrsSample, Vn200Sample, WatsonSample};
+use crate::time::AlignedTime;
+use crate::time::{ClockStatus, TimeSource};
+
+const DEG: f64 = std::f64::consts::PI / 180.0;
+const G: f64 = 9.80665;
+const SPEED_MPS: f64 = 40.0;
+const TURN_RATE: f64 = 3.0 * DEG;
+const PITCH: f64 = 2.0 * DEG;
+
+/// What goes wrong, and when (s from the start).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scenario {
+    /// Length, s.
+    pub duration_s: f64,
+    /// Noise seed.
+    pub seed: u64,
+    /// GPS time of the start, ns.
+    pub t0_gps_ns: i64,
+    /// Declination the magnetic units see, deg.
+    pub declination_deg: f64,
+    /// BAHRS roll bias ramp: start, s, and rate, deg/s.
+    pub roll_ramp: Option<(f64, f64)>,
+    /// BAHRS roll health "integrity risk" from, s.
+    pub integrity_risk_from_s: Option<f64>,
+    /// Magnetic disturbance on BAHRS and Watson heading: from, s, and offset, deg.
+    pub magnetic_disturbance: Option<(f64, f64)>,
+    /// VN-200 mode GnssLost (no position) from, s.
+    pub gnss_lost_from_s: Option<f64>,
+    /// Watson silent from, s.
+    pub watson_stops_s: Option<f64>,
+    /// Position of the aircraft (lat deg, lon deg, height m), fixed (attitude tests).
+    pub lla: [f64; 3],
+    /// VN-200 roll error step: from, s, and size, deg.
+    pub vn200_roll_step: Option<(f64, f64)>,
+    /// Watson pitch error step: from, s, and size, deg.
+    pub watson_pitch_step: Option<(f64, f64)>,
+    /// BAHRS mounting (yaw, pitch, roll offsets of its body frame), deg.
+    pub bahrs_mounting_deg: [f64; 3],
+}
+
+impl Default for Scenario {
+    fn default() -> Self {
+        Self {
+            duration_s: 120.0,
+            seed: 1,
+            // 2026-06-01 10:00:00 UTC (the simulator scenarios' start), GPS = UTC + 18 s.
+            t0_gps_ns: (crate::time::gps::days_from_civil(2026, 6, 1) * 86_400 + 36_000
+                - crate::time::gps::GPS_EPOCH_UNIX_S
+                + 18)
+                * 1_000_000_000,
+            declination_deg: 3.0,
+            roll_ramp: None,
+            integrity_risk_from_s: None,
+            magnetic_disturbance: None,
+            gnss_lost_from_s: None,
+            watson_stops_s: None,
+            lla: [47.40, 8.50, 600.0],
+            vn200_roll_step: None,
+            watson_pitch_step: None,
+            bahrs_mounting_deg: [0.0; 3],
+        }
+    }
+}
+
+/// One sample of one unit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Event {
+    /// BAHRS.
+    Bahrs(BahrsSample),
+    /// VN-200.
+    Vn200(Vn200Sample),
+    /// Watson.
+    Watson(WatsonSample),
+}
+
+/// Truth at `t` s: yaw (true), pitch, roll (rad), body rates p, q, r (rad/s), climb rate (m/s
+/// up) and height (m).
+pub fn truth(t: f64) -> ([f64; 3], [f64; 3], f64, f64) {
+    let cycle = t.rem_euclid(120.0);
+    // Normalised turn-rate profile and its integral over one 30 s turn.
+    let prof = |tau: f64| -> (f64, f64, f64) {
+        if !(0.0..=30.0).contains(&tau) {
+            return (0.0, 0.0, if tau > 30.0 { 27.0 } else { 0.0 });
+        }
+        if tau < 3.0 {
+            (tau / 3.0, 1.0 / 3.0, tau * tau / 6.0)
+        } else if tau <= 27.0 {
+            (1.0, 0.0, 1.5 + (tau - 3.0))
+        } else {
+            let u = tau - 27.0;
+            (1.0 - u / 3.0, -1.0 / 3.0, 25.5 + u - u * u / 6.0)
+        }
+    };
+    let (s1, ds1, i1) = prof(cycle - 30.0);
+    let (s2, ds2, i2) = prof(cycle - 90.0);
+    let s = s1 - s2;
+    let ds = ds1 - ds2;
+    let yaw = wrap_2pi(90.0 * DEG + TURN_RATE * (i1 - i2));
+    let psi_dot = TURN_RATE * s;
+    let k = SPEED_MPS * TURN_RATE / G;
+    let roll = (k * s).atan();
+    let roll_dot = k * ds / (1.0 + (k * s) * (k * s));
+    let (sp, cp) = roll.sin_cos();
+    let p = roll_dot - psi_dot * PITCH.sin();
+    let q = psi_dot * sp * PITCH.cos();
+    let r = psi_dot * cp * PITCH.cos();
+    let w = std::f64::consts::TAU / 100.0;
+    let climb = (w * t).sin();
+    let height = 600.0 - (w * t).cos() / w;
+    ([yaw, PITCH, roll], [p, q, r], climb, height)
+}
+
+/// A small deterministic Gaussian generator (xorshift64* and Box-Muller).
+#[derive(Debug, Clone)]
+pub struct Noise(u64);
+
+impl Noise {
+    /// Seeded generator.
+    pub fn new(seed: u64) -> Self {
+        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+    fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        ((self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    /// A standard normal value.
+    pub fn gauss(&mut self) -> f64 {
+        let (u1, u2) = (self.unit(), self.unit());
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+}
+
+/// The time-ordered stream of a scenario.
+pub struct Stream {
+    sc: Scenario,
+    noise: Noise,
+    k: [u64; 3],
+    seq: u8,
+}
+
+/// Stream periods, ns: BAHRS, VN-200, Watson.
+const PERIOD_NS: [f64; 3] = [20e6, 20e6, 1e9 / 11.85];
+/// Offsets of the first sample, ns.
+const OFFSET_NS: [f64; 3] = [0.0, 7e6, 3e6];
+
+impl Stream {
+    /// The stream of `sc`.
+    pub fn new(sc: Scenario) -> Self {
+        Self {
+            noise: Noise::new(sc.seed),
+            sc,
+            k: [0; 3],
+            seq: 0,
+        }
+    }
+
+    fn time(&self, t_rel_ns: f64, sigma_ns: f64, source: TimeSource) -> AlignedTime {
+        AlignedTime {
+            t_gps_ns: self.sc.t0_gps_ns + t_rel_ns as i64,
+            sigma_ns,
+            source,
+            status: ClockStatus::Locked,
+        }
+    }
+
+    fn bahrs(&mut self, t: f64, t_ns: f64) -> BahrsSample {
+        let ([yaw, pitch, roll], rates, climb, height) = truth(t);
+        let sc = self.sc;
+        let n = &mut self.noise;
+        let bias = sc
+            .roll_ramp
+            .map(|(from, rate)| ((t - from).max(0.0)) * rate * DEG)
+            .unwrap_or(0.0);
+        let dist = sc
+            .magnetic_disturbance
+            .filter(|(from, _)| t >= *from)
+            .map(|(_, d)| d * DEG)
+            .unwrap_or(0.0);
+        let roll_health = match sc.integrity_risk_from_s {
+            Some(from) if t >= from => Health::IntegrityRisk,
+            _ => Health::Safe,
+        };
+        let health = NavigationHealth::new(
+            Health::Safe,
+            Health::Safe,
+            roll_health,
+            Health::Safe,
+            Health::Safe,
+        );
+        self.seq = self.seq.wrapping_add(1);
+        // The unit's frame is the aircraft's rotated by the mounting: q_unit = q_aircraft q_mount.
+        let [my, mp, mr] = sc.bahrs_mounting_deg.map(|d| d * DEG);
+        let (yaw, pitch, roll) = to_ypr(&(from_ypr(yaw, pitch, roll) * from_ypr(my, mp, mr)));
+        let nav = Navigation::from_si(
+            self.seq,
+            height - 40.0 + 0.3 * n.gauss(),
+            -climb + 0.1 * n.gauss(),
+            roll + bias + 0.15 * DEG * n.gauss(),
+            pitch + 0.15 * DEG * n.gauss(),
+            yaw - sc.declination_deg * DEG + dist + 0.5 * DEG * n.gauss(),
+            health,
+        );
+        // Reported accuracy: 0.3 deg tilt, 1.0 deg heading (raw LSB 2 pi / 65536).
+        let lsb = std::f64::consts::TAU / 65536.0;
+        let acc = Accuracy {
+            seq: self.seq,
+            std_north_raw: (0.3 * DEG / lsb).round() as u16,
+            std_east_raw: (0.3 * DEG / lsb).round() as u16,
+            std_heading_raw: (1.0 * DEG / lsb).round() as u16,
+            mcu_time_us: 0,
+        };
+        let safe = [Health::Safe; 3];
+        let inertial = Inertial::from_si(
+            self.seq,
+            [0.0, 0.0, -G],
+            rates,
+            InertialHealth::new(safe, safe),
+        );
+        let time = self.time(t_ns, 1e5, TimeSource::PpsDisciplined);
+        BahrsSample::new(&time, &nav, Some(&acc), Some(&inertial))
+    }
+
+    fn vn200(&mut self, t: f64, t_ns: f64) -> Vn200Sample {
+        let ([yaw, pitch, roll], rates, climb, height) = truth(t);
+        let sc = self.sc;
+        let n = &mut self.noise;
+        let lost = sc.gnss_lost_from_s.is_some_and(|from| t >= from);
+        // 0x0006 Tracking + fix; 0x0043 GnssLost with the GNSS error bit.
+        let ins = InsStatus(if lost { 0x0043 } else { 0x0006 });
+        let step = sc
+            .vn200_roll_step
+            .filter(|(from, _)| t >= *from)
+            .map(|(_, d)| d * DEG)
+            .unwrap_or(0.0);
+        let attitude = from_ypr(
+            yaw + 0.2 * DEG * n.gauss(),
+            pitch + 0.05 * DEG * n.gauss(),
+            roll + step + 0.05 * DEG * n.gauss(),
+        );
+        Vn200Sample {
+            t_gps_ns: sc.t0_gps_ns + t_ns as i64,
+            sigma_ns: 1e3,
+            attitude,
+            ypr_sigma_rad: Some([0.5 * DEG, 0.1 * DEG, 0.1 * DEG]),
+            ins_status: ins,
+            imu_status: None,
+            rates_radps: Some(rates),
+            lla: Some([sc.lla[0], sc.lla[1], height + 0.5 * n.gauss()]),
+            vel_ned_mps: Some([0.0, SPEED_MPS, -climb + 0.05 * n.gauss()]),
+            pos_u_m: Some(if lost { 50.0 } else { 2.0 }),
+            vel_u_mps: Some(0.1),
+        }
+    }
+
+    fn watson(&mut self, t: f64, t_ns: f64) -> WatsonSample {
+        let ([yaw, pitch, roll], rates, _, _) = truth(t);
+        let sc = self.sc;
+        let n = &mut self.noise;
+        let dist = sc
+            .magnetic_disturbance
+            .filter(|(from, _)| t >= *from)
+            .map(|(_, d)| d * DEG)
+            .unwrap_or(0.0);
+        let pstep = sc
+            .watson_pitch_step
+            .filter(|(from, _)| t >= *from)
+            .map(|(_, d)| d * DEG)
+            .unwrap_or(0.0);
+        let q01 = |rad: f64| (rad / DEG * 10.0).round() / 10.0 * DEG;
+        WatsonSample {
+            t_gps_ns: sc.t0_gps_ns + t_ns as i64,
+            sigma_ns: 2e6,
+            roll_rad: q01(roll + 0.3 * DEG * n.gauss()),
+            pitch_rad: q01(pitch + pstep + 0.3 * DEG * n.gauss()),
+            heading_mag_rad: q01(wrap_2pi(
+                yaw - sc.declination_deg * DEG + dist + 0.8 * DEG * n.gauss(),
+            )),
+            over_range: false,
+            rates_radps: rates.map(q01),
+        }
+    }
+}
+
+impl Iterator for Stream {
+    type Item = Event;
+
+    fn next(&mut self) -> Option<Event> {
+        loop {
+            let times: [f64; 3] =
+                std::array::from_fn(|i| OFFSET_NS[i] + self.k[i] as f64 * PERIOD_NS[i]);
+            let i = (0..3).min_by(|&a, &b| times[a].total_cmp(&times[b]))?;
+            let t_ns = times[i];
+            let t = t_ns * 1e-9;
+            if t >= self.sc.duration_s {
+                return None;
+            }
+            self.k[i] += 1;
+            return Some(match i {
+                0 => Event::Bahrs(self.bahrs(t, t_ns)),
+                1 => Event::Vn200(self.vn200(t, t_ns)),
+                _ => {
+                    if self.sc.watson_stops_s.is_some_and(|s| t >= s) {
+                        continue;
+                    }
+                    Event::Watson(self.watson(t, t_ns))
+                }
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn truth_turns_are_coordinated_and_return_to_the_start_heading() {
+        // A full 30 s turn at 3 deg/s with 3 s ramps turns 27 x 3 = 81 deg.
+        let (a, _, _, _) = truth(29.0);
+        let (b, _, _, _) = truth(61.0);
+        assert!(((b[0] - a[0]) / DEG - 81.0).abs() < 1e-9);
+        let (c, _, _, _) = truth(120.0);
+        assert!((c[0] - 90.0 * DEG).abs() < 1e-9);
+        // Mid-turn bank: atan(40 x 0.05236 / 9.80665) = 12.05 deg.
+        let (m, r, _, _) = truth(45.0);
+        assert!((m[2] / DEG - 12.05).abs() < 0.01, "{}", m[2] / DEG);
+        // Body yaw rate r = psi_dot cos(phi) cos(theta).
+        assert!((r[2] - TURN_RATE * m[2].cos() * PITCH.cos()).abs() < 1e-12);
+    }
+}
