@@ -66,24 +66,43 @@ pub struct BahrsAlignerStats {
 /// rates is 302); the oldest is released unaligned beyond that.
 const WAIT_CAPACITY: usize = 512;
 
-struct Waiting {
-    msg: Message,
+struct Waiting<T> {
+    msg: T,
     ticks: u64,
     epoch: u64,
     host_ns: i64,
 }
 
-/// Aligns a BAHRS message stream.
-pub struct BahrsAligner {
+/// A BAHRS sample as the aligner carries it: the decoded message, or the message with a caller's
+/// tag (e.g. its per-device index, kept through the reordering that sequence pairing causes).
+pub trait BahrsSample {
+    /// The BAHRS message.
+    fn bahrs(&self) -> &Message;
+}
+
+impl BahrsSample for Message {
+    fn bahrs(&self) -> &Message {
+        self
+    }
+}
+
+impl<U> BahrsSample for (U, Message) {
+    fn bahrs(&self) -> &Message {
+        &self.1
+    }
+}
+
+/// Aligns a BAHRS message stream (`T`: the message, or the message with a tag).
+pub struct BahrsAligner<T = Message> {
     cfg: BahrsAlignerConfig,
     clock: PpsClock,
-    inertial: SeqMatcher<Message>,
-    navigation: SeqMatcher<Message>,
-    waiting: VecDeque<Waiting>,
+    inertial: SeqMatcher<T>,
+    navigation: SeqMatcher<T>,
+    waiting: VecDeque<Waiting<T>>,
     stats: BahrsAlignerStats,
 }
 
-impl BahrsAligner {
+impl<T: BahrsSample> BahrsAligner<T> {
     /// An aligner with no clock model yet.
     pub fn new(cfg: BahrsAlignerConfig) -> Self {
         let hold = (cfg.pair_hold_s * 1e9) as i64;
@@ -116,14 +135,9 @@ impl BahrsAligner {
 
     /// Takes one decoded message, received (first byte) at host time `host_ns`; returns every
     /// sample that became final.
-    pub fn handle(
-        &mut self,
-        msg: Message,
-        host_ns: i64,
-        host: &HostClock,
-    ) -> Vec<Aligned<Message>> {
+    pub fn handle(&mut self, msg: T, host_ns: i64, host: &HostClock) -> Vec<Aligned<T>> {
         let mut out = Vec::new();
-        match msg {
+        match *msg.bahrs() {
             Message::Inertial(m) => {
                 let paired = self.inertial.push_data(m.seq, host_ns, msg);
                 self.place_paired(paired, &mut out);
@@ -137,7 +151,7 @@ impl BahrsAligner {
                     self.stats.invalid_time_messages += 1;
                 } else {
                     self.observe(t.mcu_time_us, &mut out);
-                    let matcher = if matches!(msg, Message::InertialTime(_)) {
+                    let matcher = if matches!(msg.bahrs(), Message::InertialTime(_)) {
                         &mut self.inertial
                     } else {
                         &mut self.navigation
@@ -176,7 +190,7 @@ impl BahrsAligner {
     }
 
     /// Releases what waited too long at host time `now_ns` (call periodically and at the end).
-    pub fn expire(&mut self, now_ns: i64) -> Vec<Aligned<Message>> {
+    pub fn expire(&mut self, now_ns: i64) -> Vec<Aligned<T>> {
         let mut out = Vec::new();
         let expired: Vec<_> = self
             .inertial
@@ -203,7 +217,7 @@ impl BahrsAligner {
     }
 
     /// Releases everything still held (end of stream).
-    pub fn flush(&mut self) -> Vec<Aligned<Message>> {
+    pub fn flush(&mut self) -> Vec<Aligned<T>> {
         let mut out = Vec::new();
         let rest: Vec<_> = self
             .inertial
@@ -222,7 +236,7 @@ impl BahrsAligner {
         out
     }
 
-    fn observe(&mut self, ticks: u64, out: &mut Vec<Aligned<Message>>) {
+    fn observe(&mut self, ticks: u64, out: &mut Vec<Aligned<T>>) {
         if self.clock.observe(ticks) {
             // A new clock epoch: what waits from the old one cannot be mapped any more.
             for w in std::mem::take(&mut self.waiting) {
@@ -235,11 +249,7 @@ impl BahrsAligner {
         }
     }
 
-    fn place_paired(
-        &mut self,
-        paired: Vec<super::seq::Paired<Message>>,
-        out: &mut Vec<Aligned<Message>>,
-    ) {
+    fn place_paired(&mut self, paired: Vec<super::seq::Paired<T>>, out: &mut Vec<Aligned<T>>) {
         for p in paired {
             match p.device_ticks {
                 Some(ticks) => self.place(p.data, ticks, p.host_ns, out),
@@ -255,7 +265,7 @@ impl BahrsAligner {
     }
 
     /// Maps a timed sample, or holds it until the clock can.
-    fn place(&mut self, msg: Message, ticks: u64, host_ns: i64, out: &mut Vec<Aligned<Message>>) {
+    fn place(&mut self, msg: T, ticks: u64, host_ns: i64, out: &mut Vec<Aligned<T>>) {
         let epoch = self.clock.epoch();
         match self.clock.to_gps(ticks) {
             Ok((t, sigma)) => out.push(Aligned {
@@ -294,7 +304,7 @@ impl BahrsAligner {
         }
     }
 
-    fn retry_waiting(&mut self, out: &mut Vec<Aligned<Message>>) {
+    fn retry_waiting(&mut self, out: &mut Vec<Aligned<T>>) {
         let epoch = self.clock.epoch();
         let waiting = std::mem::take(&mut self.waiting);
         for w in waiting {
@@ -311,11 +321,11 @@ impl BahrsAligner {
     }
 
     /// A message without device time, placed by the host clock (its transmission time removed).
-    fn host_timed(&self, msg: Message, host_ns: i64, host: &HostClock) -> Aligned<Message> {
+    fn host_timed(&self, msg: T, host_ns: i64, host: &HostClock) -> Aligned<T> {
         let time = host
             .to_gps(host_ns)
             .map(|(t, sigma)| AlignedTime {
-                t_gps_ns: t - self.tx_ns(msg.type_id()),
+                t_gps_ns: t - self.tx_ns(msg.bahrs().type_id()),
                 sigma_ns: sigma,
                 source: TimeSource::HostClock,
                 status: host.status(host_ns),
