@@ -5,6 +5,7 @@
 //!   host receive time of the 0x06, minus its transmission time, mapped to GPS, rounded to the
 //!   nearest second (it arrives milliseconds after the edge, far inside +-0.5 s).
 //! - Those pairs feed a [`PpsClock`] (MCU microseconds -> GPS ns with drift).
+//! - 0x06 itself is placed through the clock (its sample instant is the pulse).
 //! - 0x01/0x02 are paired with their 0x05/0x04 by sequence counter ([`SeqMatcher`]) and mapped
 //!   through the clock. 0x03 carries its own MCU time.
 //! - A sample whose time message never comes is emitted "not aligned: no time message"; a sample
@@ -65,6 +66,12 @@ pub struct BahrsAlignerStats {
 /// Most samples held while the clock model is unavailable (2 s of 0x01 + 0x02 + 0x03 at default
 /// rates is 302); the oldest is released unaligned beyond that.
 const WAIT_CAPACITY: usize = 512;
+
+/// 1-sigma of the wait of a service message (versions) in the device's transmit queue, ns.
+/// Decision: the document gives no send time for them; the versions follow a reset together with
+/// the first data, so each can wait behind a few frames (the simulator measured up to 2.2 ms at
+/// 115 200 baud): 2 ms, added to the host clock's sigma, so their time is not overstated.
+const SERVICE_QUEUE_SIGMA_NS: f64 = 2_000_000.0;
 
 struct Waiting<T> {
     msg: T,
@@ -181,7 +188,8 @@ impl<T: BahrsSample> BahrsAligner<T> {
                     }
                     None => self.stats.pulses_unidentified += 1,
                 }
-                out.push(self.host_timed(msg, host_ns, host));
+                // The 0x06 sample instant is the pulse itself: its MCU time through the clock.
+                self.place(msg, p.mcu_time_us, host_ns, &mut out);
             }
             // Versions and service messages carry no device time: host clock.
             _ => out.push(self.host_timed(msg, host_ns, host)),
@@ -326,7 +334,7 @@ impl<T: BahrsSample> BahrsAligner<T> {
             .to_gps(host_ns)
             .map(|(t, sigma)| AlignedTime {
                 t_gps_ns: t - self.tx_ns(msg.bahrs().type_id()),
-                sigma_ns: sigma,
+                sigma_ns: (sigma.powi(2) + SERVICE_QUEUE_SIGMA_NS.powi(2)).sqrt(),
                 source: TimeSource::HostClock,
                 status: host.status(host_ns),
             })

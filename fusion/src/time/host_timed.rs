@@ -8,6 +8,8 @@
 //! 1-sigma combines the host model's (link-delay spread, envelope scatter, coasting) with the
 //! uncertainty of that output delay.
 
+use std::collections::VecDeque;
+
 use super::host::HostClock;
 use super::{AlignedTime, NotAligned, Rx, TimeSource};
 
@@ -65,6 +67,48 @@ pub fn host_timed(
     })
 }
 
+/// Receive times of a port's read chunks by stream offset: which read delivered a given byte
+/// (replay knows the chunks; [`Rx::host_ns`] wants the read that delivered a message's last byte).
+#[derive(Debug, Clone, Default)]
+pub struct ChunkClock {
+    chunks: VecDeque<(u64, i64)>,
+    fed: u64,
+}
+
+/// Chunks remembered by a [`ChunkClock`] (a message longer than this many reads gets the time of
+/// the oldest one kept).
+const CHUNK_CLOCK_CAPACITY: usize = 4096;
+
+impl ChunkClock {
+    /// Records a read of `len` bytes at host time `host_ns`.
+    pub fn push(&mut self, host_ns: i64, len: usize) {
+        if len == 0 {
+            return;
+        }
+        if self.chunks.len() == CHUNK_CLOCK_CAPACITY {
+            self.chunks.pop_front();
+        }
+        self.chunks.push_back((self.fed, host_ns));
+        self.fed += len as u64;
+    }
+
+    /// Host time of the read that delivered stream byte `offset` (queries must not go back more
+    /// than the chunk last asked for: older chunks are forgotten). `None` before any read.
+    pub fn time_of(&mut self, offset: u64) -> Option<i64> {
+        while self.chunks.len() > 1 && self.chunks[1].0 <= offset {
+            self.chunks.pop_front();
+        }
+        self.chunks.front().map(|c| c.1)
+    }
+
+    /// The receive of a message starting at stream offset `offset`, `wire_len` bytes long: the
+    /// read holding its last byte.
+    pub fn rx(&mut self, offset: u64, wire_len: usize) -> Option<Rx> {
+        let last = offset + (wire_len as u64).saturating_sub(1);
+        self.time_of(last).map(|host_ns| Rx { host_ns, wire_len })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -84,6 +128,27 @@ mod tests {
         assert_eq!(tx_ns(0, 9600), 0);
         // A zero baud does not divide by zero.
         assert!(tx_ns(1, 0) > 0);
+    }
+
+    #[test]
+    fn chunk_clock_names_the_read_of_the_last_byte() {
+        // Reads of 10, 5 and 20 bytes at 100, 200, 300 ns: bytes 0-9, 10-14, 15-34.
+        let mut c = ChunkClock::default();
+        assert_eq!(c.time_of(0), None);
+        c.push(100, 10);
+        c.push(150, 0);
+        c.push(200, 5);
+        c.push(300, 20);
+        // A 12-byte message at offset 3 ends at byte 14: the second read.
+        assert_eq!(
+            c.rx(3, 12),
+            Some(Rx {
+                host_ns: 200,
+                wire_len: 12
+            })
+        );
+        assert_eq!(c.time_of(15), Some(300));
+        assert_eq!(c.time_of(1_000), Some(300));
     }
 
     #[test]
