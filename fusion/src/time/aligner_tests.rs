@@ -1,1 +1,230 @@
+//! The Aligner with synthetic streams (the simulator has no VN-200 / TT-Multi-RF model yet): a
+//! VN-200 at 40 Hz on a host clock 9 s ahead of GPS with a 1 ms link delay, plus Watson lines,
+//! TT-Multi-RF JSON and HEX frames and BAHRS messages.
 
+use vigil_drivers::bahrs::{DataTime, Inertial, InertialHealth};
+use vigil_drivers::ttmrf::json::JsonMessage;
+use vigil_drivers::ttmrf::raw::{ModeSFrame, RxMeta};
+use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup};
+use vigil_drivers::vn200::status::InsStatus;
+use vigil_drivers::watson::{Kind, Line};
+
+use super::*;
+use crate::time::TimeSource;
+use crate::time::host_timed::tx_ns;
+
+const MS: i64 = 1_000_000;
+const S: i64 = 1_000_000_000;
+/// Host clock - GPS time.
+const OFF: i64 = 9 * S;
+/// 2026-06-01 23:59:50 UTC in GPS ns: Unix 1 780 358 390 s - GPS epoch + 18 s.
+const G0: i64 = (1_780_358_390 - 315_964_800 + 18) * S;
+
+fn vn200(gps: i64) -> (Sample, Rx) {
+    let o = BinaryOutput {
+        common: Some(CommonGroup {
+            time_gps_ns: Some(gps as u64),
+            time_startup_ns: Some((gps - G0 + S) as u64),
+            ins_status: Some(InsStatus(0b110)),
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let len = o.encode().len();
+    let rx = Rx {
+        host_ns: gps + OFF + tx_ns(len, 921_600) + MS,
+        wire_len: len,
+    };
+    (Sample::Vn200(Box::new(Vn200Message::Binary(o))), rx)
+}
+
+fn watson() -> Sample {
+    Sample::Watson(Line {
+        kind: Kind::Inertial,
+        over_range: false,
+        bank_deg: 0.0,
+        elevation_deg: 0.0,
+        heading_deg: 0.0,
+        accel_g: [0.0, 0.0, 1.0],
+        rate_dps: [0.0; 3],
+        velocity_kmh: 0.0,
+    })
+}
+
+/// Receive of a Watson line sampled at `gps`: 1 ms output delay, 66.7 ms on the wire, 1 ms link.
+fn watson_rx(gps: i64) -> Rx {
+    Rx {
+        host_ns: gps + OFF + MS + tx_ns(64, 9600) + MS,
+        wire_len: 64,
+    }
+}
+
+#[test]
+fn host_timed_samples_wait_for_the_host_clock_then_align_or_are_marked() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let mut out = Vec::new();
+    // A Watson line 5 s before any VN-200: it waits 3 s, then comes out not aligned.
+    out.extend(al.handle(watson(), watson_rx(G0 - 5 * S)));
+    assert!(out.is_empty());
+    let mut truth = vec![G0 - 5 * S];
+    // VN-200 from G0 at 40 Hz; a Watson line every 100 ms from G0 + 0.05 s.
+    for k in 0..400 {
+        let g = G0 + k * 25 * MS;
+        let (s, rx) = vn200(g);
+        out.extend(al.handle(s, rx));
+        if k % 4 == 2 {
+            let w = g - 12 * MS;
+            truth.push(w);
+            out.extend(al.handle(watson(), watson_rx(w)));
+        }
+    }
+    out.extend(al.flush());
+    let watson: Vec<&AlignedSample> = out.iter().filter(|o| o.device == Device::Watson).collect();
+    // Every Watson input came out exactly once, with its index.
+    let mut idx: Vec<u64> = watson.iter().map(|o| o.index).collect();
+    idx.sort_unstable();
+    assert_eq!(idx, (0..truth.len() as u64).collect::<Vec<_>>());
+    assert_eq!(
+        out.iter().filter(|o| o.device == Device::Vn200).count(),
+        400
+    );
+    for o in &watson {
+        match o.aligned.time {
+            Ok(a) => {
+                // The host model maps with the VN-200's delay; the Watson link matches it.
+                let e = a.t_gps_ns - truth[o.index as usize];
+                assert!(e.abs() < 100_000, "index {}: {e} ns", o.index);
+                assert_eq!(a.source, TimeSource::HostClock);
+            }
+            Err(why) => {
+                // Only the line from before the host clock: held for 3 s, then marked.
+                assert_eq!((o.index, why), (0, NotAligned::HostClockUnknown));
+            }
+        }
+    }
+    // Early lines (first 2 s) waited for the host model and came out aligned, status locking.
+    let early = watson.iter().find(|o| o.index == 1).unwrap();
+    assert_eq!(early.aligned.time.unwrap().status, ClockStatus::Locking);
+    let report = al.clock_report(G0 + 10 * S + OFF);
+    let w = report.iter().find(|r| r.device == Device::Watson).unwrap();
+    assert_eq!(w.status, ClockStatus::Locked);
+    // The offset is the host clock's 9 s plus the 1 ms link delay (the envelope).
+    assert!((w.offset_ns.unwrap() - (OFF + MS) as f64).abs() < 1_000.0);
+    let v = report.iter().find(|r| r.device == Device::Vn200).unwrap();
+    assert_eq!(v.status, ClockStatus::Locked);
+}
+
+#[test]
+fn ttmrf_json_ts_and_ts24h_across_utc_midnight_through_the_aligner() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let mut out = Vec::new();
+    // GPS - UTC = 18 s: UTC midnight of 2026-06-02 is G0 + 10 s.
+    let midnight = G0 + 10 * S;
+    let mut truth = Vec::new();
+    for k in 0..800 {
+        let g = G0 + k * 25 * MS;
+        let (s, rx) = vn200(g);
+        out.extend(al.handle(s, rx));
+        if k % 20 == 5 && g > G0 + 3 * S {
+            // A JSON message stamped at the whole ms of its instant (truncated), and a HEX frame
+            // with TS24h of the same instant, 2 ms (JSON) / 1 ms (HEX) before their receive.
+            let t = g + 300_123;
+            let ms_of_day = (t - midnight).rem_euclid(86_400 * S) / MS;
+            let json = JsonMessage {
+                ts_ms: Some(ms_of_day as u32),
+                ..Default::default()
+            };
+            let rx = Rx {
+                host_ns: t + OFF + 2 * MS,
+                wire_len: 200,
+            };
+            truth.push((t, 1_000_000));
+            out.extend(al.handle(
+                Sample::TtText(Box::new(TextMessage::Json(Box::new(json)))),
+                rx,
+            ));
+            let frame = RawFrame::ModeS(ModeSFrame {
+                bytes: [0x8D; 14],
+                len: 14,
+                meta: RxMeta {
+                    ts_utc_ns: Some((t - midnight).rem_euclid(86_400 * S) as u64),
+                    ..Default::default()
+                },
+            });
+            let rx = Rx {
+                host_ns: t + OFF + MS,
+                wire_len: 50,
+            };
+            truth.push((t, 1));
+            out.extend(al.handle(Sample::TtRaw(Box::new(frame)), rx));
+        }
+    }
+    out.extend(al.flush());
+    let tt: Vec<&AlignedSample> = out.iter().filter(|o| o.device == Device::Ttmrf).collect();
+    assert_eq!(tt.len(), truth.len());
+    let (mut before, mut after) = (0, 0);
+    for o in tt {
+        let (t, tol) = truth[o.index as usize];
+        let a = o.aligned.time.unwrap();
+        // JSON: within the ms (truncated stamp + 0.5 ms); TS24h: exact.
+        assert!(
+            (a.t_gps_ns - t).abs() <= tol / 2,
+            "{}: {}",
+            o.index,
+            a.t_gps_ns - t
+        );
+        assert!(((a.t_gps_ns - t).abs() as f64) <= 2.0 * a.sigma_ns);
+        assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+        if t < midnight {
+            before += 1;
+        } else {
+            after += 1;
+        }
+    }
+    // Both days were exercised.
+    assert!(before > 10 && after > 10, "{before} {after}");
+}
+
+#[test]
+fn bahrs_indices_survive_late_time_messages_and_time_messages_come_out() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let data = |seq| {
+        Sample::Bahrs(bahrs::Message::Inertial(Inertial {
+            seq,
+            specific_force_raw: [0; 3],
+            angular_rate_raw: [0; 3],
+            health: InertialHealth(0),
+        }))
+    };
+    let time = |seq, us| {
+        Sample::Bahrs(bahrs::Message::InertialTime(DataTime {
+            seq,
+            data_seq: seq,
+            mcu_time_us: us,
+        }))
+    };
+    let rx = |ms: i64| Rx {
+        host_ns: ms * MS,
+        wire_len: 20,
+    };
+    let mut out = Vec::new();
+    // Data 255 (index 0), data 0 (index 1, the counter wrapped), time of 255 (index 2), time of 0
+    // (index 3): the time messages arrive after the next data message.
+    out.extend(al.handle(data(255), rx(0)));
+    out.extend(al.handle(data(0), rx(10)));
+    out.extend(al.handle(time(255, 1_000), rx(11)));
+    out.extend(al.handle(time(0, 11_000), rx(21)));
+    out.extend(al.flush());
+    let mut idx: Vec<u64> = out.iter().map(|o| o.index).collect();
+    idx.sort_unstable();
+    assert_eq!(idx, vec![0, 1, 2, 3]);
+    // No pulse and no host clock: nothing is aligned, each says why.
+    for o in &out {
+        let why = o.aligned.time.unwrap_err();
+        assert!(
+            matches!(why, NotAligned::ClockUnlocked),
+            "{}: {why:?}",
+            o.index
+        );
+    }
+}
