@@ -10,10 +10,16 @@
 //! TimeStartup (12 ppm fast) and InsStatus, sent at 921 600 baud, its last byte reaching the
 //! simulated host clock (`RunInfo::host_clock`, drift and offset) after the scenario's link latency
 //! (uniform in mean +- jitter). A GNSS outage is synthesised in `link-errors` (InsStatus without
-//! fix from 60 to 66 s). TT-Multi-RF is tested with synthetic streams in `aligner_tests`.
+//! fix from 60 to 66 s). TT-Multi-RF is synthetic too (no simulator model yet): JSON `ts`
+//! truncated to the ms and HEX frames with exact TS24h / TS1s stamps on the same simulated host
+//! link, so their figures test the placement (day, leap seconds, PPS second, host reference), not
+//! a receiver's stamp accuracy.
 
 use std::collections::BTreeMap;
 
+use vigil_drivers::ttmrf::json::JsonMessage;
+use vigil_drivers::ttmrf::raw::{ModeSFrame, RawFrame, RxMeta};
+use vigil_drivers::ttmrf::text::TextMessage;
 use vigil_drivers::vn200::Vn200Message;
 use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup};
 use vigil_drivers::vn200::status::InsStatus;
@@ -114,6 +120,68 @@ fn synthetic_vn200(
     out
 }
 
+/// Synthetic TT-Multi-RF messages on the same simulated host: JSON at 1 Hz (`ts` truncated to
+/// the ms), HEX Mode S frames at 10 Hz with TS24h and at 10 Hz with TS1s only. Each is output
+/// 0.5 ms after its instant (the aligner's assumed delay), sent at 921 600 baud, read after the
+/// scenario's link latency. Returns (receive, sample, truth, kind), in receive order.
+fn synthetic_ttmrf(sink: &MemorySink, seconds: i64) -> Vec<(Rx, Sample, i64, &'static str)> {
+    let info = sink.info.as_ref().unwrap();
+    let host_cfg = builtin(&info.scenario).unwrap().host;
+    let start = info.start_gps_ns;
+    // UTC midnight before the start, in GPS ns (GPS - UTC = 18 s: Unix = GPS + epoch - 18 s).
+    let midnight_gps = start - (start + (315_964_800 - 18) * S).rem_euclid(86_400 * S);
+    let mut rng = Lcg(99);
+    let mut out = Vec::new();
+    for k in 0..seconds * 20 {
+        // Instants off the whole ms (and off the PPS) by a varying fraction.
+        let t = start + k * 50 * MS + 37 * MS + (rng.unit() * 1e6) as i64;
+        let of_day = t - midnight_gps;
+        let (sample, len, kind) = if k % 20 == 0 {
+            let j = JsonMessage {
+                ts_ms: Some((of_day / MS) as u32),
+                ..Default::default()
+            };
+            (
+                Sample::TtText(Box::new(TextMessage::Json(Box::new(j)))),
+                180,
+                "json",
+            )
+        } else {
+            let ts24 = k % 2 == 0;
+            let meta = RxMeta {
+                ts_utc_ns: ts24.then_some(of_day as u64),
+                // The receiver's PPS marks whole GPS seconds.
+                ts_pps_ns: Some(t.rem_euclid(S) as u64),
+                ..Default::default()
+            };
+            let f = RawFrame::ModeS(ModeSFrame {
+                bytes: [0x8D; 14],
+                len: 14,
+                meta,
+            });
+            (
+                Sample::TtRaw(Box::new(f)),
+                60,
+                if ts24 { "hex_ts24h" } else { "hex_ts1s" },
+            )
+        };
+        let last_byte = t + 500_000 + tx_ns(len, 921_600);
+        let lat = host_cfg.latency_ms + (2.0 * rng.unit() - 1.0) * host_cfg.latency_jitter_ms;
+        let host_ns = info.host_clock.host_ns(last_byte) as i64 + (lat * 1e6) as i64;
+        out.push((
+            Rx {
+                host_ns,
+                wire_len: len,
+            },
+            sample,
+            t,
+            kind,
+        ));
+    }
+    out.sort_by_key(|e| e.0.host_ns);
+    out
+}
+
 fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
     let s = builtin(name).unwrap();
     let mut sim = Simulator::new(&s, seed).unwrap();
@@ -121,7 +189,20 @@ fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
     sim.run(seconds * S, &mut sink).unwrap();
     let info = sink.info.clone().unwrap();
     let start = info.start_gps_ns;
-    let vn = synthetic_vn200(&sink, seconds, outage);
+    let mut synthetic: Vec<(Rx, Sample, i64, &'static str)> =
+        synthetic_vn200(&sink, seconds, outage)
+            .into_iter()
+            .map(|(rx, o, g)| {
+                (
+                    rx,
+                    Sample::Vn200(Box::new(Vn200Message::Binary(o))),
+                    g,
+                    "binary",
+                )
+            })
+            .chain(synthetic_ttmrf(&sink, seconds))
+            .collect();
+    synthetic.sort_by_key(|e| e.0.host_ns);
     let truth: BTreeMap<(&str, u64), &TruthRecord> = sink
         .truth
         .iter()
@@ -136,7 +217,7 @@ fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
     let mut truth_of: BTreeMap<(Device, u64), (i64, &'static str)> = BTreeMap::new();
     let mut inputs: BTreeMap<Device, u64> = BTreeMap::new();
     let mut outs: Vec<AlignedSample> = Vec::new();
-    let mut vn_iter = vn.into_iter().peekable();
+    let mut vn_iter = synthetic.into_iter().peekable();
 
     let mut feed = |sample: Sample,
                     rx: Rx,
@@ -155,15 +236,9 @@ fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
     for c in &sink.chunks {
         let port = &info.ports[usize::from(c.port)];
         let t = c.t_host_ns as i64;
-        while vn_iter.peek().is_some_and(|(rx, _, _)| rx.host_ns <= t) {
-            let (rx, o, g) = vn_iter.next().unwrap();
-            feed(
-                Sample::Vn200(Box::new(Vn200Message::Binary(o))),
-                rx,
-                Some((g, "binary")),
-                &mut aligner,
-                &mut outs,
-            );
+        while vn_iter.peek().is_some_and(|(rx, _, _, _)| rx.host_ns <= t) {
+            let (rx, sample, g, kind) = vn_iter.next().unwrap();
+            feed(sample, rx, Some((g, kind)), &mut aligner, &mut outs);
         }
         let clock = clocks.entry(port.device.to_string()).or_default();
         clock.push(t, c.bytes.len());
@@ -230,10 +305,22 @@ fn percentile(sorted: &[i64], p: f64) -> i64 {
 
 /// Checks one device after `from_s`: p99 |error| and the 2-sigma share; prints the figures.
 fn check(run: &Run, name: &str, device: Device, from_s: f64, p99_max_ns: i64) {
+    check_kind(run, name, device, None, from_s, p99_max_ns)
+}
+
+/// As [`check`], for one message kind (truth `type`) of the device when given.
+fn check_kind(
+    run: &Run,
+    name: &str,
+    device: Device,
+    kind: Option<&str>,
+    from_s: f64,
+    p99_max_ns: i64,
+) {
     let sel: Vec<&Joined> = run
         .joined
         .iter()
-        .filter(|j| j.device == device && j.at_s >= from_s)
+        .filter(|j| j.device == device && j.at_s >= from_s && kind.is_none_or(|k| k == j.kind))
         .collect();
     let aligned: Vec<&&Joined> = sel.iter().filter(|j| j.err_ns.is_some()).collect();
     let mut abs: Vec<i64> = aligned.iter().map(|j| j.err_ns.unwrap().abs()).collect();
@@ -249,11 +336,15 @@ fn check(run: &Run, name: &str, device: Device, from_s: f64, p99_max_ns: i64) {
         percentile(&abs, 0.99),
         abs[abs.len() - 1],
     );
+    let mut sigmas: Vec<f64> = aligned.iter().map(|j| j.sigma_ns).collect();
+    sigmas.sort_by(f64::total_cmp);
     println!(
-        "{name} {device:?}: n={} aligned={} p50={p50} ns p99={p99} ns max={max} ns within 2 sigma={:.1} %",
+        "{name} {device:?} {}: n={} aligned={} p50={p50} ns p99={p99} ns max={max} ns within 2 sigma={:.1} % median sigma={:.0} ns",
+        kind.unwrap_or("all"),
         sel.len(),
         aligned.len(),
-        within * 100.0
+        within * 100.0,
+        sigmas[sigmas.len() / 2]
     );
     assert!(
         p99 <= p99_max_ns,
@@ -305,6 +396,16 @@ fn nominal_errors_within_budget_after_10_s() {
     check(&r, "nominal", Device::Vn200, 10.0, 1_000);
     // Watson: 2 ms beyond the link-latency jitter (+-0.5 ms).
     check(&r, "nominal", Device::Watson, 10.0, 2_500_000);
+    check_kind(&r, "nominal", Device::Ttmrf, Some("json"), 10.0, 1_000_000);
+    check_kind(
+        &r,
+        "nominal",
+        Device::Ttmrf,
+        Some("hex_ts24h"),
+        10.0,
+        10_000,
+    );
+    check_kind(&r, "nominal", Device::Ttmrf, Some("hex_ts1s"), 10.0, 10_000);
     assert!(locked_share(&r, Device::Bahrs, 10.0, 60.0) > 0.99);
 }
 
@@ -317,6 +418,30 @@ fn link_errors_reset_pps_loss_and_gnss_outage_relock() {
     check(&r, "link-errors", Device::Bahrs, 10.0, 50_000);
     check(&r, "link-errors", Device::Vn200, 10.0, 1_000);
     check(&r, "link-errors", Device::Watson, 10.0, 2_500_000);
+    check_kind(
+        &r,
+        "link-errors",
+        Device::Ttmrf,
+        Some("json"),
+        10.0,
+        1_000_000,
+    );
+    check_kind(
+        &r,
+        "link-errors",
+        Device::Ttmrf,
+        Some("hex_ts24h"),
+        10.0,
+        10_000,
+    );
+    check_kind(
+        &r,
+        "link-errors",
+        Device::Ttmrf,
+        Some("hex_ts1s"),
+        10.0,
+        10_000,
+    );
     // Re-lock within 5 s of the BAHRS reset (40 s, plus a 0.3 s boot) and of the PPS return (53 s).
     assert!(locked_share(&r, Device::Bahrs, 45.5, 50.0) > 0.95);
     assert!(locked_share(&r, Device::Bahrs, 58.0, 60.0) > 0.95);
