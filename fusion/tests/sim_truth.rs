@@ -23,7 +23,9 @@ use vigil_drivers::ttmrf::text::TextMessage;
 use vigil_drivers::vn200::Vn200Message;
 use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup};
 use vigil_drivers::vn200::status::InsStatus;
-use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Device, Sample};
+use vigil_fusion::time::aligner::{
+    AlignedSample, Aligner, AlignerConfig, ClockReport, Device, Sample,
+};
 use vigil_fusion::time::host_timed::{ChunkClock, tx_ns};
 use vigil_fusion::time::{ClockStatus, Rx, TimeSource};
 use vigil_sim::replay::{Decoded, Message, Replayer};
@@ -68,6 +70,10 @@ struct Run {
     /// Inputs per device and outputs per device (every input must come out once).
     inputs: BTreeMap<Device, u64>,
     outputs: BTreeMap<Device, u64>,
+    /// Clock reports at the last chunk's host time.
+    report: Vec<ClockReport>,
+    /// The simulated host clock's drift against GPS, ppm (truth).
+    host_drift_ppm: f64,
 }
 
 /// Synthetic VN-200 messages: (receive, message, truth GPS time).
@@ -262,6 +268,8 @@ fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
             feed(sample, rx, tr, &mut aligner, &mut outs);
         }
     }
+    let last_host = sink.chunks.last().map_or(0, |c| c.t_host_ns as i64);
+    let report = aligner.clock_report(last_host);
     outs.extend(aligner.flush());
     let mut outputs: BTreeMap<Device, u64> = BTreeMap::new();
     let joined = outs
@@ -296,6 +304,8 @@ fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
         joined,
         inputs: std::mem::take(&mut inputs),
         outputs,
+        report,
+        host_drift_ppm: info.host_clock.drift * 1e6,
     }
 }
 
@@ -407,6 +417,28 @@ fn nominal_errors_within_budget_after_10_s() {
     );
     check_kind(&r, "nominal", Device::Ttmrf, Some("hex_ts1s"), 10.0, 10_000);
     assert!(locked_share(&r, Device::Bahrs, 10.0, 60.0) > 0.99);
+    // Clock reports at the end: every model locked; the host drift is the simulated one.
+    for c in &r.report {
+        assert_eq!(c.status, ClockStatus::Locked, "{c:?}");
+    }
+    let host = r
+        .report
+        .iter()
+        .find(|c| c.device == Device::Watson)
+        .unwrap();
+    let d = host.drift_ppm.unwrap();
+    println!(
+        "host drift {d:.3} ppm, simulated {:.3} ppm",
+        r.host_drift_ppm
+    );
+    assert!(
+        (d - r.host_drift_ppm).abs() < 0.5,
+        "{d} vs {}",
+        r.host_drift_ppm
+    );
+    let bahrs = r.report.iter().find(|c| c.device == Device::Bahrs).unwrap();
+    // The simulator draws the MCU drift within +-50 ppm.
+    assert!(bahrs.drift_ppm.unwrap().abs() <= 50.0, "{bahrs:?}");
 }
 
 #[test]
