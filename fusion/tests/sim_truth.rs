@@ -431,8 +431,10 @@ fn nominal_errors_within_budget_after_10_s() {
         "host drift {d:.3} ppm, simulated {:.3} ppm",
         r.host_drift_ppm
     );
+    // Precision of the envelope slope: the per-second minimum of 40 delays uniform over 1 ms
+    // lies within ~25 us of the true minimum, over a 30 s window: ~1 ppm.
     assert!(
-        (d - r.host_drift_ppm).abs() < 0.5,
+        (d - r.host_drift_ppm).abs() < 2.0,
         "{d} vs {}",
         r.host_drift_ppm
     );
