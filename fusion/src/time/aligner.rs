@@ -219,32 +219,6 @@ impl Aligner {
                 }
                 let done = self.bahrs.handle((index, m), rx.host_ns, &self.host);
                 out.extend(done.into_iter().map(bahrs_out));
-                if let bahrs::Message::InertialTime(t) | bahrs::Message::NavigationTime(t) = m {
-                    // The BAHRS aligner consumes time messages; they are samples of the stream
-                    // too (their instant is their data's), so they come out here.
-                    let time = if t.is_valid() {
-                        let clock = self.bahrs.clock();
-                        clock
-                            .to_gps(t.mcu_time_us)
-                            .map(|(t_gps_ns, sigma_ns)| AlignedTime {
-                                t_gps_ns,
-                                sigma_ns,
-                                source: super::TimeSource::PpsDisciplined,
-                                status: clock.status(t.mcu_time_us),
-                            })
-                            .map_err(|_| NotAligned::ClockUnlocked)
-                    } else {
-                        Err(NotAligned::DeviceTimeInvalid)
-                    };
-                    out.push(AlignedSample {
-                        device,
-                        index,
-                        aligned: Aligned {
-                            message: Sample::Bahrs(m),
-                            time,
-                        },
-                    });
-                }
             }
             Sample::Vn200(m) => {
                 let time = match &*m {

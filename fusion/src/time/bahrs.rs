@@ -5,7 +5,9 @@
 //!   host receive time of the 0x06, minus its transmission time, mapped to GPS, rounded to the
 //!   nearest second (it arrives milliseconds after the edge, far inside +-0.5 s).
 //! - Those pairs feed a [`PpsClock`] (MCU microseconds -> GPS ns with drift).
-//! - 0x06 itself is placed through the clock (its sample instant is the pulse).
+//! - 0x06 itself is placed through the clock (its sample instant is the pulse); so are 0x04/0x05
+//!   (their data's instant), an invalid one (zero sequence and time) comes out "device time
+//!   invalid": every message handed in comes out once.
 //! - 0x01/0x02 are paired with their 0x05/0x04 by sequence counter ([`SeqMatcher`]) and mapped
 //!   through the clock. 0x03 carries its own MCU time.
 //! - A sample whose time message never comes is emitted "not aligned: no time message"; a sample
@@ -156,6 +158,11 @@ impl<T: BahrsSample> BahrsAligner<T> {
             Message::InertialTime(t) | Message::NavigationTime(t) => {
                 if !t.is_valid() {
                     self.stats.invalid_time_messages += 1;
+                    self.stats.not_aligned += 1;
+                    out.push(Aligned {
+                        message: msg,
+                        time: Err(NotAligned::DeviceTimeInvalid),
+                    });
                 } else {
                     self.observe(t.mcu_time_us, &mut out);
                     let matcher = if matches!(msg.bahrs(), Message::InertialTime(_)) {
@@ -166,6 +173,8 @@ impl<T: BahrsSample> BahrsAligner<T> {
                     if let Some(p) = matcher.push_time(t.data_seq, host_ns, t.mcu_time_us) {
                         self.place_paired(vec![p], &mut out);
                     }
+                    // The time message is a sample of the stream too: its instant is its data's.
+                    self.place(msg, t.mcu_time_us, host_ns, &mut out);
                 }
             }
             Message::Accuracy(a) => {

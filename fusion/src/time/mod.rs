@@ -1,7 +1,7 @@
 //! Time alignment: every sample on one timebase, GPS time in nanoseconds, with a 1-sigma
 //! uncertainty and the source of its time.
 //!
-//! Building blocks (the per-device aligners that use them arrive with the time-alignment issue):
+//! Building blocks and the per-device aligners built from them (issue 7):
 //! - [`gps`]: GPS time, UTC, the leap-second table with its validity date, and placing a UTC time
 //!   of day (TT-Multi-RF `ts`, TS24h) on the right day;
 //! - [`pps`]: a device clock disciplined by PPS pulses (the BAHRS MCU clock through 0x06);
