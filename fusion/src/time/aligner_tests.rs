@@ -228,3 +228,42 @@ fn bahrs_indices_survive_late_time_messages_and_time_messages_come_out() {
         );
     }
 }
+
+#[test]
+fn ttmrf_csv_line_is_host_timed_with_its_transmission_time() {
+    use vigil_drivers::decode_slice;
+    use vigil_drivers::ttmrf::text::{TextDecoder, TextMode};
+    // The manual's first CSV example (7.2.1), as the module sends it.
+    let line =
+        b"#A:4D240E,3F00,,7273,53.47939,14.55892,28550,23,510,1408,-71,5,9,938,28850,,A9FE\r\n";
+    let msgs = decode_slice(&mut TextDecoder::new(TextMode::Auto), line);
+    assert_eq!(msgs.len(), 1);
+    assert!(matches!(msgs[0], TextMessage::Csv(_)));
+    let mut al = Aligner::new(AlignerConfig::default());
+    for k in 0..400 {
+        let (s, rx) = vn200(G0 + k * 25 * MS);
+        al.handle(s, rx);
+    }
+    // Instant G0 + 9.9 s; first byte 0.5 ms later (the assumed output delay); 83 bytes at
+    // 921 600 baud take 0.90 ms; read 1 ms (the VN-200's link delay) after the last byte.
+    let t = G0 + 9_900 * MS;
+    let rx = Rx {
+        host_ns: t + OFF + MS / 2 + tx_ns(line.len(), 921_600) + MS,
+        wire_len: line.len(),
+    };
+    let out = al.handle(Sample::TtText(Box::new(msgs[0].clone())), rx);
+    let a = out
+        .iter()
+        .find(|o| o.device == Device::Ttmrf)
+        .unwrap()
+        .aligned
+        .time
+        .unwrap();
+    assert!((a.t_gps_ns - t).abs() < 2_000, "{}", a.t_gps_ns - t);
+    assert_eq!(
+        (a.source, a.status),
+        (TimeSource::HostClock, ClockStatus::Locked)
+    );
+    // The sigma carries the assumed output delay's 0.5 ms.
+    assert!(a.sigma_ns >= 500_000.0);
+}
