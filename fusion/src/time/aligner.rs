@@ -156,6 +156,12 @@ pub struct ClockReport {
     pub residual_ns: Option<f64>,
 }
 
+/// Largest host time accepted, ns (2^61: 73 years of uptime).
+const MAX_HOST_NS: i64 = 1 << 61;
+
+/// Largest message length accepted, bytes (far above any of these protocols' frames).
+const MAX_WIRE_LEN: usize = 1 << 20;
+
 struct Held {
     device: Device,
     index: u64,
@@ -207,6 +213,12 @@ impl Aligner {
 
     /// Takes one decoded message, received as `rx`; returns every sample that became final.
     pub fn handle(&mut self, sample: Sample, rx: Rx) -> Vec<AlignedSample> {
+        // Decision: a host monotonic time counts from boot; one outside 0 ..= 2^61 ns (73 years)
+        // is garbage and is clamped, so every difference of host times below fits in an i64.
+        let rx = Rx {
+            host_ns: rx.host_ns.clamp(0, MAX_HOST_NS),
+            wire_len: rx.wire_len.min(MAX_WIRE_LEN),
+        };
         let device = sample.device();
         let index = self.next_index[device.slot()];
         self.next_index[device.slot()] += 1;
@@ -278,6 +290,7 @@ impl Aligner {
 
     /// Clock status of every device at host time `now_ns`.
     pub fn clock_report(&self, now_ns: i64) -> Vec<ClockReport> {
+        let now_ns = now_ns.clamp(0, MAX_HOST_NS);
         let host_status = self.host.status(now_ns);
         let host_offset = self.host.to_gps(now_ns).map(|(t, _)| (now_ns - t) as f64);
         let host_sigma = self.host.to_gps(now_ns).map(|(_, s)| s);
@@ -293,7 +306,7 @@ impl Aligner {
                         clock
                             .to_gps(t)
                             .ok()
-                            .map(|(g, _)| (t as i64 * 1000 - g) as f64)
+                            .map(|(g, _)| t as f64 * 1000.0 - g as f64)
                     });
                     ClockReport {
                         device,

@@ -267,3 +267,92 @@ fn ttmrf_csv_line_is_host_timed_with_its_transmission_time() {
     // The sigma carries the assumed output delay's 0.5 ms.
     assert!(a.sigma_ns >= 500_000.0);
 }
+
+#[test]
+fn random_inputs_never_panic_and_every_input_comes_out_once() {
+    use crate::time::testrng::Lcg;
+    use vigil_drivers::bahrs::{Accuracy, SyncPulseTime};
+    let mut rng = Lcg(2024);
+    let mut next = |rng: &mut Lcg| (rng.unit() * u64::MAX as f64) as u64;
+    for round in 0..4 {
+        let mut al = Aligner::new(AlignerConfig::default());
+        let mut inputs = [0u64; 4];
+        let mut outs = Vec::new();
+        let mut host = G0;
+        for _ in 0..5_000 {
+            // Mostly plausible host times, sometimes wild ones (backwards, extreme).
+            host = match (rng.unit() * 20.0) as u32 {
+                0 => next(&mut rng) as i64,
+                1 => i64::MIN + (rng.unit() * 1e9) as i64,
+                2 => i64::MAX - (rng.unit() * 1e9) as i64,
+                3 => host.saturating_sub((rng.unit() * 10.0 * S as f64) as i64),
+                _ => host.saturating_add((rng.unit() * 50.0 * MS as f64) as i64),
+            };
+            let rx = Rx {
+                host_ns: host,
+                wire_len: (rng.unit() * 2000.0) as usize,
+            };
+            let pick = (rng.unit() * 7.0) as u32;
+            let wild = round % 2 == 1;
+            let u = |rng: &mut Lcg, plausible: u64| if wild { next(rng) } else { plausible };
+            let sample = match pick {
+                0 => {
+                    let gps = u(&mut rng, host.wrapping_sub(OFF) as u64);
+                    let st = u(&mut rng, host.wrapping_sub(G0) as u64);
+                    Sample::Vn200(Box::new(Vn200Message::Binary(BinaryOutput {
+                        common: Some(CommonGroup {
+                            time_gps_ns: Some(gps),
+                            time_startup_ns: Some(st),
+                            ins_status: Some(InsStatus((rng.unit() * 65536.0) as u16)),
+                            ..Default::default()
+                        }),
+                        ..Default::default()
+                    })))
+                }
+                1 => watson(),
+                2 => Sample::Bahrs(bahrs::Message::SyncPulseTime(SyncPulseTime {
+                    seq: (rng.unit() * 256.0) as u8,
+                    mcu_time_us: u(&mut rng, (host.wrapping_sub(G0) / 1000) as u64),
+                })),
+                3 => Sample::Bahrs(bahrs::Message::Accuracy(Accuracy {
+                    seq: 0,
+                    std_north_raw: 1,
+                    std_east_raw: 1,
+                    std_heading_raw: 1,
+                    mcu_time_us: u(&mut rng, (host.wrapping_sub(G0) / 1000) as u64),
+                })),
+                4 => Sample::Bahrs(bahrs::Message::InertialTime(DataTime {
+                    seq: (rng.unit() * 256.0) as u8,
+                    data_seq: (rng.unit() * 256.0) as u8,
+                    mcu_time_us: next(&mut rng),
+                })),
+                5 => Sample::TtText(Box::new(TextMessage::Json(Box::new(JsonMessage {
+                    ts_ms: Some(next(&mut rng) as u32),
+                    ..Default::default()
+                })))),
+                _ => Sample::TtRaw(Box::new(RawFrame::ModeS(ModeSFrame {
+                    bytes: [0; 14],
+                    len: 7,
+                    meta: RxMeta {
+                        ts_utc_ns: (rng.unit() < 0.5).then(|| next(&mut rng)),
+                        ts_pps_ns: Some(next(&mut rng) % (2 * S as u64)),
+                        ..Default::default()
+                    },
+                }))),
+            };
+            inputs[sample.device() as usize] += 1;
+            outs.extend(al.handle(sample, rx));
+        }
+        outs.extend(al.flush());
+        for d in Device::ALL {
+            let mut idx: Vec<u64> = outs
+                .iter()
+                .filter(|o| o.device == d)
+                .map(|o| o.index)
+                .collect();
+            idx.sort_unstable();
+            assert_eq!(idx, (0..inputs[d as usize]).collect::<Vec<_>>(), "{d:?}");
+        }
+        let _ = al.clock_report(host);
+    }
+}

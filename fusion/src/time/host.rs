@@ -90,7 +90,7 @@ impl HostClock {
     /// Adds a reference: a message received at `host_ns` whose transmission started at GPS time
     /// `gps_ns` (after the caller removed its transmission time and known output delay).
     pub fn add(&mut self, host_ns: i64, gps_ns: i64) {
-        let d = host_ns - gps_ns;
+        let d = host_ns.saturating_sub(gps_ns);
         let index = host_ns.div_euclid(self.cfg.bucket_ns);
         if self
             .last_host_ns
@@ -193,7 +193,7 @@ impl HostClock {
         if self.fit.is_none() || self.buckets.len() < 2 {
             return ClockStatus::Unlocked;
         }
-        let since = now_ns - last;
+        let since = now_ns.saturating_sub(last);
         if since > self.cfg.coast_limit_ns {
             ClockStatus::Unlocked
         } else if since > self.cfg.coast_after_ns {
@@ -212,11 +212,14 @@ impl HostClock {
             return None;
         }
         let (h0, c0, slope, scatter) = self.fit?;
-        let d = c0 + slope * (host_ns - h0) as f64;
-        let since = (host_ns - self.last_host_ns?).max(0) as f64;
+        let d = c0 + slope * host_ns.saturating_sub(h0) as f64;
+        let since = host_ns.saturating_sub(self.last_host_ns?).max(0) as f64;
         let drift = self.cfg.rate_sigma_ppm * 1e-6 * since;
         let sigma = (self.excess_sigma_ns.powi(2) + scatter.powi(2) + drift.powi(2)).sqrt();
-        Some((host_ns - (d + self.excess_mean_ns).round() as i64, sigma))
+        Some((
+            host_ns.saturating_sub((d + self.excess_mean_ns).round() as i64),
+            sigma,
+        ))
     }
 
     /// Mean link delay above the minimum, ns (what the model assumes every port adds).

@@ -115,6 +115,9 @@ impl Vn200Times {
     }
 }
 
+/// Largest time accepted (GPS, start-up, host), ns: 2^61, 73 years.
+const MAX_TIME_NS: i64 = 1 << 61;
+
 /// Counters of the VN-200 aligner.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 pub struct Vn200AlignerStats {
@@ -220,6 +223,17 @@ impl Vn200Aligner {
         rx: Rx,
         host: &mut HostClock,
     ) -> Result<AlignedTime, NotAligned> {
+        // Decision: times beyond 2^61 ns (73 years after the GPS epoch or the start-up) are
+        // garbage: dropped, so differences of times below fit in an i64.
+        let t = &Vn200Times {
+            time_gps_ns: t.time_gps_ns.filter(|g| (1..=MAX_TIME_NS).contains(g)),
+            time_startup_ns: t.time_startup_ns.filter(|s| *s <= MAX_TIME_NS as u64),
+            ..*t
+        };
+        let rx = Rx {
+            host_ns: rx.host_ns.clamp(0, MAX_TIME_NS),
+            ..rx
+        };
         if let Some(u) = t.time_u_s.filter(|u| u.is_finite() && *u > 0.0) {
             self.time_sigma_ns = Some(f64::from(u) * 1e9);
         }
