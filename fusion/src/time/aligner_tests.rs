@@ -273,7 +273,7 @@ fn random_inputs_never_panic_and_every_input_comes_out_once() {
     use crate::time::testrng::Lcg;
     use vigil_drivers::bahrs::{Accuracy, SyncPulseTime};
     let mut rng = Lcg(2024);
-    let mut next = |rng: &mut Lcg| (rng.unit() * u64::MAX as f64) as u64;
+    let next = |rng: &mut Lcg| (rng.unit() * u64::MAX as f64) as u64;
     for round in 0..4 {
         let mut al = Aligner::new(AlignerConfig::default());
         let mut inputs = [0u64; 4];
