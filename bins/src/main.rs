@@ -5,6 +5,7 @@ mod decode;
 mod geometry;
 mod record_cmd;
 mod replay;
+mod replay_aligned;
 mod sim_cmd;
 #[cfg(target_os = "linux")]
 mod sim_live;

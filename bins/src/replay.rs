@@ -33,6 +33,19 @@ pub struct ReplayArgs {
     /// Pace the replay at this multiple of real time (default: as fast as possible).
     #[arg(long)]
     pub speed: Option<f64>,
+    /// What to write: the decoded messages, or every message on GPS time (`aligned`: see
+    /// `replay_aligned`).
+    #[arg(long, value_enum, default_value = "decoded")]
+    pub emit: Emit,
+}
+
+/// Output of `vigil replay`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Emit {
+    /// Decoded messages with their receive times.
+    Decoded,
+    /// Every message's GPS time, 1-sigma and time source (issue 7).
+    Aligned,
 }
 
 /// Writes one decoded message as a JSON line.
@@ -97,7 +110,16 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
         .with_context(|| format!("cannot read {}", args.input.display()))?;
     let stdout = io::stdout();
     let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
-    let summary = match replay(&data, &mut out, args.speed) {
+    let result = match args.emit {
+        Emit::Decoded => replay(&data, &mut out, args.speed),
+        Emit::Aligned => {
+            if args.speed.is_some() {
+                return Err(anyhow!("--speed applies to --emit decoded only"));
+            }
+            crate::replay_aligned::replay_aligned(&data, &mut out)
+        }
+    };
+    let summary = match result {
         Ok(s) => s,
         Err(e)
             if e.downcast_ref::<io::Error>()

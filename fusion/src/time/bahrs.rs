@@ -5,6 +5,9 @@
 //!   host receive time of the 0x06, minus its transmission time, mapped to GPS, rounded to the
 //!   nearest second (it arrives milliseconds after the edge, far inside +-0.5 s).
 //! - Those pairs feed a [`PpsClock`] (MCU microseconds -> GPS ns with drift).
+//! - 0x06 itself is placed through the clock (its sample instant is the pulse); so are 0x04/0x05
+//!   (their data's instant), an invalid one (zero sequence and time) comes out "device time
+//!   invalid": every message handed in comes out once.
 //! - 0x01/0x02 are paired with their 0x05/0x04 by sequence counter ([`SeqMatcher`]) and mapped
 //!   through the clock. 0x03 carries its own MCU time.
 //! - A sample whose time message never comes is emitted "not aligned: no time message"; a sample
@@ -66,24 +69,49 @@ pub struct BahrsAlignerStats {
 /// rates is 302); the oldest is released unaligned beyond that.
 const WAIT_CAPACITY: usize = 512;
 
-struct Waiting {
-    msg: Message,
+/// 1-sigma of the wait of a service message (versions) in the device's transmit queue, ns.
+/// Decision: the document gives no send time for them; the versions follow a reset together with
+/// the first data, so each can wait behind a few frames (the simulator measured up to 2.2 ms at
+/// 115 200 baud): 2 ms, added to the host clock's sigma, so their time is not overstated.
+const SERVICE_QUEUE_SIGMA_NS: f64 = 2_000_000.0;
+
+struct Waiting<T> {
+    msg: T,
     ticks: u64,
     epoch: u64,
     host_ns: i64,
 }
 
-/// Aligns a BAHRS message stream.
-pub struct BahrsAligner {
+/// A BAHRS sample as the aligner carries it: the decoded message, or the message with a caller's
+/// tag (e.g. its per-device index, kept through the reordering that sequence pairing causes).
+pub trait BahrsSample {
+    /// The BAHRS message.
+    fn bahrs(&self) -> &Message;
+}
+
+impl BahrsSample for Message {
+    fn bahrs(&self) -> &Message {
+        self
+    }
+}
+
+impl<U> BahrsSample for (U, Message) {
+    fn bahrs(&self) -> &Message {
+        &self.1
+    }
+}
+
+/// Aligns a BAHRS message stream (`T`: the message, or the message with a tag).
+pub struct BahrsAligner<T = Message> {
     cfg: BahrsAlignerConfig,
     clock: PpsClock,
-    inertial: SeqMatcher<Message>,
-    navigation: SeqMatcher<Message>,
-    waiting: VecDeque<Waiting>,
+    inertial: SeqMatcher<T>,
+    navigation: SeqMatcher<T>,
+    waiting: VecDeque<Waiting<T>>,
     stats: BahrsAlignerStats,
 }
 
-impl BahrsAligner {
+impl<T: BahrsSample> BahrsAligner<T> {
     /// An aligner with no clock model yet.
     pub fn new(cfg: BahrsAlignerConfig) -> Self {
         let hold = (cfg.pair_hold_s * 1e9) as i64;
@@ -116,14 +144,9 @@ impl BahrsAligner {
 
     /// Takes one decoded message, received (first byte) at host time `host_ns`; returns every
     /// sample that became final.
-    pub fn handle(
-        &mut self,
-        msg: Message,
-        host_ns: i64,
-        host: &HostClock,
-    ) -> Vec<Aligned<Message>> {
+    pub fn handle(&mut self, msg: T, host_ns: i64, host: &HostClock) -> Vec<Aligned<T>> {
         let mut out = Vec::new();
-        match msg {
+        match *msg.bahrs() {
             Message::Inertial(m) => {
                 let paired = self.inertial.push_data(m.seq, host_ns, msg);
                 self.place_paired(paired, &mut out);
@@ -135,9 +158,14 @@ impl BahrsAligner {
             Message::InertialTime(t) | Message::NavigationTime(t) => {
                 if !t.is_valid() {
                     self.stats.invalid_time_messages += 1;
+                    self.stats.not_aligned += 1;
+                    out.push(Aligned {
+                        message: msg,
+                        time: Err(NotAligned::DeviceTimeInvalid),
+                    });
                 } else {
                     self.observe(t.mcu_time_us, &mut out);
-                    let matcher = if matches!(msg, Message::InertialTime(_)) {
+                    let matcher = if matches!(msg.bahrs(), Message::InertialTime(_)) {
                         &mut self.inertial
                     } else {
                         &mut self.navigation
@@ -145,6 +173,8 @@ impl BahrsAligner {
                     if let Some(p) = matcher.push_time(t.data_seq, host_ns, t.mcu_time_us) {
                         self.place_paired(vec![p], &mut out);
                     }
+                    // The time message is a sample of the stream too: its instant is its data's.
+                    self.place(msg, t.mcu_time_us, host_ns, &mut out);
                 }
             }
             Message::Accuracy(a) => {
@@ -167,7 +197,8 @@ impl BahrsAligner {
                     }
                     None => self.stats.pulses_unidentified += 1,
                 }
-                out.push(self.host_timed(msg, host_ns, host));
+                // The 0x06 sample instant is the pulse itself: its MCU time through the clock.
+                self.place(msg, p.mcu_time_us, host_ns, &mut out);
             }
             // Versions and service messages carry no device time: host clock.
             _ => out.push(self.host_timed(msg, host_ns, host)),
@@ -176,7 +207,7 @@ impl BahrsAligner {
     }
 
     /// Releases what waited too long at host time `now_ns` (call periodically and at the end).
-    pub fn expire(&mut self, now_ns: i64) -> Vec<Aligned<Message>> {
+    pub fn expire(&mut self, now_ns: i64) -> Vec<Aligned<T>> {
         let mut out = Vec::new();
         let expired: Vec<_> = self
             .inertial
@@ -203,7 +234,7 @@ impl BahrsAligner {
     }
 
     /// Releases everything still held (end of stream).
-    pub fn flush(&mut self) -> Vec<Aligned<Message>> {
+    pub fn flush(&mut self) -> Vec<Aligned<T>> {
         let mut out = Vec::new();
         let rest: Vec<_> = self
             .inertial
@@ -222,7 +253,7 @@ impl BahrsAligner {
         out
     }
 
-    fn observe(&mut self, ticks: u64, out: &mut Vec<Aligned<Message>>) {
+    fn observe(&mut self, ticks: u64, out: &mut Vec<Aligned<T>>) {
         if self.clock.observe(ticks) {
             // A new clock epoch: what waits from the old one cannot be mapped any more.
             for w in std::mem::take(&mut self.waiting) {
@@ -235,11 +266,7 @@ impl BahrsAligner {
         }
     }
 
-    fn place_paired(
-        &mut self,
-        paired: Vec<super::seq::Paired<Message>>,
-        out: &mut Vec<Aligned<Message>>,
-    ) {
+    fn place_paired(&mut self, paired: Vec<super::seq::Paired<T>>, out: &mut Vec<Aligned<T>>) {
         for p in paired {
             match p.device_ticks {
                 Some(ticks) => self.place(p.data, ticks, p.host_ns, out),
@@ -255,7 +282,7 @@ impl BahrsAligner {
     }
 
     /// Maps a timed sample, or holds it until the clock can.
-    fn place(&mut self, msg: Message, ticks: u64, host_ns: i64, out: &mut Vec<Aligned<Message>>) {
+    fn place(&mut self, msg: T, ticks: u64, host_ns: i64, out: &mut Vec<Aligned<T>>) {
         let epoch = self.clock.epoch();
         match self.clock.to_gps(ticks) {
             Ok((t, sigma)) => out.push(Aligned {
@@ -294,7 +321,7 @@ impl BahrsAligner {
         }
     }
 
-    fn retry_waiting(&mut self, out: &mut Vec<Aligned<Message>>) {
+    fn retry_waiting(&mut self, out: &mut Vec<Aligned<T>>) {
         let epoch = self.clock.epoch();
         let waiting = std::mem::take(&mut self.waiting);
         for w in waiting {
@@ -311,12 +338,12 @@ impl BahrsAligner {
     }
 
     /// A message without device time, placed by the host clock (its transmission time removed).
-    fn host_timed(&self, msg: Message, host_ns: i64, host: &HostClock) -> Aligned<Message> {
+    fn host_timed(&self, msg: T, host_ns: i64, host: &HostClock) -> Aligned<T> {
         let time = host
             .to_gps(host_ns)
             .map(|(t, sigma)| AlignedTime {
-                t_gps_ns: t - self.tx_ns(msg.type_id()),
-                sigma_ns: sigma,
+                t_gps_ns: t - self.tx_ns(msg.bahrs().type_id()),
+                sigma_ns: (sigma.powi(2) + SERVICE_QUEUE_SIGMA_NS.powi(2)).sqrt(),
                 source: TimeSource::HostClock,
                 status: host.status(host_ns),
             })

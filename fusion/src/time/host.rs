@@ -52,7 +52,13 @@ struct Bucket {
     min_d: i64,
     host_at_min: i64,
     n: u32,
+    /// First `d` of the bucket: the sums below are relative to it. Decision: `d` is a host
+    /// monotonic time minus a GPS time (about -1.4e18 ns for a host clock counting from boot), so
+    /// raw sums of `d` squared would lose every nanosecond to f64 rounding.
+    ref_d: i64,
+    /// Sum of `d - ref_d`, ns.
     sum_d: f64,
+    /// Sum of `(d - ref_d)^2`, ns^2.
     sum_d2: f64,
 }
 
@@ -84,7 +90,7 @@ impl HostClock {
     /// Adds a reference: a message received at `host_ns` whose transmission started at GPS time
     /// `gps_ns` (after the caller removed its transmission time and known output delay).
     pub fn add(&mut self, host_ns: i64, gps_ns: i64) {
-        let d = host_ns - gps_ns;
+        let d = host_ns.saturating_sub(gps_ns);
         let index = host_ns.div_euclid(self.cfg.bucket_ns);
         if self
             .last_host_ns
@@ -102,8 +108,9 @@ impl HostClock {
                     b.host_at_min = host_ns;
                 }
                 b.n += 1;
-                b.sum_d += d as f64;
-                b.sum_d2 += (d as f64).powi(2);
+                let e = (d - b.ref_d) as f64;
+                b.sum_d += e;
+                b.sum_d2 += e * e;
                 return;
             }
             _ => {}
@@ -118,8 +125,9 @@ impl HostClock {
             min_d: d,
             host_at_min: host_ns,
             n: 1,
-            sum_d: d as f64,
-            sum_d2: (d as f64).powi(2),
+            ref_d: d,
+            sum_d: 0.0,
+            sum_d2: 0.0,
         });
     }
 
@@ -164,7 +172,8 @@ impl HostClock {
         // Excess delay over the envelope: mean and spread of d - min per bucket, pooled.
         let (mut cnt, mut sum, mut sum2) = (0.0, 0.0, 0.0);
         for b in &complete {
-            let m = b.min_d as f64;
+            // The minimum relative to the bucket's reference (small: within the delay spread).
+            let m = (b.min_d - b.ref_d) as f64;
             cnt += f64::from(b.n);
             sum += b.sum_d - m * f64::from(b.n);
             sum2 += b.sum_d2 - 2.0 * m * b.sum_d + m * m * f64::from(b.n);
@@ -184,7 +193,7 @@ impl HostClock {
         if self.fit.is_none() || self.buckets.len() < 2 {
             return ClockStatus::Unlocked;
         }
-        let since = now_ns - last;
+        let since = now_ns.saturating_sub(last);
         if since > self.cfg.coast_limit_ns {
             ClockStatus::Unlocked
         } else if since > self.cfg.coast_after_ns {
@@ -203,11 +212,14 @@ impl HostClock {
             return None;
         }
         let (h0, c0, slope, scatter) = self.fit?;
-        let d = c0 + slope * (host_ns - h0) as f64;
-        let since = (host_ns - self.last_host_ns?).max(0) as f64;
+        let d = c0 + slope * host_ns.saturating_sub(h0) as f64;
+        let since = host_ns.saturating_sub(self.last_host_ns?).max(0) as f64;
         let drift = self.cfg.rate_sigma_ppm * 1e-6 * since;
         let sigma = (self.excess_sigma_ns.powi(2) + scatter.powi(2) + drift.powi(2)).sqrt();
-        Some((host_ns - (d + self.excess_mean_ns).round() as i64, sigma))
+        Some((
+            host_ns.saturating_sub((d + self.excess_mean_ns).round() as i64),
+            sigma,
+        ))
     }
 
     /// Mean link delay above the minimum, ns (what the model assumes every port adds).
@@ -267,6 +279,23 @@ mod tests {
         assert!((est - gps).abs() < 50_000, "error {} ns", est - gps);
         assert!((sigma - 288_675.0).abs() < 30_000.0, "sigma {sigma}");
         assert_eq!(c.status(host), ClockStatus::Locked);
+    }
+
+    #[test]
+    fn delay_spread_survives_a_host_clock_far_from_gps() {
+        // Regression: a host clock counting from boot (1e12 ns) against GPS time (1.4e18 ns)
+        // gives d = -1.4e18 ns; squared sums of raw d lost the spread to rounding (sigma of
+        // seconds). Uniform [0.5, 1.5] ms: sigma 1 ms / sqrt(12) = 0.289 ms.
+        let mut c = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(4);
+        let g0 = 1_400_000_000 * S;
+        for k in 0..4_000 {
+            let gps = g0 + k * 5 * MS;
+            let delay = MS / 2 + (rng.unit() * MS as f64) as i64;
+            c.add(gps - g0 + 1_000 * S + delay, gps);
+        }
+        let (_, sigma) = c.to_gps(1_015 * S).unwrap();
+        assert!((sigma - 288_675.0).abs() < 30_000.0, "sigma {sigma}");
     }
 
     #[test]

@@ -1,21 +1,30 @@
 //! Time alignment: every sample on one timebase, GPS time in nanoseconds, with a 1-sigma
 //! uncertainty and the source of its time.
 //!
-//! Building blocks (the per-device aligners that use them arrive with the time-alignment issue):
+//! Building blocks and the per-device aligners built from them (issue 7):
 //! - [`gps`]: GPS time, UTC, the leap-second table with its validity date, and placing a UTC time
 //!   of day (TT-Multi-RF `ts`, TS24h) on the right day;
 //! - [`pps`]: a device clock disciplined by PPS pulses (the BAHRS MCU clock through 0x06);
 //! - [`host`]: the host clock model (lower envelope of receive time minus GPS time);
 //! - [`bahrs`]: the BAHRS aligner built from them;
-//! - [`seq`]: pairing data messages with their time messages by wrapping sequence counters.
+//! - [`seq`]: pairing data messages with their time messages by wrapping sequence counters;
+//! - [`host_timed`]: transmission times at a baud rate, and samples placed by the host clock;
+//! - [`vn200`]: the VN-200 aligner (native GPS time, its start-up clock while GNSS time is
+//!   invalid, the host clock references and GPS - UTC);
+//! - [`ttmrf`]: TT-Multi-RF JSON `ts`, raw TS24h / TS1s and host-timed outputs;
+//! - [`aligner`]: one deterministic object for every device, with per-device clock status.
 
+pub mod aligner;
 pub mod bahrs;
 pub mod gps;
 pub mod host;
+pub mod host_timed;
 pub mod pps;
 pub mod seq;
 #[cfg(test)]
 mod testrng;
+pub mod ttmrf;
+pub mod vn200;
 
 use serde::Serialize;
 
@@ -45,6 +54,9 @@ pub enum TimeSource {
     UtcTimeOfDay,
     /// The host receive time, mapped through the host-clock model.
     HostClock,
+    /// The device's free-running clock (VN-200 TimeStartup), extrapolated from its last valid GPS
+    /// time while the device says its GPS time is invalid.
+    DeviceClock,
 }
 
 /// Why a sample has no GPS time.
@@ -59,6 +71,25 @@ pub enum NotAligned {
     OutsideClockEpoch,
     /// The host clock model is not established.
     HostClockUnknown,
+    /// The device flags its time invalid and no model of its clock exists yet.
+    DeviceTimeInvalid,
+    /// The device's time stamp is out of range (e.g. a time of day past 24 h).
+    BadTimeStamp,
+}
+
+/// How a message reached the host: the inputs of every receive-time computation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rx {
+    /// Host monotonic receive time of the read that delivered the message's LAST byte, ns.
+    /// Decision: the issue speaks of the first byte, but a read returns a chunk only after its last
+    /// byte arrived, so the time of the chunk holding the first byte is late by a random share of
+    /// the chunk (up to 64 bytes: 67 ms at 9600 baud). A message ends at a line idle or at the end
+    /// of a chunk; the read that completes it is its arrival, and subtracting its own transmission
+    /// time ([`host_timed::tx_ns`]) gives the host time its first byte left the device (plus the
+    /// link latency the host-clock model measures).
+    pub host_ns: i64,
+    /// Length of the message on the wire, bytes.
+    pub wire_len: usize,
 }
 
 /// A sample on the GPS timebase, or marked as not aligned (never silently dropped).

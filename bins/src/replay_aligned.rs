@@ -1,0 +1,319 @@
+//! `vigil replay FILE.mcap --emit aligned`: every decoded message on GPS time (issue 7, "Output").
+//!
+//! One JSON line per input message, in the order the aligner finalises them (BAHRS pairing and the
+//! host-clock wait reorder them; `index` joins them back): `device`, `index` (0-based per device,
+//! the truth file's `index` while nothing of the device was lost), `t_gps_ns`, `sigma_ns`,
+//! `time_source`, `status` (unlocked / locking / locked / coasting) for aligned samples, or
+//! `not_aligned` (the reason) with the three time fields null. Every message comes out once.
+//!
+//! BAHRS and Watson are decoded by `vigil_sim::replay::Replayer`; the VN-200 (binary and ASCII)
+//! and TT-Multi-RF ports, which it does not decode yet, are decoded here (channel protocol
+//! `vn200*` / `ttmrf-hex*` / `ttmrf*`, else the device name `vn200` / `ttmrf`; TT-Multi-RF text in
+//! auto mode). Each message's receive time is that of the read holding its last byte
+//! ([`ChunkClock`]); its wire length comes from re-encoding it (BAHRS, Watson) or from the decoder's
+//! offsets (the start of the next message bounds it; see `Port`).
+
+use std::collections::BTreeMap;
+use std::io::Write;
+
+use anyhow::Result;
+use bytes::BytesMut;
+use serde::Serialize;
+use tokio_util::codec::Decoder as _;
+use vigil_drivers::ttmrf::raw::hex::HexDecoder;
+use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
+use vigil_drivers::{Codec, DeviceDecoder};
+use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Sample};
+use vigil_fusion::time::host_timed::ChunkClock;
+use vigil_fusion::time::{ClockStatus, NotAligned, TimeSource};
+use vigil_sim::record::{Recorded, read_recording};
+use vigil_sim::replay::{Decoded, Message, PortSummary, Replayer};
+
+use crate::replay::ReplaySummary;
+
+/// One output line.
+#[derive(Debug, Serialize)]
+pub struct AlignedLine {
+    /// Device name.
+    pub device: &'static str,
+    /// 0-based per-device input index.
+    pub index: u64,
+    /// GPS time, ns since 1980-01-06, or null.
+    pub t_gps_ns: Option<i64>,
+    /// 1-sigma, ns, or null.
+    pub sigma_ns: Option<f64>,
+    /// Where the time came from, or null.
+    pub time_source: Option<TimeSource>,
+    /// Clock model state, or null.
+    pub status: Option<ClockStatus>,
+    /// Why there is no time, or null.
+    pub not_aligned: Option<NotAligned>,
+}
+
+impl AlignedLine {
+    /// The line of one aligned sample.
+    pub fn of(s: &AlignedSample) -> Self {
+        let (t, why) = match s.aligned.time {
+            Ok(a) => (Some(a), None),
+            Err(e) => (None, Some(e)),
+        };
+        Self {
+            device: s.device.name(),
+            index: s.index,
+            t_gps_ns: t.map(|a| a.t_gps_ns),
+            sigma_ns: t.map(|a| a.sigma_ns),
+            time_source: t.map(|a| a.source),
+            status: t.map(|a| a.status),
+            not_aligned: why,
+        }
+    }
+}
+
+/// Decoded samples of one port: (sample, start offset, wire length).
+type Samples = Vec<(Sample, u64, usize)>;
+
+/// A port decoded here: its decoder, buffer, and the stream length fed so far.
+struct Port<D: DeviceDecoder> {
+    codec: Codec<D>,
+    buf: BytesMut,
+    /// A decoded message waits for the next one (or the end of the stream), whose start offset
+    /// bounds its length: the decoders give only the start offset.
+    pending: Option<(u64, D::Message)>,
+}
+
+impl<D: DeviceDecoder> Port<D> {
+    fn new(d: D) -> Self {
+        Self {
+            codec: Codec(d),
+            buf: BytesMut::with_capacity(1 << 12),
+            pending: None,
+        }
+    }
+
+    /// Decodes what `bytes` completes; returns (start offset, wire length, message) of every
+    /// message whose end is known. Decision: a message's length is taken as the distance to the
+    /// next message's start (skipped garbage between them counts as its tail: rare, and only
+    /// ever makes the receive time earlier by the garbage's transmission time); the last message
+    /// ends at the end of the stream.
+    fn feed(&mut self, bytes: &[u8], fed_end: u64, eof: bool) -> Vec<(u64, usize, D::Message)> {
+        self.buf.extend_from_slice(bytes);
+        let mut out = Vec::new();
+        loop {
+            let next = if eof {
+                self.codec.decode_eof(&mut self.buf)
+            } else {
+                self.codec.decode(&mut self.buf)
+            };
+            let Ok(Some(l)) = next else { break };
+            if let Some((off, m)) = self.pending.take() {
+                out.push((off, (l.offset - off) as usize, m));
+            }
+            self.pending = Some((l.offset, l.message));
+        }
+        if eof && let Some((off, m)) = self.pending.take() {
+            out.push((off, fed_end.saturating_sub(off) as usize, m));
+        }
+        out
+    }
+}
+
+enum OwnPort {
+    Vn200(Box<Port<Vn200Decoder>>),
+    TtText(Port<TextDecoder>),
+    TtHex(Port<HexDecoder>),
+}
+
+/// The aligned replay: the Replayer for BAHRS / Watson, own ports for VN-200 / TT-Multi-RF, one
+/// [`Aligner`].
+pub struct AlignedReplay {
+    aligner: Aligner,
+    replayer: Replayer,
+    clocks: BTreeMap<String, ChunkClock>,
+    fed: BTreeMap<String, u64>,
+    own: BTreeMap<String, OwnPort>,
+}
+
+impl Default for AlignedReplay {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl AlignedReplay {
+    /// A replay with default aligner parameters.
+    pub fn new() -> Self {
+        Self {
+            aligner: Aligner::new(AlignerConfig::default()),
+            replayer: Replayer::new(),
+            clocks: BTreeMap::new(),
+            fed: BTreeMap::new(),
+            own: BTreeMap::new(),
+        }
+    }
+
+    fn own_port(protocol: &str, device: &str) -> Option<OwnPort> {
+        if protocol.starts_with("vn200") || (protocol.is_empty() && device == "vn200") {
+            Some(OwnPort::Vn200(Box::new(Port::new(Vn200Decoder::new()))))
+        } else if protocol.starts_with("ttmrf-hex") {
+            Some(OwnPort::TtHex(Port::new(HexDecoder::new())))
+        } else if protocol.starts_with("ttmrf") || (protocol.is_empty() && device == "ttmrf") {
+            Some(OwnPort::TtText(Port::new(TextDecoder::new(TextMode::Auto))))
+        } else {
+            None
+        }
+    }
+
+    /// Feeds one read chunk; hands every finalised sample to `f`.
+    pub fn feed(
+        &mut self,
+        device: &str,
+        protocol: &str,
+        t_host_ns: u64,
+        bytes: &[u8],
+        f: &mut impl FnMut(&AlignedSample) -> Result<()>,
+    ) -> Result<()> {
+        let t = t_host_ns as i64;
+        self.clocks
+            .entry(device.to_string())
+            .or_default()
+            .push(t, bytes.len());
+        let fed = self.fed.entry(device.to_string()).or_default();
+        *fed += bytes.len() as u64;
+        let fed_end = *fed;
+        if !self.own.contains_key(device)
+            && let Some(p) = Self::own_port(protocol, device)
+        {
+            self.own.insert(device.to_string(), p);
+        }
+        let mut samples: Samples = Vec::new();
+        if let Some(p) = self.own.get_mut(device) {
+            samples = own_samples(p, bytes, fed_end, false);
+        } else {
+            let mut collect = |d: Decoded<'_>| -> Result<()> {
+                samples.push(replayer_sample(&d));
+                Ok(())
+            };
+            self.replayer
+                .feed(device, protocol, t_host_ns, bytes, &mut collect)?;
+        }
+        self.align(device, samples, f)
+    }
+
+    /// Ends every stream, releases what the aligner holds, and returns the Replayer's counters
+    /// (ports decoded here are listed with their decoder counters).
+    pub fn finish(
+        &mut self,
+        f: &mut impl FnMut(&AlignedSample) -> Result<()>,
+    ) -> Result<BTreeMap<String, PortSummary>> {
+        let mut rest: Vec<(String, Samples)> = Vec::new();
+        let mut collect = |d: Decoded<'_>| -> Result<()> {
+            rest.push((d.device.to_string(), vec![replayer_sample(&d)]));
+            Ok(())
+        };
+        let mut summary = self.replayer.finish(&mut collect)?;
+        for (device, p) in &mut self.own {
+            let fed_end = self.fed.get(device).copied().unwrap_or(0);
+            rest.push((device.clone(), own_samples(p, &[], fed_end, true)));
+            let stats = match p {
+                OwnPort::Vn200(p) => *p.codec.0.stats(),
+                OwnPort::TtText(p) => *p.codec.0.stats(),
+                OwnPort::TtHex(p) => *p.codec.0.stats(),
+            };
+            summary.insert(device.clone(), PortSummary::Decoded(stats));
+        }
+        for (device, samples) in rest {
+            self.align(&device, samples, f)?;
+        }
+        for s in self.aligner.flush() {
+            f(&s)?;
+        }
+        Ok(summary)
+    }
+
+    fn align(
+        &mut self,
+        device: &str,
+        samples: Samples,
+        f: &mut impl FnMut(&AlignedSample) -> Result<()>,
+    ) -> Result<()> {
+        let Some(clock) = self.clocks.get_mut(device) else {
+            return Ok(());
+        };
+        for (sample, offset, len) in samples {
+            let Some(rx) = clock.rx(offset, len) else {
+                continue;
+            };
+            for s in self.aligner.handle(sample, rx) {
+                f(&s)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A Replayer message as a [`Sample`] with its start offset and wire length (re-encoded).
+fn replayer_sample(d: &Decoded<'_>) -> (Sample, u64, usize) {
+    match d.message {
+        Message::Bahrs(m) => (Sample::Bahrs(*m), d.offset, m.to_frame().len()),
+        Message::Watson(l) => (Sample::Watson(*l), d.offset, l.to_bytes().len()),
+    }
+}
+
+fn own_samples(
+    p: &mut OwnPort,
+    bytes: &[u8],
+    fed_end: u64,
+    eof: bool,
+) -> Vec<(Sample, u64, usize)> {
+    match p {
+        OwnPort::Vn200(p) => p
+            .feed(bytes, fed_end, eof)
+            .into_iter()
+            .map(|(o, n, m): (u64, usize, Vn200Message)| (Sample::Vn200(Box::new(m)), o, n))
+            .collect(),
+        OwnPort::TtText(p) => p
+            .feed(bytes, fed_end, eof)
+            .into_iter()
+            .map(|(o, n, m): (u64, usize, TextMessage)| (Sample::TtText(Box::new(m)), o, n))
+            .collect(),
+        OwnPort::TtHex(p) => p
+            .feed(bytes, fed_end, eof)
+            .into_iter()
+            .map(|(o, n, m)| (Sample::TtRaw(Box::new(m)), o, n))
+            .collect(),
+    }
+}
+
+/// Replays `mcap` into `out` as aligned JSON lines.
+pub fn replay_aligned<W: Write>(mcap: &[u8], out: &mut W) -> Result<ReplaySummary> {
+    let mut r = AlignedReplay::new();
+    let mut write = |s: &AlignedSample| -> Result<()> {
+        serde_json::to_writer(&mut *out, &AlignedLine::of(s))?;
+        out.write_all(b"\n")?;
+        Ok(())
+    };
+    let outcome = read_recording(mcap, |m| -> Result<()> {
+        let Recorded::Raw {
+            device,
+            protocol,
+            t_host_ns,
+            bytes,
+        } = m
+        else {
+            return Ok(());
+        };
+        r.feed(device, protocol, t_host_ns, bytes, &mut write)
+    })?;
+    let devices = r.finish(&mut write)?;
+    Ok(ReplaySummary {
+        kind: "summary",
+        mcap_messages: outcome.messages,
+        damage: outcome.damage,
+        devices,
+    })
+}
+
+#[cfg(test)]
+#[path = "replay_aligned_tests.rs"]
+mod tests;

@@ -1,0 +1,97 @@
+//! The aligned replay with synthetic chunks (the simulator has no VN-200 model yet): VN-200
+//! binary frames (the driver's encoder) at 40 Hz, one per read, on a host clock 4 s ahead of GPS
+//! with a 1 ms link delay; Watson lines (the driver's encoder) every 100 ms, cut into two reads.
+
+use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup};
+use vigil_drivers::vn200::status::InsStatus;
+use vigil_drivers::watson::{Kind, Line};
+use vigil_fusion::time::aligner::Device;
+use vigil_fusion::time::host_timed::tx_ns;
+
+use super::*;
+
+const MS: i64 = 1_000_000;
+const S: i64 = 1_000_000_000;
+const OFF: i64 = 4 * S;
+const G0: i64 = 1_400_000_000 * S;
+
+#[test]
+fn vn200_and_watson_chunks_come_out_on_gps_time() {
+    let mut r = AlignedReplay::new();
+    let mut got: Vec<AlignedSample> = Vec::new();
+    let mut f = |s: &AlignedSample| -> Result<()> {
+        got.push(s.clone());
+        Ok(())
+    };
+    let line = Line {
+        kind: Kind::Inertial,
+        over_range: false,
+        bank_deg: 1.0,
+        elevation_deg: -2.0,
+        heading_deg: 90.0,
+        accel_g: [0.0, 0.0, 1.0],
+        rate_dps: [0.0; 3],
+        velocity_kmh: 100.0,
+    };
+    let bytes = line.to_bytes();
+    assert_eq!(bytes.len(), 64);
+    let mut watson_truth = Vec::new();
+    for k in 0..400 {
+        let g = G0 + k * 25 * MS;
+        let frame = BinaryOutput {
+            common: Some(CommonGroup {
+                time_gps_ns: Some(g as u64),
+                ins_status: Some(InsStatus(0b110)),
+                ..Default::default()
+            }),
+            ..Default::default()
+        }
+        .encode();
+        let t = g + OFF + tx_ns(frame.len(), 921_600) + MS;
+        r.feed("vn200", "", t as u64, &frame, &mut f).unwrap();
+        if k % 4 == 1 {
+            // Sample at g; first byte 1 ms later; the first 30 bytes read 31.25 ms after that
+            // plus 1 ms, the rest when the line ends (66.67 ms) plus 1 ms.
+            watson_truth.push(g);
+            let start = g + MS + OFF;
+            r.feed(
+                "watson",
+                "",
+                (start + tx_ns(30, 9600) + MS) as u64,
+                &bytes[..30],
+                &mut f,
+            )
+            .unwrap();
+            r.feed(
+                "watson",
+                "",
+                (start + tx_ns(64, 9600) + MS) as u64,
+                &bytes[30..],
+                &mut f,
+            )
+            .unwrap();
+        }
+    }
+    let summary = r.finish(&mut f).unwrap();
+    assert!(matches!(summary["vn200"], PortSummary::Decoded(s) if s.frames_decoded == 400));
+    let vn: Vec<&AlignedSample> = got.iter().filter(|s| s.device == Device::Vn200).collect();
+    assert_eq!(vn.len(), 400);
+    for s in &vn {
+        let a = s.aligned.time.unwrap();
+        assert_eq!(a.t_gps_ns, G0 + s.index as i64 * 25 * MS);
+    }
+    let w: Vec<&AlignedSample> = got.iter().filter(|s| s.device == Device::Watson).collect();
+    assert_eq!(w.len(), watson_truth.len());
+    for s in &w {
+        // The first lines wait for the host clock (2 s of references); all come out aligned.
+        let a = s.aligned.time.unwrap();
+        let e = a.t_gps_ns - watson_truth[s.index as usize];
+        assert!(e.abs() < 50_000, "line {}: {e} ns", s.index);
+    }
+    // The JSON line of one of them.
+    let line = serde_json::to_value(AlignedLine::of(w[w.len() - 1])).unwrap();
+    assert_eq!(line["device"], "watson");
+    assert_eq!(line["time_source"], "host_clock");
+    assert_eq!(line["status"], "locked");
+    assert!(line["not_aligned"].is_null());
+}

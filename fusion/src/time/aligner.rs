@@ -1,0 +1,454 @@
+//! One deterministic time aligner for every device (issue 7, "Output").
+//!
+//! [`Aligner::handle`] takes (device, decoded message, how it was received) and returns the
+//! samples that became final, each an [`AlignedSample`] carrying the device's 0-based input index
+//! (BAHRS pairing and the waits below reorder the output; the index joins it back to the input
+//! and to the simulator's truth). Nothing is dropped: every input comes out exactly once, aligned
+//! or marked not aligned with a reason, at most [`AlignerConfig::host_wait_ns`] (host-timed
+//! devices waiting for the host clock) or the BAHRS aligner's own holds later in host time, and
+//! [`Aligner::flush`] releases the rest at the end of a stream. The output depends only on the
+//! inputs (no clock is read).
+//!
+//! [`Aligner::clock_report`] gives each device's clock status, offset, drift and residuals for
+//! the monitor and the logs.
+
+use std::collections::VecDeque;
+
+use serde::Serialize;
+use vigil_drivers::ttmrf::asterix::AsterixMessage;
+use vigil_drivers::ttmrf::gdl90::Gdl90Message;
+use vigil_drivers::ttmrf::mavlink::MavlinkMessage;
+use vigil_drivers::ttmrf::raw::RawFrame;
+use vigil_drivers::ttmrf::text::TextMessage;
+use vigil_drivers::vn200::Vn200Message;
+use vigil_drivers::{bahrs, watson};
+
+use super::bahrs::{BahrsAligner, BahrsAlignerConfig};
+use super::host::{HostClock, HostClockConfig};
+use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
+use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
+use super::vn200::{Vn200Aligner, Vn200AlignerConfig};
+use super::{Aligned, AlignedTime, ClockStatus, NotAligned, Rx};
+
+/// The devices of the installation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Device {
+    /// BAHRS (MCU clock disciplined by the VN-200 PPS).
+    Bahrs,
+    /// Watson AHRS-E304 (host clock).
+    Watson,
+    /// VN-200 (native GPS time).
+    Vn200,
+    /// TT-Multi-RF (UTC time of day, PPS stamps or host clock).
+    Ttmrf,
+}
+
+impl Device {
+    /// Every device, in report order.
+    pub const ALL: [Device; 4] = [Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf];
+
+    /// The device (port) name used in recordings and the truth file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Device::Bahrs => "bahrs",
+            Device::Watson => "watson",
+            Device::Vn200 => "vn200",
+            Device::Ttmrf => "ttmrf",
+        }
+    }
+
+    fn slot(self) -> usize {
+        self as usize
+    }
+}
+
+/// A decoded message of any device.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Sample {
+    /// BAHRS protocol 2.0.
+    Bahrs(bahrs::Message),
+    /// Watson line.
+    Watson(watson::Line),
+    /// VN-200 binary or ASCII message.
+    Vn200(Box<Vn200Message>),
+    /// TT-Multi-RF text output (CSV, JSON, NMEA, AT).
+    TtText(Box<TextMessage>),
+    /// TT-Multi-RF raw frame (HEX / Beast).
+    TtRaw(Box<RawFrame>),
+    /// TT-Multi-RF MAVLink.
+    TtMavlink(Box<MavlinkMessage>),
+    /// TT-Multi-RF GDL90.
+    TtGdl90(Box<Gdl90Message>),
+    /// TT-Multi-RF ASTERIX.
+    TtAsterix(Box<AsterixMessage>),
+}
+
+impl Sample {
+    /// The device that sends this kind of message.
+    pub fn device(&self) -> Device {
+        match self {
+            Sample::Bahrs(_) => Device::Bahrs,
+            Sample::Watson(_) => Device::Watson,
+            Sample::Vn200(_) => Device::Vn200,
+            _ => Device::Ttmrf,
+        }
+    }
+}
+
+/// One final sample: its device, its 0-based input index for that device, and its time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AlignedSample {
+    /// The device.
+    pub device: Device,
+    /// 0-based order of the sample among the device's inputs.
+    pub index: u64,
+    /// The sample and its GPS time, or why there is none.
+    pub aligned: Aligned<Sample>,
+}
+
+/// Parameters of the [`Aligner`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlignerConfig {
+    /// Host clock model.
+    pub host: HostClockConfig,
+    /// BAHRS aligner.
+    pub bahrs: BahrsAlignerConfig,
+    /// VN-200 aligner.
+    pub vn200: Vn200AlignerConfig,
+    /// Watson port.
+    pub watson: HostTimedLink,
+    /// TT-Multi-RF port.
+    pub ttmrf: TtAlignerConfig,
+    /// How long a sample that needs the host clock waits for it, ns (the host model needs two
+    /// seconds of VN-200 references). Beyond it, the sample is released not aligned.
+    pub host_wait_ns: i64,
+    /// Most samples waiting for the host clock; the oldest is released beyond it.
+    pub host_wait_capacity: usize,
+}
+
+impl Default for AlignerConfig {
+    fn default() -> Self {
+        Self {
+            host: HostClockConfig::default(),
+            bahrs: BahrsAlignerConfig::default(),
+            vn200: Vn200AlignerConfig::default(),
+            watson: HostTimedLink::WATSON,
+            ttmrf: TtAlignerConfig::default(),
+            host_wait_ns: 3_000_000_000,
+            host_wait_capacity: 4096,
+        }
+    }
+}
+
+/// A device's clock model, for the monitor and the logs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ClockReport {
+    /// The device.
+    pub device: Device,
+    /// Model state.
+    pub status: ClockStatus,
+    /// Device (or host) clock minus GPS time, ns, where the model has one.
+    pub offset_ns: Option<f64>,
+    /// Clock rate error against GPS, ppm.
+    pub drift_ppm: Option<f64>,
+    /// 1-sigma of the model's residuals (pulse fit, link-delay spread), ns.
+    pub residual_ns: Option<f64>,
+}
+
+/// Largest host time accepted, ns (2^61: 73 years of uptime).
+const MAX_HOST_NS: i64 = 1 << 61;
+
+/// Largest message length accepted, bytes (far above any of these protocols' frames).
+const MAX_WIRE_LEN: usize = 1 << 20;
+
+struct Held {
+    device: Device,
+    index: u64,
+    sample: Sample,
+    rx: Rx,
+}
+
+/// Puts the samples of every device on GPS time.
+pub struct Aligner {
+    cfg: AlignerConfig,
+    host: HostClock,
+    bahrs: BahrsAligner<(u64, bahrs::Message)>,
+    vn200: Vn200Aligner,
+    held: VecDeque<Held>,
+    next_index: [u64; 4],
+    last_host_ns: i64,
+    last_bahrs_ticks: Option<u64>,
+}
+
+impl Aligner {
+    /// An aligner with no clock models yet.
+    pub fn new(cfg: AlignerConfig) -> Self {
+        Self {
+            cfg,
+            host: HostClock::new(cfg.host),
+            bahrs: BahrsAligner::new(cfg.bahrs),
+            vn200: Vn200Aligner::new(cfg.vn200),
+            held: VecDeque::new(),
+            next_index: [0; 4],
+            last_host_ns: i64::MIN,
+            last_bahrs_ticks: None,
+        }
+    }
+
+    /// The host clock model.
+    pub fn host_clock(&self) -> &HostClock {
+        &self.host
+    }
+
+    /// The BAHRS aligner (its counters and MCU clock).
+    pub fn bahrs(&self) -> &BahrsAligner<(u64, bahrs::Message)> {
+        &self.bahrs
+    }
+
+    /// The VN-200 aligner (its counters and start-up clock).
+    pub fn vn200(&self) -> &Vn200Aligner {
+        &self.vn200
+    }
+
+    /// Takes one decoded message, received as `rx`; returns every sample that became final.
+    pub fn handle(&mut self, sample: Sample, rx: Rx) -> Vec<AlignedSample> {
+        // Decision: a host monotonic time counts from boot; one outside 0 ..= 2^61 ns (73 years)
+        // is garbage and is clamped, so every difference of host times below fits in an i64.
+        let rx = Rx {
+            host_ns: rx.host_ns.clamp(0, MAX_HOST_NS),
+            wire_len: rx.wire_len.min(MAX_WIRE_LEN),
+        };
+        let device = sample.device();
+        let index = self.next_index[device.slot()];
+        self.next_index[device.slot()] += 1;
+        self.last_host_ns = self.last_host_ns.max(rx.host_ns);
+        let mut out = Vec::new();
+        match sample {
+            Sample::Bahrs(m) => {
+                if let Some(t) = bahrs_ticks(&m) {
+                    self.last_bahrs_ticks = Some(t);
+                }
+                let done = self.bahrs.handle((index, m), rx.host_ns, &self.host);
+                out.extend(done.into_iter().map(bahrs_out));
+            }
+            Sample::Vn200(m) => {
+                let time = match &*m {
+                    Vn200Message::Binary(o) => self.vn200.handle(o, rx, &mut self.host),
+                    Vn200Message::Ascii(_) => host_timed(&self.host, rx, self.vn200_link()),
+                };
+                out.push(AlignedSample {
+                    device,
+                    index,
+                    aligned: Aligned {
+                        message: Sample::Vn200(m),
+                        time,
+                    },
+                });
+                // A new host-clock reference may free what waits for it.
+                self.retry_held(&mut out);
+            }
+            other => {
+                let time = self.place_host_dependent(&other, rx);
+                if time == Err(NotAligned::HostClockUnknown) {
+                    self.hold(
+                        Held {
+                            device,
+                            index,
+                            sample: other,
+                            rx,
+                        },
+                        &mut out,
+                    );
+                } else {
+                    out.push(AlignedSample {
+                        device,
+                        index,
+                        aligned: Aligned {
+                            message: other,
+                            time,
+                        },
+                    });
+                }
+            }
+        }
+        let now = self.last_host_ns;
+        out.extend(self.bahrs.expire(now).into_iter().map(bahrs_out));
+        self.expire_held(now, &mut out);
+        out
+    }
+
+    /// Releases everything still held (end of stream): what cannot be aligned now is marked.
+    pub fn flush(&mut self) -> Vec<AlignedSample> {
+        let mut out: Vec<AlignedSample> = self.bahrs.flush().into_iter().map(bahrs_out).collect();
+        self.retry_held(&mut out);
+        for h in std::mem::take(&mut self.held) {
+            out.push(not_aligned(h, NotAligned::HostClockUnknown));
+        }
+        out
+    }
+
+    /// Clock status of every device at host time `now_ns`.
+    pub fn clock_report(&self, now_ns: i64) -> Vec<ClockReport> {
+        let now_ns = now_ns.clamp(0, MAX_HOST_NS);
+        let host_status = self.host.status(now_ns);
+        let host_offset = self.host.to_gps(now_ns).map(|(t, _)| (now_ns - t) as f64);
+        let host_sigma = self.host.to_gps(now_ns).map(|(_, s)| s);
+        Device::ALL
+            .iter()
+            .map(|&device| match device {
+                Device::Bahrs => {
+                    let clock = self.bahrs.clock();
+                    let status = self
+                        .last_bahrs_ticks
+                        .map_or(ClockStatus::Unlocked, |t| clock.status(t));
+                    let offset_ns = self.last_bahrs_ticks.and_then(|t| {
+                        clock
+                            .to_gps(t)
+                            .ok()
+                            .map(|(g, _)| t as f64 * 1000.0 - g as f64)
+                    });
+                    ClockReport {
+                        device,
+                        status,
+                        offset_ns,
+                        drift_ppm: clock.drift_ppm(),
+                        residual_ns: clock.residual_sigma_ns(),
+                    }
+                }
+                Device::Vn200 => ClockReport {
+                    device,
+                    status: self.vn200.status(now_ns),
+                    offset_ns: None,
+                    drift_ppm: self.vn200.startup_drift_ppm(),
+                    residual_ns: None,
+                },
+                Device::Watson | Device::Ttmrf => ClockReport {
+                    device,
+                    status: host_status,
+                    offset_ns: host_offset,
+                    drift_ppm: self.host.drift_ppm(),
+                    residual_ns: host_sigma,
+                },
+            })
+            .collect()
+    }
+
+    fn vn200_link(&self) -> HostTimedLink {
+        HostTimedLink {
+            baud: self.cfg.vn200.baud,
+            output_delay_ns: self.cfg.vn200.output_delay_ns,
+            output_delay_sigma_ns: 0.0,
+        }
+    }
+
+    /// GPS time of a sample whose time depends on the host clock (Watson, TT-Multi-RF).
+    fn place_host_dependent(&self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
+        let tt = &self.cfg.ttmrf;
+        let h = first_byte_host_ns(rx, tt.link.baud);
+        let leap = self
+            .vn200
+            .gps_minus_utc(self.host.to_gps(h).map_or(0, |(t, _)| t));
+        match sample {
+            Sample::Watson(_) => host_timed(&self.host, rx, self.cfg.watson),
+            Sample::TtText(m) => match &**m {
+                TextMessage::Json(j) => match j.ts_ms {
+                    Some(ts) => json_ts(ts, rx, tt, &self.host, leap),
+                    None => host_timed(&self.host, rx, tt.link),
+                },
+                _ => host_timed(&self.host, rx, tt.link),
+            },
+            Sample::TtRaw(f) => {
+                let meta = match &**f {
+                    RawFrame::ModeS(s) => s.meta,
+                    RawFrame::ModeAc(a) => a.meta,
+                    RawFrame::Uat(u) => u.meta,
+                };
+                raw_meta(&meta, rx, tt, &self.host, leap)
+                    .unwrap_or_else(|| host_timed(&self.host, rx, tt.link))
+            }
+            _ => host_timed(&self.host, rx, tt.link),
+        }
+    }
+
+    fn hold(&mut self, h: Held, out: &mut Vec<AlignedSample>) {
+        if self.held.len() >= self.cfg.host_wait_capacity
+            && let Some(old) = self.held.pop_front()
+        {
+            out.push(not_aligned(old, NotAligned::HostClockUnknown));
+        }
+        self.held.push_back(h);
+    }
+
+    fn retry_held(&mut self, out: &mut Vec<AlignedSample>) {
+        if self.held.is_empty() || self.host.status(self.last_host_ns) == ClockStatus::Unlocked {
+            return;
+        }
+        for h in std::mem::take(&mut self.held) {
+            let time = self.place_host_dependent(&h.sample, h.rx);
+            if time == Err(NotAligned::HostClockUnknown) {
+                self.held.push_back(h);
+            } else {
+                out.push(AlignedSample {
+                    device: h.device,
+                    index: h.index,
+                    aligned: Aligned {
+                        message: h.sample,
+                        time,
+                    },
+                });
+            }
+        }
+    }
+
+    fn expire_held(&mut self, now: i64, out: &mut Vec<AlignedSample>) {
+        while self
+            .held
+            .front()
+            .is_some_and(|h| now - h.rx.host_ns > self.cfg.host_wait_ns)
+        {
+            if let Some(h) = self.held.pop_front() {
+                out.push(not_aligned(h, NotAligned::HostClockUnknown));
+            }
+        }
+    }
+}
+
+fn not_aligned(h: Held, why: NotAligned) -> AlignedSample {
+    AlignedSample {
+        device: h.device,
+        index: h.index,
+        aligned: Aligned {
+            message: h.sample,
+            time: Err(why),
+        },
+    }
+}
+
+fn bahrs_out(a: Aligned<(u64, bahrs::Message)>) -> AlignedSample {
+    let (index, m) = a.message;
+    AlignedSample {
+        device: Device::Bahrs,
+        index,
+        aligned: Aligned {
+            message: Sample::Bahrs(m),
+            time: a.time,
+        },
+    }
+}
+
+/// The MCU time a BAHRS message carries, us.
+fn bahrs_ticks(m: &bahrs::Message) -> Option<u64> {
+    match m {
+        bahrs::Message::InertialTime(t) | bahrs::Message::NavigationTime(t) if t.is_valid() => {
+            Some(t.mcu_time_us)
+        }
+        bahrs::Message::Accuracy(a) => Some(a.mcu_time_us),
+        bahrs::Message::SyncPulseTime(p) => Some(p.mcu_time_us),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+#[path = "aligner_tests.rs"]
+mod tests;

@@ -1,0 +1,358 @@
+//! The Aligner with synthetic streams (the simulator has no VN-200 / TT-Multi-RF model yet): a
+//! VN-200 at 40 Hz on a host clock 9 s ahead of GPS with a 1 ms link delay, plus Watson lines,
+//! TT-Multi-RF JSON and HEX frames and BAHRS messages.
+
+use vigil_drivers::bahrs::{DataTime, Inertial, InertialHealth};
+use vigil_drivers::ttmrf::json::JsonMessage;
+use vigil_drivers::ttmrf::raw::{ModeSFrame, RxMeta};
+use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup};
+use vigil_drivers::vn200::status::InsStatus;
+use vigil_drivers::watson::{Kind, Line};
+
+use super::*;
+use crate::time::TimeSource;
+use crate::time::host_timed::tx_ns;
+
+const MS: i64 = 1_000_000;
+const S: i64 = 1_000_000_000;
+/// Host clock - GPS time.
+const OFF: i64 = 9 * S;
+/// 2026-06-01 23:59:50 UTC in GPS ns: Unix 1 780 358 390 s - GPS epoch + 18 s.
+const G0: i64 = (1_780_358_390 - 315_964_800 + 18) * S;
+
+fn vn200(gps: i64) -> (Sample, Rx) {
+    let o = BinaryOutput {
+        common: Some(CommonGroup {
+            time_gps_ns: Some(gps as u64),
+            time_startup_ns: Some((gps - G0 + S) as u64),
+            ins_status: Some(InsStatus(0b110)),
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let len = o.encode().len();
+    let rx = Rx {
+        host_ns: gps + OFF + tx_ns(len, 921_600) + MS,
+        wire_len: len,
+    };
+    (Sample::Vn200(Box::new(Vn200Message::Binary(o))), rx)
+}
+
+fn watson() -> Sample {
+    Sample::Watson(Line {
+        kind: Kind::Inertial,
+        over_range: false,
+        bank_deg: 0.0,
+        elevation_deg: 0.0,
+        heading_deg: 0.0,
+        accel_g: [0.0, 0.0, 1.0],
+        rate_dps: [0.0; 3],
+        velocity_kmh: 0.0,
+    })
+}
+
+/// Receive of a Watson line sampled at `gps`: 1 ms output delay, 66.7 ms on the wire, 1 ms link.
+fn watson_rx(gps: i64) -> Rx {
+    Rx {
+        host_ns: gps + OFF + MS + tx_ns(64, 9600) + MS,
+        wire_len: 64,
+    }
+}
+
+#[test]
+fn host_timed_samples_wait_for_the_host_clock_then_align_or_are_marked() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let mut out = Vec::new();
+    // A Watson line 5 s before any VN-200: it waits 3 s, then comes out not aligned.
+    out.extend(al.handle(watson(), watson_rx(G0 - 5 * S)));
+    assert!(out.is_empty());
+    let mut truth = vec![G0 - 5 * S];
+    // VN-200 from G0 at 40 Hz; a Watson line every 100 ms from G0 + 0.05 s.
+    for k in 0..400 {
+        let g = G0 + k * 25 * MS;
+        let (s, rx) = vn200(g);
+        out.extend(al.handle(s, rx));
+        if k % 4 == 2 {
+            let w = g - 12 * MS;
+            truth.push(w);
+            out.extend(al.handle(watson(), watson_rx(w)));
+        }
+    }
+    out.extend(al.flush());
+    let watson: Vec<&AlignedSample> = out.iter().filter(|o| o.device == Device::Watson).collect();
+    // Every Watson input came out exactly once, with its index.
+    let mut idx: Vec<u64> = watson.iter().map(|o| o.index).collect();
+    idx.sort_unstable();
+    assert_eq!(idx, (0..truth.len() as u64).collect::<Vec<_>>());
+    assert_eq!(
+        out.iter().filter(|o| o.device == Device::Vn200).count(),
+        400
+    );
+    for o in &watson {
+        match o.aligned.time {
+            Ok(a) => {
+                // The host model maps with the VN-200's delay; the Watson link matches it.
+                let e = a.t_gps_ns - truth[o.index as usize];
+                assert!(e.abs() < 100_000, "index {}: {e} ns", o.index);
+                assert_eq!(a.source, TimeSource::HostClock);
+            }
+            Err(why) => {
+                // Only the line from before the host clock: held for 3 s, then marked.
+                assert_eq!((o.index, why), (0, NotAligned::HostClockUnknown));
+            }
+        }
+    }
+    // Early lines (first 2 s) waited for the host model and came out aligned, status locking.
+    let early = watson.iter().find(|o| o.index == 1).unwrap();
+    assert_eq!(early.aligned.time.unwrap().status, ClockStatus::Locking);
+    let report = al.clock_report(G0 + 10 * S + OFF);
+    let w = report.iter().find(|r| r.device == Device::Watson).unwrap();
+    assert_eq!(w.status, ClockStatus::Locked);
+    // The offset is the host clock's 9 s plus the 1 ms link delay (the envelope).
+    assert!((w.offset_ns.unwrap() - (OFF + MS) as f64).abs() < 1_000.0);
+    let v = report.iter().find(|r| r.device == Device::Vn200).unwrap();
+    assert_eq!(v.status, ClockStatus::Locked);
+}
+
+#[test]
+fn ttmrf_json_ts_and_ts24h_across_utc_midnight_through_the_aligner() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let mut out = Vec::new();
+    // GPS - UTC = 18 s: UTC midnight of 2026-06-02 is G0 + 10 s.
+    let midnight = G0 + 10 * S;
+    let mut truth = Vec::new();
+    for k in 0..800 {
+        let g = G0 + k * 25 * MS;
+        let (s, rx) = vn200(g);
+        out.extend(al.handle(s, rx));
+        if k % 20 == 5 && g > G0 + 3 * S {
+            // A JSON message stamped at the whole ms of its instant (truncated), and a HEX frame
+            // with TS24h of the same instant, 2 ms (JSON) / 1 ms (HEX) before their receive.
+            let t = g + 300_123;
+            let ms_of_day = (t - midnight).rem_euclid(86_400 * S) / MS;
+            let json = JsonMessage {
+                ts_ms: Some(ms_of_day as u32),
+                ..Default::default()
+            };
+            let rx = Rx {
+                host_ns: t + OFF + 2 * MS,
+                wire_len: 200,
+            };
+            truth.push((t, 1_000_000));
+            out.extend(al.handle(
+                Sample::TtText(Box::new(TextMessage::Json(Box::new(json)))),
+                rx,
+            ));
+            let frame = RawFrame::ModeS(ModeSFrame {
+                bytes: [0x8D; 14],
+                len: 14,
+                meta: RxMeta {
+                    ts_utc_ns: Some((t - midnight).rem_euclid(86_400 * S) as u64),
+                    ..Default::default()
+                },
+            });
+            let rx = Rx {
+                host_ns: t + OFF + MS,
+                wire_len: 50,
+            };
+            truth.push((t, 1));
+            out.extend(al.handle(Sample::TtRaw(Box::new(frame)), rx));
+        }
+    }
+    out.extend(al.flush());
+    let tt: Vec<&AlignedSample> = out.iter().filter(|o| o.device == Device::Ttmrf).collect();
+    assert_eq!(tt.len(), truth.len());
+    let (mut before, mut after) = (0, 0);
+    for o in tt {
+        let (t, tol) = truth[o.index as usize];
+        let a = o.aligned.time.unwrap();
+        // JSON: within the ms (truncated stamp + 0.5 ms); TS24h: exact.
+        assert!(
+            (a.t_gps_ns - t).abs() <= tol / 2,
+            "{}: {}",
+            o.index,
+            a.t_gps_ns - t
+        );
+        assert!(((a.t_gps_ns - t).abs() as f64) <= 2.0 * a.sigma_ns);
+        assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+        if t < midnight {
+            before += 1;
+        } else {
+            after += 1;
+        }
+    }
+    // Both days were exercised.
+    assert!(before > 10 && after > 10, "{before} {after}");
+}
+
+#[test]
+fn bahrs_indices_survive_late_time_messages_and_time_messages_come_out() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let data = |seq| {
+        Sample::Bahrs(bahrs::Message::Inertial(Inertial {
+            seq,
+            specific_force_raw: [0; 3],
+            angular_rate_raw: [0; 3],
+            health: InertialHealth(0),
+        }))
+    };
+    let time = |seq, us| {
+        Sample::Bahrs(bahrs::Message::InertialTime(DataTime {
+            seq,
+            data_seq: seq,
+            mcu_time_us: us,
+        }))
+    };
+    let rx = |ms: i64| Rx {
+        host_ns: ms * MS,
+        wire_len: 20,
+    };
+    let mut out = Vec::new();
+    // Data 255 (index 0), data 0 (index 1, the counter wrapped), time of 255 (index 2), time of 0
+    // (index 3): the time messages arrive after the next data message.
+    out.extend(al.handle(data(255), rx(0)));
+    out.extend(al.handle(data(0), rx(10)));
+    out.extend(al.handle(time(255, 1_000), rx(11)));
+    out.extend(al.handle(time(0, 11_000), rx(21)));
+    out.extend(al.flush());
+    let mut idx: Vec<u64> = out.iter().map(|o| o.index).collect();
+    idx.sort_unstable();
+    assert_eq!(idx, vec![0, 1, 2, 3]);
+    // No pulse and no host clock: nothing is aligned, each says why.
+    for o in &out {
+        let why = o.aligned.time.unwrap_err();
+        assert!(
+            matches!(why, NotAligned::ClockUnlocked),
+            "{}: {why:?}",
+            o.index
+        );
+    }
+}
+
+#[test]
+fn ttmrf_csv_line_is_host_timed_with_its_transmission_time() {
+    use vigil_drivers::decode_slice;
+    use vigil_drivers::ttmrf::text::{TextDecoder, TextMode};
+    // The manual's first CSV example (7.2.1), as the module sends it.
+    let line =
+        b"#A:4D240E,3F00,,7273,53.47939,14.55892,28550,23,510,1408,-71,5,9,938,28850,,A9FE\r\n";
+    let msgs = decode_slice(&mut TextDecoder::new(TextMode::Auto), line);
+    assert_eq!(msgs.len(), 1);
+    assert!(matches!(msgs[0], TextMessage::Csv(_)));
+    let mut al = Aligner::new(AlignerConfig::default());
+    for k in 0..400 {
+        let (s, rx) = vn200(G0 + k * 25 * MS);
+        al.handle(s, rx);
+    }
+    // Instant G0 + 9.9 s; first byte 0.5 ms later (the assumed output delay); 83 bytes at
+    // 921 600 baud take 0.90 ms; read 1 ms (the VN-200's link delay) after the last byte.
+    let t = G0 + 9_900 * MS;
+    let rx = Rx {
+        host_ns: t + OFF + MS / 2 + tx_ns(line.len(), 921_600) + MS,
+        wire_len: line.len(),
+    };
+    let out = al.handle(Sample::TtText(Box::new(msgs[0].clone())), rx);
+    let a = out
+        .iter()
+        .find(|o| o.device == Device::Ttmrf)
+        .unwrap()
+        .aligned
+        .time
+        .unwrap();
+    assert!((a.t_gps_ns - t).abs() < 2_000, "{}", a.t_gps_ns - t);
+    assert_eq!(
+        (a.source, a.status),
+        (TimeSource::HostClock, ClockStatus::Locked)
+    );
+    // The sigma carries the assumed output delay's 0.5 ms.
+    assert!(a.sigma_ns >= 500_000.0);
+}
+
+#[test]
+fn random_inputs_never_panic_and_every_input_comes_out_once() {
+    use crate::time::testrng::Lcg;
+    use vigil_drivers::bahrs::{Accuracy, SyncPulseTime};
+    let mut rng = Lcg(2024);
+    let next = |rng: &mut Lcg| (rng.unit() * u64::MAX as f64) as u64;
+    for round in 0..4 {
+        let mut al = Aligner::new(AlignerConfig::default());
+        let mut inputs = [0u64; 4];
+        let mut outs = Vec::new();
+        let mut host = G0;
+        for _ in 0..5_000 {
+            // Mostly plausible host times, sometimes wild ones (backwards, extreme).
+            host = match (rng.unit() * 20.0) as u32 {
+                0 => next(&mut rng) as i64,
+                1 => i64::MIN + (rng.unit() * 1e9) as i64,
+                2 => i64::MAX - (rng.unit() * 1e9) as i64,
+                3 => host.saturating_sub((rng.unit() * 10.0 * S as f64) as i64),
+                _ => host.saturating_add((rng.unit() * 50.0 * MS as f64) as i64),
+            };
+            let rx = Rx {
+                host_ns: host,
+                wire_len: (rng.unit() * 2000.0) as usize,
+            };
+            let pick = (rng.unit() * 7.0) as u32;
+            let wild = round % 2 == 1;
+            let u = |rng: &mut Lcg, plausible: u64| if wild { next(rng) } else { plausible };
+            let sample = match pick {
+                0 => {
+                    let gps = u(&mut rng, host.wrapping_sub(OFF) as u64);
+                    let st = u(&mut rng, host.wrapping_sub(G0) as u64);
+                    Sample::Vn200(Box::new(Vn200Message::Binary(BinaryOutput {
+                        common: Some(CommonGroup {
+                            time_gps_ns: Some(gps),
+                            time_startup_ns: Some(st),
+                            ins_status: Some(InsStatus((rng.unit() * 65536.0) as u16)),
+                            ..Default::default()
+                        }),
+                        ..Default::default()
+                    })))
+                }
+                1 => watson(),
+                2 => Sample::Bahrs(bahrs::Message::SyncPulseTime(SyncPulseTime {
+                    seq: (rng.unit() * 256.0) as u8,
+                    mcu_time_us: u(&mut rng, (host.wrapping_sub(G0) / 1000) as u64),
+                })),
+                3 => Sample::Bahrs(bahrs::Message::Accuracy(Accuracy {
+                    seq: 0,
+                    std_north_raw: 1,
+                    std_east_raw: 1,
+                    std_heading_raw: 1,
+                    mcu_time_us: u(&mut rng, (host.wrapping_sub(G0) / 1000) as u64),
+                })),
+                4 => Sample::Bahrs(bahrs::Message::InertialTime(DataTime {
+                    seq: (rng.unit() * 256.0) as u8,
+                    data_seq: (rng.unit() * 256.0) as u8,
+                    mcu_time_us: next(&mut rng),
+                })),
+                5 => Sample::TtText(Box::new(TextMessage::Json(Box::new(JsonMessage {
+                    ts_ms: Some(next(&mut rng) as u32),
+                    ..Default::default()
+                })))),
+                _ => Sample::TtRaw(Box::new(RawFrame::ModeS(ModeSFrame {
+                    bytes: [0; 14],
+                    len: 7,
+                    meta: RxMeta {
+                        ts_utc_ns: (rng.unit() < 0.5).then(|| next(&mut rng)),
+                        ts_pps_ns: Some(next(&mut rng) % (2 * S as u64)),
+                        ..Default::default()
+                    },
+                }))),
+            };
+            inputs[sample.device() as usize] += 1;
+            outs.extend(al.handle(sample, rx));
+        }
+        outs.extend(al.flush());
+        for d in Device::ALL {
+            let mut idx: Vec<u64> = outs
+                .iter()
+                .filter(|o| o.device == d)
+                .map(|o| o.index)
+                .collect();
+            idx.sort_unstable();
+            assert_eq!(idx, (0..inputs[d as usize]).collect::<Vec<_>>(), "{d:?}");
+        }
+        let _ = al.clock_report(host);
+    }
+}

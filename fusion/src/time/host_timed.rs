@@ -1,0 +1,188 @@
+//! Samples without a usable time of their own (Watson lines, TT-Multi-RF CSV / MAVLink / GDL90 /
+//! ASTERIX), placed on GPS time through the host clock model ([`HostClock`]), and the transmission
+//! time of a frame at its baud rate (issue 7, "Watson and anything without its own time").
+//!
+//! A message whose last byte reached the host at `h` (an [`Rx`]) started on the wire at about
+//! `h - tx_ns(len, baud)` host time; the host clock maps that to the GPS time its first byte left the
+//! device, and the device's output delay (sample instant to first byte) is subtracted. The stated
+//! 1-sigma combines the host model's (link-delay spread, envelope scatter, coasting) with the
+//! uncertainty of that output delay.
+
+use std::collections::VecDeque;
+
+use super::host::HostClock;
+use super::{AlignedTime, NotAligned, Rx, TimeSource};
+
+/// Bits per byte on an 8N1 serial line (start + 8 data + stop).
+pub const BITS_PER_BYTE: i64 = 10;
+
+/// Transmission time of `bytes` bytes at `baud` bit/s, 8N1, ns. A 64-byte Watson line at 9600 baud:
+/// 64 x 10 / 9600 s = 66.67 ms.
+pub fn tx_ns(bytes: usize, baud: u32) -> i64 {
+    let bits = (bytes as i64).saturating_mul(BITS_PER_BYTE);
+    bits.saturating_mul(1_000_000_000) / i64::from(baud.max(1))
+}
+
+/// Host time at which the first byte of a received message left the device: its arrival minus its
+/// own transmission time, ns.
+pub fn first_byte_host_ns(rx: Rx, baud: u32) -> i64 {
+    rx.host_ns - tx_ns(rx.wire_len, baud)
+}
+
+/// Link of a host-timed port.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HostTimedLink {
+    /// Baud rate, bit/s.
+    pub baud: u32,
+    /// Device output delay, sample instant to first byte on the wire, ns.
+    pub output_delay_ns: i64,
+    /// 1-sigma of that delay, ns.
+    pub output_delay_sigma_ns: f64,
+}
+
+impl HostTimedLink {
+    /// The Watson AHRS-E304 port: 9600 baud (document). Decision: the document states no delay
+    /// between the sample and its line; 1 ms +- 0.5 ms (1-sigma) is assumed (a line formatted by a
+    /// small MCU right after its sample; the simulator uses 1 ms). Measure it per installation.
+    pub const WATSON: Self = Self {
+        baud: vigil_drivers::watson::BAUD,
+        output_delay_ns: 1_000_000,
+        output_delay_sigma_ns: 500_000.0,
+    };
+}
+
+/// GPS time of a host-timed sample, or why there is none.
+pub fn host_timed(
+    host: &HostClock,
+    rx: Rx,
+    link: HostTimedLink,
+) -> Result<AlignedTime, NotAligned> {
+    let h = first_byte_host_ns(rx, link.baud);
+    let (t, sigma) = host.to_gps(h).ok_or(NotAligned::HostClockUnknown)?;
+    Ok(AlignedTime {
+        t_gps_ns: t - link.output_delay_ns,
+        sigma_ns: (sigma.powi(2) + link.output_delay_sigma_ns.powi(2)).sqrt(),
+        source: TimeSource::HostClock,
+        status: host.status(h),
+    })
+}
+
+/// Receive times of a port's read chunks by stream offset: which read delivered a given byte
+/// (replay knows the chunks; [`Rx::host_ns`] wants the read that delivered a message's last byte).
+#[derive(Debug, Clone, Default)]
+pub struct ChunkClock {
+    chunks: VecDeque<(u64, i64)>,
+    fed: u64,
+}
+
+/// Chunks remembered by a [`ChunkClock`] (a message longer than this many reads gets the time of
+/// the oldest one kept).
+const CHUNK_CLOCK_CAPACITY: usize = 4096;
+
+impl ChunkClock {
+    /// Records a read of `len` bytes at host time `host_ns`.
+    pub fn push(&mut self, host_ns: i64, len: usize) {
+        if len == 0 {
+            return;
+        }
+        if self.chunks.len() == CHUNK_CLOCK_CAPACITY {
+            self.chunks.pop_front();
+        }
+        self.chunks.push_back((self.fed, host_ns));
+        self.fed += len as u64;
+    }
+
+    /// Host time of the read that delivered stream byte `offset` (queries must not go back more
+    /// than the chunk last asked for: older chunks are forgotten). `None` before any read.
+    pub fn time_of(&mut self, offset: u64) -> Option<i64> {
+        while self.chunks.len() > 1 && self.chunks[1].0 <= offset {
+            self.chunks.pop_front();
+        }
+        self.chunks.front().map(|c| c.1)
+    }
+
+    /// The receive of a message starting at stream offset `offset`, `wire_len` bytes long: the
+    /// read holding its last byte.
+    pub fn rx(&mut self, offset: u64, wire_len: usize) -> Option<Rx> {
+        let last = offset + (wire_len as u64).saturating_sub(1);
+        self.time_of(last).map(|host_ns| Rx { host_ns, wire_len })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::ClockStatus;
+    use crate::time::host::HostClockConfig;
+    use crate::time::testrng::Lcg;
+
+    const MS: i64 = 1_000_000;
+    const S: i64 = 1_000_000_000;
+
+    #[test]
+    fn transmission_times_by_hand() {
+        // 64 bytes x 10 bits / 9600 bit/s = 0.0666... s.
+        assert_eq!(tx_ns(64, 9600), 66_666_666);
+        // 20 bytes at 115 200: 200 / 115200 s = 1.736 ms.
+        assert_eq!(tx_ns(20, 115_200), 1_736_111);
+        assert_eq!(tx_ns(0, 9600), 0);
+        // A zero baud does not divide by zero.
+        assert!(tx_ns(1, 0) > 0);
+    }
+
+    #[test]
+    fn chunk_clock_names_the_read_of_the_last_byte() {
+        // Reads of 10, 5 and 20 bytes at 100, 200, 300 ns: bytes 0-9, 10-14, 15-34.
+        let mut c = ChunkClock::default();
+        assert_eq!(c.time_of(0), None);
+        c.push(100, 10);
+        c.push(150, 0);
+        c.push(200, 5);
+        c.push(300, 20);
+        // A 12-byte message at offset 3 ends at byte 14: the second read.
+        assert_eq!(
+            c.rx(3, 12),
+            Some(Rx {
+                host_ns: 200,
+                wire_len: 12
+            })
+        );
+        assert_eq!(c.time_of(15), Some(300));
+        assert_eq!(c.time_of(1_000), Some(300));
+    }
+
+    #[test]
+    fn a_watson_line_lands_on_its_sample_time() {
+        // Host clock 3 s ahead of GPS, learned from references whose delay is 0.5..1.5 ms.
+        let mut host = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(9);
+        let off = 3 * S;
+        for k in 0..2_000 {
+            let gps = 500 * S + k * 10 * MS;
+            host.add(gps + off + MS / 2 + (rng.unit() * MS as f64) as i64, gps);
+        }
+        // A Watson sample at GPS 515 s: first byte 1 ms later, last byte 66.67 ms after that, read
+        // 1 ms (the mean link delay) after the last byte.
+        let sample = 515 * S;
+        let rx = Rx {
+            host_ns: sample + off + MS + 66_666_666 + MS,
+            wire_len: 64,
+        };
+        let a = host_timed(&host, rx, HostTimedLink::WATSON).unwrap();
+        assert!(
+            (a.t_gps_ns - sample).abs() < 100_000,
+            "{}",
+            a.t_gps_ns - sample
+        );
+        assert_eq!(a.source, TimeSource::HostClock);
+        assert_eq!(a.status, ClockStatus::Locked);
+        // sigma: link spread 0.29 ms and output delay 0.5 ms: about 0.58 ms.
+        assert!((a.sigma_ns - 577_000.0).abs() < 40_000.0, "{}", a.sigma_ns);
+        // No host model: not aligned, with the reason.
+        let empty = HostClock::new(HostClockConfig::default());
+        assert_eq!(
+            host_timed(&empty, rx, HostTimedLink::WATSON),
+            Err(NotAligned::HostClockUnknown)
+        );
+    }
+}

@@ -1,0 +1,260 @@
+//! TT-Multi-RF samples on GPS time (issue 7, "TT-Multi-RF"; manual: JSON `ts`, HEX extended
+//! fields `(SIGS,SIGQ,TS1s,TS24h)`).
+//!
+//! - JSON `ts`: ms since UTC midnight. Placed on its day by [`resolve_time_of_day`] with the
+//!   reference GPS time from the host clock (known to ms, far inside the +-12 h the day choice
+//!   needs) and the GPS - UTC offset in force. Decision: the manual does not say whether `ts` is
+//!   truncated or rounded to the ms; it is taken as truncated (a millisecond counter), so the
+//!   sample lies in `[ts, ts + 1 ms)`: +0.5 ms, sigma 1 ms / sqrt(12) = 0.29 ms.
+//! - Raw frames with TS24h (ns since UTC midnight, PPS-disciplined): the same placement, sigma
+//!   [`TtAlignerConfig::ts24h_sigma_ns`].
+//! - Raw frames with TS1s only (ns since the receiver's last PPS): the PPS second is the whole GPS
+//!   second nearest to the host-clock estimate minus TS1s (the host model is good to ms, far inside
+//!   +-0.5 s); the stamp adds TS1s to it.
+//! - A stale leap-second table (no GnssTimeInfo, past the table's validity) may be a second short:
+//!   the time is given with status coasting and 1 s added to its sigma, never as locked.
+//! - CSV, MAVLink, GDL90, ASTERIX and NMEA carry no receive time here: host clock
+//!   ([`super::host_timed`]).
+
+use vigil_drivers::ttmrf::raw::RxMeta;
+
+use super::gps::{LeapSeconds, NS_PER_S, resolve_time_of_day};
+use super::host::HostClock;
+use super::host_timed::{HostTimedLink, first_byte_host_ns};
+use super::pps::pulse_second;
+use super::{AlignedTime, ClockStatus, NotAligned, Rx, TimeSource};
+
+/// Parameters of the TT-Multi-RF time placement, with units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TtAlignerConfig {
+    /// The serial link (the simulator and the module's default: 921 600 baud). Decision: the
+    /// manual states no delay between reception and output; 0.5 ms +- 0.5 ms is assumed for the
+    /// host-timed outputs.
+    pub link: HostTimedLink,
+    /// 1-sigma of a TS24h / TS1s stamp, ns. Decision: 1 us (a PPS-disciplined counter; the
+    /// manual gives ns resolution but no accuracy).
+    pub ts24h_sigma_ns: f64,
+}
+
+impl Default for TtAlignerConfig {
+    fn default() -> Self {
+        Self {
+            link: HostTimedLink {
+                baud: 921_600,
+                output_delay_ns: 500_000,
+                output_delay_sigma_ns: 500_000.0,
+            },
+            ts24h_sigma_ns: 1_000.0,
+        }
+    }
+}
+
+/// 1-sigma of a ms stamp truncated to the ms: 1 ms / sqrt(12), ns.
+pub const TS_MS_SIGMA_NS: f64 = 288_675.13;
+
+/// Places a time of day (ns since UTC midnight, `resolution_ns` added for a truncated stamp's mid
+/// point) with the host clock as the day reference.
+fn place_time_of_day(
+    ns_of_day: i64,
+    sigma_ns: f64,
+    rx: Rx,
+    link: HostTimedLink,
+    host: &HostClock,
+    leap: LeapSeconds,
+) -> Result<AlignedTime, NotAligned> {
+    let h = first_byte_host_ns(rx, link.baud);
+    let (reference, _) = host.to_gps(h).ok_or(NotAligned::HostClockUnknown)?;
+    let t = resolve_time_of_day(ns_of_day, reference, leap.gps_minus_utc_s)
+        .map_err(|_| NotAligned::BadTimeStamp)?;
+    let (status, sigma) = if leap.table_valid {
+        (ClockStatus::Locked, sigma_ns)
+    } else {
+        (ClockStatus::Coasting, (sigma_ns.powi(2) + 1e18).sqrt())
+    };
+    Ok(AlignedTime {
+        t_gps_ns: t,
+        sigma_ns: sigma,
+        source: TimeSource::UtcTimeOfDay,
+        status,
+    })
+}
+
+/// GPS time of a JSON message's `ts` (ms since UTC midnight).
+pub fn json_ts(
+    ts_ms: u32,
+    rx: Rx,
+    cfg: &TtAlignerConfig,
+    host: &HostClock,
+    leap: LeapSeconds,
+) -> Result<AlignedTime, NotAligned> {
+    let ns = i64::from(ts_ms) * 1_000_000 + 500_000;
+    place_time_of_day(ns, TS_MS_SIGMA_NS, rx, cfg.link, host, leap)
+}
+
+/// GPS time of a raw frame from its receive metadata: TS24h, else TS1s; `Ok(None)` when it has
+/// neither (the caller times it by the host clock).
+pub fn raw_meta(
+    meta: &RxMeta,
+    rx: Rx,
+    cfg: &TtAlignerConfig,
+    host: &HostClock,
+    leap: LeapSeconds,
+) -> Option<Result<AlignedTime, NotAligned>> {
+    if let Some(ns) = meta.ts_utc_ns {
+        let ns = i64::try_from(ns).unwrap_or(i64::MAX);
+        return Some(place_time_of_day(
+            ns,
+            cfg.ts24h_sigma_ns,
+            rx,
+            cfg.link,
+            host,
+            leap,
+        ));
+    }
+    let pps = meta.ts_pps_ns?;
+    if pps >= NS_PER_S as u64 + NS_PER_S as u64 / 10 {
+        // More than 1.1 s since the last pulse: the receiver lost its PPS; the stamp is unusable.
+        return Some(Err(NotAligned::BadTimeStamp));
+    }
+    let h = first_byte_host_ns(rx, cfg.link.baud);
+    let Some((est, sigma)) = host.to_gps(h) else {
+        return Some(Err(NotAligned::HostClockUnknown));
+    };
+    if sigma > 0.1 * NS_PER_S as f64 {
+        // The host clock is too uncertain to name the second.
+        return Some(Err(NotAligned::ClockUnlocked));
+    }
+    let pps = pps as i64;
+    let second = pulse_second(est - cfg.link.output_delay_ns - pps);
+    Some(Ok(AlignedTime {
+        t_gps_ns: second + pps,
+        sigma_ns: cfg.ts24h_sigma_ns,
+        source: TimeSource::PpsDisciplined,
+        status: host.status(h),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::gps::{GPS_EPOCH_UNIX_S, gps_minus_utc_s};
+    use crate::time::host::HostClockConfig;
+
+    const MS: i64 = 1_000_000;
+    const S: i64 = NS_PER_S;
+    /// 2026-06-01 00:00:00 UTC = Unix 1 780 272 000 s.
+    const MIDNIGHT_UNIX: i64 = 1_780_272_000;
+
+    fn gps_of_unix(unix_ns: i64) -> i64 {
+        unix_ns - GPS_EPOCH_UNIX_S * S + 18 * S
+    }
+
+    /// A host clock equal to GPS + 5 s, with a constant 1 ms link delay, learned over 10 s
+    /// ending at GPS time `until`.
+    fn host_until(until: i64) -> HostClock {
+        let mut h = HostClock::new(HostClockConfig::default());
+        let mut t = until - 10 * S;
+        while t <= until {
+            h.add(t + 5 * S + MS, t);
+            t += 10 * MS;
+        }
+        h
+    }
+
+    fn leap() -> LeapSeconds {
+        gps_minus_utc_s(MIDNIGHT_UNIX)
+    }
+
+    #[test]
+    fn json_ts_across_utc_midnight() {
+        let cfg = TtAlignerConfig::default();
+        // Module stamps 23:59:59.999 (ts = 86 399 999) for a message received 3 ms later, just
+        // after midnight: it belongs to the day before; ts = 2 one ms after midnight.
+        let midnight = gps_of_unix(MIDNIGHT_UNIX * S);
+        let host = host_until(midnight + 2 * MS);
+        for (ts, truth) in [(86_399_999u32, midnight - MS), (2, midnight + 2 * MS)] {
+            let rx = Rx {
+                host_ns: midnight + 2 * MS + 5 * S + MS,
+                wire_len: 0,
+            };
+            let a = json_ts(ts, rx, &cfg, &host, leap()).unwrap();
+            // The truncated stamp's mid point: 0.5 ms after the stamp.
+            assert_eq!(a.t_gps_ns, truth + MS / 2, "ts {ts}");
+            assert_eq!(
+                (a.source, a.status),
+                (TimeSource::UtcTimeOfDay, ClockStatus::Locked)
+            );
+            assert!((a.sigma_ns - 288_675.0).abs() < 1.0);
+        }
+        // The manual's example ts 69 061 337 = 19:11:01.337 UTC, placed on 2026-06-01.
+        let t = gps_of_unix((MIDNIGHT_UNIX + 69_061) * S + 337 * MS);
+        let host = host_until(t);
+        let rx = Rx {
+            host_ns: t + 5 * S + 2 * MS,
+            wire_len: 0,
+        };
+        let a = json_ts(69_061_337, rx, &cfg, &host, leap()).unwrap();
+        assert_eq!(a.t_gps_ns, t + MS / 2);
+        // Without a host model there is no day.
+        let empty = HostClock::new(HostClockConfig::default());
+        assert_eq!(
+            json_ts(1, rx, &cfg, &empty, leap()),
+            Err(NotAligned::HostClockUnknown)
+        );
+        // A stale table: coasting with 1 s in the sigma.
+        let stale = LeapSeconds {
+            gps_minus_utc_s: 18,
+            table_valid: false,
+        };
+        let a = json_ts(69_061_337, rx, &cfg, &host, stale).unwrap();
+        assert_eq!(a.status, ClockStatus::Coasting);
+        assert!(a.sigma_ns > 0.99e9);
+    }
+
+    #[test]
+    fn ts24h_across_midnight_and_ts1s_without_it() {
+        let cfg = TtAlignerConfig::default();
+        let midnight = gps_of_unix(MIDNIGHT_UNIX * S);
+        let host = host_until(midnight + 4 * MS);
+        let rx = Rx {
+            host_ns: midnight + 4 * MS + 5 * S + MS,
+            wire_len: 0,
+        };
+        // TS24h 86 399.999 999 5 s: 0.5 us before midnight, the day before.
+        let meta = RxMeta {
+            ts_utc_ns: Some(86_399_999_999_500),
+            ts_pps_ns: Some(999_999_500),
+            ..Default::default()
+        };
+        let a = raw_meta(&meta, rx, &cfg, &host, leap()).unwrap().unwrap();
+        assert_eq!(a.t_gps_ns, midnight - 500);
+        assert_eq!(a.sigma_ns, 1_000.0);
+        // Only TS1s: the same instant from the second of the pulse before it.
+        let meta = RxMeta {
+            ts_pps_ns: Some(999_999_500),
+            ..Default::default()
+        };
+        let a = raw_meta(&meta, rx, &cfg, &host, leap()).unwrap().unwrap();
+        assert_eq!(a.t_gps_ns, midnight - 500);
+        assert_eq!(a.source, TimeSource::PpsDisciplined);
+        // TS1s 1.5 s: PPS lost, no time; no stamp at all: the caller uses the host clock.
+        let meta = RxMeta {
+            ts_pps_ns: Some(1_500_000_000),
+            ..Default::default()
+        };
+        assert_eq!(
+            raw_meta(&meta, rx, &cfg, &host, leap()),
+            Some(Err(NotAligned::BadTimeStamp))
+        );
+        assert_eq!(raw_meta(&RxMeta::default(), rx, &cfg, &host, leap()), None);
+        // TS24h past a day plus a leap second.
+        let meta = RxMeta {
+            ts_utc_ns: Some(86_401 * S as u64),
+            ..Default::default()
+        };
+        assert_eq!(
+            raw_meta(&meta, rx, &cfg, &host, leap()),
+            Some(Err(NotAligned::BadTimeStamp))
+        );
+    }
+}

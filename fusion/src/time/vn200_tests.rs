@@ -1,0 +1,211 @@
+use vigil_drivers::vn200::binary::{CommonGroup, GnssGroup, GnssTimeInfo, TimeGroup};
+
+use super::*;
+use crate::time::host::HostClockConfig;
+
+const MS: i64 = 1_000_000;
+const S: i64 = 1_000_000_000;
+/// 2026-06-01 10:00:00 UTC = Unix 1 780 308 000 s; GPS = Unix - 315 964 800 + 18.
+const G0: i64 = (1_780_308_000 - 315_964_800 + 18) * S;
+
+/// InsStatus: mode 2 (tracking, bits 0-1) and GNSS fix (bit 2) = 0b110.
+const INS_OK: u16 = 0b110;
+/// InsStatus: tracking, no fix, GNSS error (bit 6).
+const INS_NO_GNSS: u16 = 0b100_0010;
+
+fn common(gps: i64, startup: u64, ins: u16) -> BinaryOutput {
+    BinaryOutput {
+        common: Some(CommonGroup {
+            time_startup_ns: Some(startup),
+            time_gps_ns: Some(gps as u64),
+            ins_status: Some(InsStatus(ins)),
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+}
+
+fn rx(host_ns: i64) -> Rx {
+    Rx {
+        host_ns,
+        wire_len: 100,
+    }
+}
+
+#[test]
+fn valid_time_is_native_and_feeds_the_host_clock() {
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    let off = 42 * S;
+    // 100 bytes at 921 600 baud: 1000 / 921600 s = 1.085 ms on the wire, then 1 ms latency.
+    let tx = 1_085_069;
+    for k in 0..400 {
+        let gps = G0 + k * 25 * MS;
+        let a = al
+            .handle(
+                &common(gps, 7 * S as u64 + (k * 25 * MS) as u64, INS_OK),
+                rx(gps + off + tx + MS),
+                &mut host,
+            )
+            .unwrap();
+        assert_eq!(
+            (a.t_gps_ns, a.source, a.status),
+            (gps, TimeSource::NativeGps, ClockStatus::Locked)
+        );
+        assert_eq!(a.sigma_ns, 100.0);
+    }
+    // The host clock learned host = GPS + 42 s + 1 ms (the constant latency is the envelope).
+    let (t, _) = host.to_gps(G0 + 20 * S + off + MS).unwrap();
+    assert!((t - (G0 + 20 * S)).abs() < 1_000, "{}", t - (G0 + 20 * S));
+    assert_eq!(al.stats().native, 400);
+}
+
+#[test]
+fn invalid_time_coasts_on_time_startup_with_growing_sigma() {
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    // TimeStartup runs 15 ppm fast: startup = 1 s + (gps - G0) (1 + 15e-6).
+    let st = |gps: i64| (S as f64 + (gps - G0) as f64 * (1.0 + 15e-6)) as u64;
+    for k in 0..=30 {
+        let gps = G0 + k * S;
+        al.handle(&common(gps, st(gps), INS_OK), rx(gps), &mut host)
+            .unwrap();
+    }
+    let drift = al.startup_drift_ppm().unwrap();
+    assert!((drift - 15.0).abs() < 0.01, "{drift}");
+    // GNSS lost at G0 + 30 s: TimeGps still output (frozen or garbage) but flagged.
+    for (dt_s, max_err) in [(1, 10), (10, 100), (100, 1_000)] {
+        let gps = G0 + (30 + dt_s) * S;
+        let a = al
+            .handle(
+                &common(gps + 123 * S, st(gps), INS_NO_GNSS),
+                rx(gps),
+                &mut host,
+            )
+            .unwrap();
+        assert_eq!(
+            (a.source, a.status),
+            (TimeSource::DeviceClock, ClockStatus::Coasting)
+        );
+        // The measured rate leaves only rounding: well under a microsecond.
+        assert!(
+            (a.t_gps_ns - gps).abs() < max_err,
+            "{dt_s} s: {}",
+            a.t_gps_ns - gps
+        );
+        // sigma = sqrt(100^2 + (dt x 0.5 ppm)^2): 0.5 ppm of 100 s = 50 us.
+        let expect = (100f64.powi(2) + (dt_s as f64 * 1e9 * 0.5e-6).powi(2)).sqrt();
+        assert!(
+            (a.sigma_ns - expect).abs() < 0.01 * expect,
+            "{} vs {expect}",
+            a.sigma_ns
+        );
+    }
+    assert_eq!(al.status(G0 + 40 * S), ClockStatus::Coasting);
+    // Past the coast limit (600 s): unlocked.
+    let gps = G0 + 700 * S;
+    assert_eq!(
+        al.handle(&common(gps, st(gps), INS_NO_GNSS), rx(gps), &mut host),
+        Err(NotAligned::ClockUnlocked)
+    );
+    // GNSS back: native and locked again at once.
+    let a = al
+        .handle(&common(gps, st(gps), INS_OK), rx(gps), &mut host)
+        .unwrap();
+    assert_eq!((a.t_gps_ns, a.status), (gps, ClockStatus::Locked));
+}
+
+#[test]
+fn no_valid_time_yet_and_device_restart_are_not_aligned() {
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    // Before any valid time: no model.
+    assert_eq!(
+        al.handle(&common(0, S as u64, INS_NO_GNSS), rx(0), &mut host),
+        Err(NotAligned::DeviceTimeInvalid)
+    );
+    al.handle(&common(G0, 5 * S as u64, INS_OK), rx(0), &mut host)
+        .unwrap();
+    // The device restarts (TimeStartup back to 0.2 s) without GNSS: the old pair is dropped.
+    assert_eq!(
+        al.handle(
+            &common(G0 + S, 200 * MS as u64, INS_NO_GNSS),
+            rx(S),
+            &mut host
+        ),
+        Err(NotAligned::DeviceTimeInvalid)
+    );
+    assert_eq!(al.stats().restarts, 1);
+    // A message with no status at all is not trusted either.
+    let bare = BinaryOutput {
+        common: Some(CommonGroup {
+            time_gps_ns: Some(G0 as u64),
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    assert_eq!(
+        al.handle(&bare, rx(2 * S), &mut host),
+        Err(NotAligned::DeviceTimeInvalid)
+    );
+}
+
+#[test]
+fn time_group_status_week_tow_uncertainty_and_leap_seconds() {
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    // GPS week and time of week instead of TimeGps; TimeStatus bits 0 and 1 (tow, date) set.
+    let week = (G0 / (7 * 86_400 * S)) as u16;
+    let tow = G0 - i64::from(week) * 7 * 86_400 * S;
+    let o = BinaryOutput {
+        time: Some(TimeGroup {
+            gps_week: Some(week),
+            gps_tow_ns: Some(tow as u64),
+            time_status: Some(TimeStatus(0b011)),
+            ..Default::default()
+        }),
+        gnss: Some(Box::new(GnssGroup {
+            time_u_s: Some(20e-9),
+            time_info: Some(GnssTimeInfo {
+                status: TimeStatus(0b111),
+                leap_seconds: 19,
+            }),
+            ..Default::default()
+        })),
+        ..Default::default()
+    };
+    let a = al.handle(&o, rx(0), &mut host).unwrap();
+    assert_eq!(a.t_gps_ns, G0);
+    assert!((a.sigma_ns - 20.0).abs() < 1e-3);
+    // The receiver's leap seconds (here a hypothetical 19) win over the table's 18.
+    assert_eq!(al.gps_minus_utc(G0).gps_minus_utc_s, 19);
+    // Date not valid: not native.
+    let mut bad = o.clone();
+    bad.time.as_mut().unwrap().time_status = Some(TimeStatus(0b001));
+    assert_eq!(
+        al.handle(&bad, rx(S), &mut host),
+        Err(NotAligned::DeviceTimeInvalid)
+    );
+    // Without GnssTimeInfo the table answers, flagged valid for 2026.
+    let fresh = Vn200Aligner::new(Vn200AlignerConfig::default());
+    assert_eq!(
+        fresh.gps_minus_utc(G0),
+        LeapSeconds {
+            gps_minus_utc_s: 18,
+            table_valid: true
+        }
+    );
+}
+
+#[test]
+fn leap_table_boundary_through_the_aligner() {
+    // 2017-01-01 00:00:00 UTC (Unix 1 483 228 800) is the last insertion: one GPS second before
+    // it (UTC 23:59:59 + the leap second 23:59:60 lies between) GPS - UTC is 17, after it 18.
+    let al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let gps_at_2017 = (1_483_228_800 - 315_964_800 + 18) * S;
+    assert_eq!(al.gps_minus_utc(gps_at_2017).gps_minus_utc_s, 18);
+    assert_eq!(al.gps_minus_utc(gps_at_2017 - 2 * S).gps_minus_utc_s, 17);
+    // Past the table's validity (2027-07-01): the value is kept but flagged.
+    let gps_2028 = (1_830_297_600 - 315_964_800 + 18) * S;
+    assert!(!al.gps_minus_utc(gps_2028).table_valid);
+}
