@@ -3,16 +3,20 @@
 //! with the host receive time of the chunk that held its first byte.
 //!
 //! The decoder of a port is chosen by its channel's `protocol` metadata (`bahrs-2.0`,
-//! `watson-ahrs-e304`), else by the device name. `index` counts decoded messages per device (it
-//! equals the truth's `index` while nothing of that device was lost or damaged); `offset` equals the
-//! truth's `rx_offset` for every intact message. Ports without a decoder yet (VN-200, TT-Multi-RF)
-//! are counted, not decoded.
+//! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`), else by the device name. `index` counts decoded
+//! messages per device (it equals the truth's `index` while nothing of that device was lost or
+//! damaged); `offset` equals the truth's `rx_offset` for every intact message. The TT-Multi-RF
+//! port is read with the text decoder in auto mode (CSV, JSON, NMEA, AT); raw Mode S HEX lines on
+//! it are counted by that decoder, not decoded (the raw decoder reads them from the same bytes).
+//! Ports of unknown protocols are counted, not decoded.
 
 use std::collections::{BTreeMap, VecDeque};
 
 use bytes::BytesMut;
 use serde::Serialize;
 use tokio_util::codec::Decoder as _;
+use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
 use vigil_drivers::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
 
 /// A decoded message of any device.
@@ -23,6 +27,10 @@ pub enum Message<'a> {
     Bahrs(&'a bahrs::Message),
     /// Watson AHRS-E304 line.
     Watson(&'a watson::Line),
+    /// VN-200 binary or ASCII message.
+    Vn200(&'a Vn200Message),
+    /// TT-Multi-RF text message (CSV, JSON, NMEA, AT).
+    Ttmrf(&'a TextMessage),
 }
 
 /// One decoded message with its place in the recording.
@@ -71,6 +79,18 @@ impl Wrap for bahrs::Message {
 impl Wrap for watson::Line {
     fn wrap(&self) -> Message<'_> {
         Message::Watson(self)
+    }
+}
+
+impl Wrap for Vn200Message {
+    fn wrap(&self) -> Message<'_> {
+        Message::Vn200(self)
+    }
+}
+
+impl Wrap for TextMessage {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(self)
     }
 }
 
@@ -141,6 +161,8 @@ where
 enum AnyPort {
     Bahrs(Port<bahrs::Decoder>),
     Watson(Port<watson::Decoder>),
+    Vn200(Box<Port<Vn200Decoder>>),
+    Ttmrf(Box<Port<TextDecoder>>),
     NoDecoder { chunks: u64, bytes: u64 },
 }
 
@@ -174,6 +196,12 @@ impl Replayer {
                 ("watson-ahrs-e304", _) | ("", "watson") => {
                     AnyPort::Watson(Port::new(watson::Decoder::new()))
                 }
+                ("vn200-icd", _) | ("", "vn200") => {
+                    AnyPort::Vn200(Box::new(Port::new(Vn200Decoder::new())))
+                }
+                ("ttmrf-text", _) | ("", "ttmrf") => {
+                    AnyPort::Ttmrf(Box::new(Port::new(TextDecoder::new(TextMode::Auto))))
+                }
                 _ => AnyPort::NoDecoder {
                     chunks: 0,
                     bytes: 0,
@@ -190,6 +218,14 @@ impl Replayer {
                 p.run(device, false, f)
             }
             AnyPort::Watson(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::Vn200(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::Ttmrf(p) => {
                 p.push(t_host_ns, bytes);
                 p.run(device, false, f)
             }
@@ -214,6 +250,14 @@ impl Replayer {
                     PortSummary::Decoded(*p.codec.0.stats())
                 }
                 AnyPort::Watson(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::Vn200(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::Ttmrf(p) => {
                     p.run(device, true, f)?;
                     PortSummary::Decoded(*p.codec.0.stats())
                 }

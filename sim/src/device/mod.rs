@@ -14,6 +14,8 @@
 //!    `protocol()` string).
 
 pub mod bahrs;
+pub mod ttmrf;
+pub mod vn200;
 pub mod watson;
 
 use serde_json::{Map, Value};
