@@ -120,6 +120,7 @@ fn replayer_decodes_every_vn200_and_ttmrf_text_message() {
         let kind = match d.message {
             Message::Vn200(_) => "vn200",
             Message::Ttmrf(_) => "ttmrf",
+            Message::TtmrfRaw(_) => "ttmrf_raw",
             _ => return Ok(()),
         };
         got.insert((d.device.to_string(), d.offset), kind);
@@ -131,15 +132,17 @@ fn replayer_decodes_every_vn200_and_ttmrf_text_message() {
             .unwrap();
     }
     r.finish(&mut f).unwrap();
-    // Every VN-200 message and every TT-Multi-RF text message (raw HEX frames are left to the
-    // raw decoder) is decoded at its truth offset.
+    // Every VN-200 message and every TT-Multi-RF message (text and raw HEX frames) is decoded
+    // at its truth offset, and nothing else.
     let want: BTreeSet<(String, u64)> = sink
         .truth
         .iter()
-        .filter(|t| t.device == "vn200" || (t.device == "ttmrf" && !t.kind.starts_with("raw_")))
+        .filter(|t| t.device == "vn200" || t.device == "ttmrf")
         .map(|t| (t.device.to_string(), t.rx_offset))
         .collect();
     let have: BTreeSet<(String, u64)> = got.keys().cloned().collect();
     assert_eq!(have, want);
     assert!(want.len() > 1000);
+    // Raw frames are among them (nominal has raw = "hex").
+    assert!(got.values().filter(|k| **k == "ttmrf_raw").count() > 50);
 }
