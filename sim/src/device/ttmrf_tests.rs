@@ -219,3 +219,42 @@ fn gnss_outage_reports_no_fix() {
     }
     assert!(g.iter().filter(|r| r.values["fix"] == false).count() >= 2);
 }
+
+#[test]
+fn csv_protocol_sends_the_manual_lines_with_pressure_altitude() {
+    let mut s = builtin("nominal").unwrap();
+    s.devices.ttmrf.as_mut().unwrap().protocol = "csv".into();
+    s.devices.ttmrf.as_mut().unwrap().raw = "off".into();
+    let (_, bytes, truth) = run(&s, 3_000_000_000, Vec::new());
+    let msgs = decode_slice(&mut TextDecoder::new(TextMode::Auto), &bytes);
+    // 5 intruders per second (no GNSS section in CSV mode).
+    assert!((14..=15).contains(&truth.len()), "{}", truth.len());
+    assert_eq!(msgs.len(), truth.len());
+    for (m, r) in msgs.iter().zip(&truth) {
+        let TextMessage::Csv(c) = m else {
+            panic!("{m:?}")
+        };
+        assert_eq!(c.to_line().as_bytes(), r.wire.as_slice());
+        let rep = &m.traffic_reports()[0];
+        assert_eq!(rep.address_hex(), r.values["address"].as_str().unwrap());
+        if r.kind != "flarm" {
+            // ISA pressure altitude in whole feet.
+            let alt = r.values["alt_pressure_m"].as_f64().unwrap();
+            assert!((rep.alt_pressure_m.unwrap() - alt).abs() <= 0.5 * 0.3048 + 1e-9);
+        }
+    }
+    assert!(truth.iter().any(|r| r.kind == "uat"));
+    assert!(truth.iter().any(|r| r.kind == "flarm"));
+}
+
+#[test]
+fn unmodelled_protocols_are_refused_by_name() {
+    let mut s = builtin("nominal").unwrap();
+    s.devices.ttmrf.as_mut().unwrap().protocol = "gdl90".into();
+    let e = Simulator::new(&s, 1).err().unwrap().to_string();
+    assert!(e.contains("devices.ttmrf.protocol"), "{e}");
+    let mut s = builtin("nominal").unwrap();
+    s.devices.ttmrf.as_mut().unwrap().raw = "avr".into();
+    let e = Simulator::new(&s, 1).err().unwrap().to_string();
+    assert!(e.contains("devices.ttmrf.raw"), "{e}");
+}

@@ -238,3 +238,37 @@ fn unsupported_configuration_is_refused() {
         })
     )));
 }
+
+#[test]
+fn reset_command_echoes_then_output_resumes_after_boot_and_vnbom_polls() {
+    // 0.3 s: VNBOM,1 (one binary message answered, 1 ms later); 0.5 s: VNRST.
+    let script = vec![
+        (3, b"$VNBOM,1*XX\r\n".to_vec()),
+        (5, b"$VNRST*XX\r\n".to_vec()),
+    ];
+    let (sink, msgs) = run("headon", 2_000_000_000, script);
+    let start = sink.info.as_ref().unwrap().start_gps_ns;
+    let truth: Vec<_> = sink.truth.iter().filter(|r| r.device == "vn200").collect();
+    assert_eq!(msgs.len(), truth.len());
+    let polled: Vec<_> = truth
+        .iter()
+        .filter(|r| r.values.contains_key("polled"))
+        .collect();
+    assert_eq!(polled.len(), 1);
+    assert_eq!(polled[0].t_gps_ns - start, 300_000_000);
+    let echo = truth.iter().find(|r| r.kind == "ascii").unwrap();
+    // XOR of "VNRST": 0x56^0x4E = 0x18, ^0x52 = 0x4A, ^0x53 = 0x19, ^0x54 = 0x4D.
+    assert_eq!(echo.wire, b"$VNRST*4D\r\n");
+    // No output from the reset (0.501 s) until the boot ends (1.501 s).
+    let dts: Vec<i64> = truth
+        .iter()
+        .filter(|r| r.kind == "binary_output" && !r.values.contains_key("polled"))
+        .map(|r| r.t_gps_ns - start)
+        .collect();
+    assert!(
+        dts.iter()
+            .all(|d| !(501_000_000..1_501_000_000).contains(d))
+    );
+    assert!(dts.iter().any(|d| *d >= 1_501_000_000));
+    assert!(dts.iter().any(|d| *d <= 500_000_000));
+}

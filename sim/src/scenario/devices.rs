@@ -12,9 +12,9 @@ pub struct Devices {
     pub bahrs: Option<BahrsConfig>,
     /// Watson AHRS-E304.
     pub watson: Option<WatsonConfig>,
-    /// VectorNav VN-200 (configuration only until its device model exists).
+    /// VectorNav VN-200 (model: `device::vn200`).
     pub vn200: Option<Vn200Config>,
-    /// Aerobits TT-Multi-RF (configuration only until its device model exists).
+    /// Aerobits TT-Multi-RF (model: `device::ttmrf`).
     pub ttmrf: Option<TtmrfConfig>,
 }
 
@@ -77,6 +77,20 @@ impl Devices {
         }
         if let Some(t) = &self.ttmrf {
             check_baud("devices.ttmrf.baud", t.baud)?;
+            // The model sends CSV or JSON; the binary protocols (MAVLink, GDL90, ASTERIX) have
+            // encoders in the drivers but no model yet.
+            if !matches!(t.protocol.as_str(), "csv" | "json") {
+                return Err(invalid(
+                    "devices.ttmrf.protocol",
+                    "must be csv or json (mavlink, gdl90 and asterix are not modelled)",
+                ));
+            }
+            if !matches!(t.raw.as_str(), "off" | "hex" | "hexd" | "beast") {
+                return Err(invalid(
+                    "devices.ttmrf.raw",
+                    "must be off, hex, hexd or beast",
+                ));
+            }
         }
         Ok(())
     }
@@ -210,7 +224,7 @@ impl Default for WatsonNoise {
     }
 }
 
-/// VN-200 configuration (consumed by its device model once it exists).
+/// VN-200 configuration (`device::vn200`: Register 75 starts at `rate_hz`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Vn200Config {
@@ -232,13 +246,14 @@ impl Default for Vn200Config {
     }
 }
 
-/// TT-Multi-RF configuration (consumed by its device model once it exists).
+/// TT-Multi-RF configuration (`device::ttmrf`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TtmrfConfig {
     /// Baud rate.
     pub baud: u32,
-    /// Decoded output protocol: "csv", "json", "mavlink", "gdl90", "asterix".
+    /// Decoded output protocol: "csv" or "json" (the model's; "mavlink", "gdl90" and "asterix"
+    /// are refused until modelled).
     pub protocol: String,
     /// Raw Mode S output: "off", "hex", "hexd", "beast".
     pub raw: String,
