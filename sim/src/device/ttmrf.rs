@@ -8,8 +8,8 @@
 //! - one traffic message per intruder per second, intruder `i` of `n` at `(i + 1) * 1000 /
 //!   (n + 1)` ms into each second (spread, like a receiver reporting its table in turn); JSON
 //!   sends one target per message, in the array of its link (`adsb`, `uat`, `flarm`);
-//! - the JSON `gnss` section at every whole second (JSON mode with `gnss = true`; in CSV mode
-//!   the GNSS output would be NMEA, not modelled: nothing is sent);
+//! - with `gnss = true`, at every whole second: the JSON `gnss` section (JSON mode), or NMEA
+//!   `$GPGGA` and `$GPRMC` (CSV mode; manual 9.2.1), UTC time of day and date;
 //! - raw frames of each ADS-B target (raw != "off"), at its phase plus: 100 ms even and 600 ms
 //!   odd airborne position (TC 11), 350 and 850 ms airborne velocity (TC 19 subtype 1), and
 //!   identification (TC 1-4) at 200 ms every 5 s: 2 + 2 + 0.2 frames per second as DO-260B
@@ -28,7 +28,8 @@
 //! included) and its answers leave 1 ms after the window that delivered it. Outside RUN no traffic, GNSS or raw output is sent. A `device_reset`
 //! fault power-cycles the module (BOOTLOADER then RUN messages).
 //!
-//! Truth: `type` = "adsb" / "uat" / "flarm" (traffic message), "gnss", "raw_position",
+//! Truth: `type` = "adsb" / "uat" / "flarm" (traffic message), "gnss", "nmea_gga", "nmea_rmc",
+//! "raw_position",
 //! "raw_velocity", "raw_identification", "at"; values: `address`, true `lat_deg`, `lon_deg`,
 //! `height_m`, `alt_pressure_m`, `vel_ned_mps`, `track_rad`, the `reported_*` position, `nic`,
 //! `nac_p`, `ts_ms`.
@@ -44,6 +45,7 @@ use vigil_drivers::ttmrf::csv::{
 use vigil_drivers::ttmrf::json::{
     AdsbTarget, FlarmTarget, Gnss, GnssAccuracy, JsonMessage, UatNicNac, UatTarget,
 };
+use vigil_drivers::ttmrf::nmea::{Date as NmeaDate, Gga, NmeaBody, NmeaSentence, Rmc};
 use vigil_drivers::ttmrf::raw::{ModeSFrame, RawFrame, RxMeta, beast, hex};
 
 use super::{DeviceModel, Emission, FaultSchedule};
@@ -162,8 +164,7 @@ impl TtmrfModel {
     /// Queues the events of GPS second `s`.
     fn schedule(&mut self, s: i64) {
         let base = s * NS_PER_S;
-        let json = self.cfg.protocol == "json";
-        if json && self.cfg.gnss {
+        if self.cfg.gnss {
             self.queue.push((base, Event::Gnss));
         }
         let raw = self.cfg.raw != "off";
@@ -426,6 +427,87 @@ impl TtmrfModel {
         })
     }
 
+    /// GGA then RMC (manual 9.2.1, NMEA output of the GNSS section) for CSV mode.
+    fn nmea(&mut self, t: i64, world: &World, faults: &FaultSchedule, out: &mut Vec<Emission>) {
+        let lost = faults.gnss_lost(world.elapsed_s(t));
+        let o = world.ownship(t);
+        let utc_s = utc_ns_of_day(t) as f64 / 1e9;
+        let d = crate::units::gps_ns_to_utc_date(t);
+        let date = NmeaDate {
+            year: d.year() as u16,
+            month: d.month() as u8,
+            day: d.day(),
+        };
+        let [vn, ve, _] = o.vel_ned_mps;
+        let (lat, lon, h) = if lost {
+            (None, None, None)
+        } else {
+            let n = &mut self.noise;
+            let (dn, de, dd) = (
+                n.gauss(GNSS_H_SIGMA_M),
+                n.gauss(GNSS_H_SIGMA_M),
+                n.gauss(GNSS_V_SIGMA_M),
+            );
+            (
+                Some(o.lat_deg + (dn / world.frame.radius_north_m).to_degrees()),
+                Some(o.lon_deg + (de / world.frame.radius_east_m).to_degrees()),
+                Some(round_to(o.height_m - dd, 0.1)),
+            )
+        };
+        let gga = Gga {
+            time_s: Some(utc_s),
+            lat_deg: lat,
+            lon_deg: lon,
+            quality: Some(u8::from(!lost)),
+            satellites: Some(if lost { 0 } else { 10 }),
+            hdop: (!lost).then_some(0.9),
+            alt_msl_m: h,
+            // The simulated geoid is the ellipsoid.
+            geoid_sep_m: (!lost).then_some(0.0),
+            ..Default::default()
+        };
+        let rmc = Rmc {
+            time_s: Some(utc_s),
+            valid: Some(!lost),
+            lat_deg: lat,
+            lon_deg: lon,
+            speed_kt: (!lost).then(|| round_to(vn.hypot(ve) * KT_PER_MPS, 0.1)),
+            course_deg: (!lost)
+                .then(|| round_to(ve.atan2(vn).to_degrees().rem_euclid(360.0), 0.1) % 360.0),
+            date: Some(date),
+            mode: Some(if lost { 'N' } else { 'A' }),
+            ..Default::default()
+        };
+        for (kind, body) in [
+            ("nmea_gga", NmeaBody::Gga(gga)),
+            ("nmea_rmc", NmeaBody::Rmc(rmc)),
+        ] {
+            let line = NmeaSentence {
+                talker: "GP".into(),
+                body,
+            }
+            .to_line();
+            let Some(bytes) = self.send_line(line.as_bytes()) else {
+                return;
+            };
+            let v = json!({
+                "fix": !lost,
+                "lat_deg": o.lat_deg,
+                "lon_deg": o.lon_deg,
+                "height_m": o.height_m,
+                "vel_ned_mps": o.vel_ned_mps,
+                "utc_s_of_day": utc_s,
+            });
+            out.push(Emission {
+                t_ready_gps_ns: t,
+                bytes,
+                kind,
+                t_gps_ns: t,
+                values: obj(v),
+            });
+        }
+    }
+
     fn raw(&mut self, t: i64, e: Event, it: &IntruderTruth) -> Option<Emission> {
         let icao = u32::from_str_radix(&it.address, 16).ok()? & 0xFF_FFFF;
         let [lat, lon, _] = it
@@ -612,6 +694,10 @@ impl DeviceModel for TtmrfModel {
                 continue;
             }
             let em = match e {
+                Event::Gnss if self.cfg.protocol == "csv" => {
+                    self.nmea(t, world, faults, out);
+                    None
+                }
                 Event::Gnss => self.gnss(t, world, faults),
                 Event::Traffic(i) => world.intruder(i, t).and_then(|it| self.traffic(t, i, &it)),
                 Event::Position(i, _) | Event::Velocity(i) | Event::Ident(i) => {

@@ -227,10 +227,15 @@ fn csv_protocol_sends_the_manual_lines_with_pressure_altitude() {
     s.devices.ttmrf.as_mut().unwrap().raw = "off".into();
     let (_, bytes, truth) = run(&s, 3_000_000_000, Vec::new());
     let msgs = decode_slice(&mut TextDecoder::new(TextMode::Auto), &bytes);
-    // 5 intruders per second (no GNSS section in CSV mode).
-    assert!((14..=15).contains(&truth.len()), "{}", truth.len());
+    // 5 intruders per second and GGA + RMC at whole seconds.
+    assert!((20..=21).contains(&truth.len()), "{}", truth.len());
     assert_eq!(msgs.len(), truth.len());
     for (m, r) in msgs.iter().zip(&truth) {
+        if let TextMessage::Nmea(n) = m {
+            assert_eq!(n.to_line().as_bytes(), r.wire.as_slice());
+            assert!(r.kind.starts_with("nmea_"));
+            continue;
+        }
         let TextMessage::Csv(c) = m else {
             panic!("{m:?}")
         };
@@ -245,6 +250,13 @@ fn csv_protocol_sends_the_manual_lines_with_pressure_altitude() {
     }
     assert!(truth.iter().any(|r| r.kind == "uat"));
     assert!(truth.iter().any(|r| r.kind == "flarm"));
+    // The start, 2026-06-01T10:00:00Z, at 47.40 N: GGA time 100000.00, latitude 47 deg 24.000'
+    // (within noise: 4724.0 +- 0.01'), RMC date 010626.
+    let gga = String::from_utf8(truth[0].wire.clone()).unwrap();
+    assert!(gga.starts_with("$GPGGA,100000.00,472"), "{gga}");
+    let rmc = String::from_utf8(truth[1].wire.clone()).unwrap();
+    assert!(rmc.starts_with("$GPRMC,100000.00,A,472"), "{rmc}");
+    assert!(rmc.contains(",010626,"), "{rmc}");
 }
 
 #[test]
