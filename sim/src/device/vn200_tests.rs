@@ -272,3 +272,23 @@ fn reset_command_echoes_then_output_resumes_after_boot_and_vnbom_polls() {
     assert!(dts.iter().any(|d| *d >= 1_501_000_000));
     assert!(dts.iter().any(|d| *d <= 500_000_000));
 }
+
+#[test]
+fn runs_at_400_hz_and_refuses_a_baud_too_slow_for_the_rate() {
+    let mut s = builtin("headon").unwrap();
+    s.devices.vn200.as_mut().unwrap().rate_hz = 400.0;
+    let mut sim = Simulator::new(&s, 1).unwrap();
+    let mut sink = MemorySink::default();
+    sim.run(1_000_000_000, &mut sink).unwrap();
+    let t: Vec<_> = sink.truth.iter().filter(|r| r.device == "vn200").collect();
+    // Divisor 2: a message every 2.5 ms, none lost on the 921 600 baud link.
+    assert!((399..=400).contains(&t.len()), "{}", t.len());
+    assert!(
+        t.iter()
+            .all(|r| r.t_gps_ns % 2_500_000 == 0 && !r.corrupted)
+    );
+    // 139 bytes at 400 Hz = 55 600 bytes/s > 115 200 baud / 10.
+    s.devices.vn200.as_mut().unwrap().baud = 115_200;
+    let e = Simulator::new(&s, 1).err().unwrap().to_string();
+    assert!(e.contains("devices.vn200.baud"), "{e}");
+}

@@ -74,6 +74,18 @@ impl Devices {
             if !(v.rate_hz > 0.0 && v.rate_hz <= 400.0) {
                 return Err(invalid("devices.vn200.rate_hz", "must be within 0 .. 400"));
             }
+            // The default binary output is 139 bytes (sync, 9 header bytes, 127 payload, CRC).
+            let bytes_per_s = 139.0 * v.rate_hz;
+            if bytes_per_s > f64::from(v.baud) / 10.0 {
+                return Err(invalid(
+                    "devices.vn200.baud",
+                    format!(
+                        "{} baud carries {} bytes/s, the output needs {bytes_per_s:.0}",
+                        v.baud,
+                        v.baud / 10
+                    ),
+                ));
+            }
         }
         if let Some(t) = &self.ttmrf {
             check_baud("devices.ttmrf.baud", t.baud)?;
@@ -230,7 +242,8 @@ impl Default for WatsonNoise {
 pub struct Vn200Config {
     /// Baud rate.
     pub baud: u32,
-    /// Binary output rate, Hz (up to 400).
+    /// Binary output rate, Hz (up to 400); the sensor divides its 800 Hz IMU rate, so the rate
+    /// sent is 800 / round(800 / rate_hz) (e.g. 150 -> 160 Hz).
     pub rate_hz: f64,
     /// Whether the PPS output is wired (to the BAHRS sync input).
     pub pps: bool,
