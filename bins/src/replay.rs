@@ -7,12 +7,12 @@
 //! `index` equals the truth file's `index` as long as no message of that device was lost or
 //! damaged; `offset` equals the truth's `rx_offset` for every intact message, always.
 //!
-//! The decoder of a channel is chosen by its `protocol` metadata (`bahrs-2.0`, `watson-ahrs-e304`),
-//! or by the device name when the channel has none.
+//! The decoder of a channel is chosen by its `protocol` metadata (`bahrs-2.0`, `watson-ahrs-e304`,
+//! `vn200-icd`, `ttmrf-text`), or by the device name when the channel has none.
 //!
-//! Output is a deterministic function of the file: replaying twice gives identical bytes. Devices
-//! without a decoder here (VN-200, TT-Multi-RF until their drivers land) are counted in the summary
-//! on stderr, with each decoder's counters and any damage found in the file.
+//! Output is a deterministic function of the file: replaying twice gives identical bytes. Ports of an
+//! unknown protocol are counted in the summary on stderr, with each decoder's counters and any
+//! damage found in the file.
 
 use std::collections::BTreeMap;
 use std::io::{self, BufWriter, Write};

@@ -51,7 +51,9 @@ fn live_ptys_are_read_with_tokio_serial() {
     // One line per port: device, terminal path, baud.
     let mut ports = Vec::new();
     let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-    for _ in 0..2 {
+    // Read every port line (bahrs, watson, vn200, ttmrf) even though only the first two are
+    // used: the simulator exits when a port line cannot be written.
+    for _ in 0..4 {
         let l = lines.next().expect("port line").unwrap();
         let f: Vec<&str> = l.split(' ').collect();
         ports.push((
@@ -62,6 +64,9 @@ fn live_ptys_are_read_with_tokio_serial() {
     }
     assert_eq!(ports[0].0, "bahrs");
     assert_eq!(ports[1].0, "watson");
+    assert_eq!(ports[2].0, "vn200");
+    assert_eq!(ports[3].0, "ttmrf");
+    ports.truncate(2);
     assert_eq!(
         std::fs::read_link(dir.join("bahrs")).unwrap(),
         PathBuf::from(&ports[0].1)
@@ -125,7 +130,9 @@ fn start_live(
         .spawn()
         .expect("start vigil sim");
     let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-    let ports = (0..2)
+    // All four port lines are read (the simulator exits when one cannot be written); the
+    // recordings use the first two.
+    let mut ports: Vec<(String, String, u32)> = (0..4)
         .map(|_| {
             let l = lines.next().expect("port line").unwrap();
             let f: Vec<&str> = l.split(' ').collect();
@@ -136,6 +143,7 @@ fn start_live(
             )
         })
         .collect();
+    ports.truncate(2);
     (child, ports)
 }
 

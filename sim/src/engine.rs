@@ -8,6 +8,8 @@
 //! at most, as a USB adapter's latency timer would).
 
 use crate::device::bahrs::BahrsModel;
+use crate::device::ttmrf::TtmrfModel;
+use crate::device::vn200::Vn200Model;
 use crate::device::watson::WatsonModel;
 use crate::device::{DeviceModel, Emission, FaultSchedule};
 use crate::link::{Chunk, HostClock, Link};
@@ -116,13 +118,13 @@ impl Simulator {
         if let Some(w) = &d.watson {
             models.push(Box::new(WatsonModel::new(w, &world, seed)));
         }
-        let mut devices_without_model = Vec::new();
-        if d.vn200.is_some() {
-            devices_without_model.push("vn200");
+        if let Some(v) = &d.vn200 {
+            models.push(Box::new(Vn200Model::new(v, &world, &faults, seed)));
         }
-        if d.ttmrf.is_some() {
-            devices_without_model.push("ttmrf");
+        if let Some(t) = &d.ttmrf {
+            models.push(Box::new(TtmrfModel::new(t, &world, &faults, seed)));
         }
+        let devices_without_model = Vec::new();
         let ports = models
             .into_iter()
             .enumerate()
@@ -369,6 +371,8 @@ mod tests {
         let mut s = builtin("headon").unwrap();
         s.devices.bahrs = None;
         s.devices.watson = None;
+        s.devices.vn200 = None;
+        s.devices.ttmrf = None;
         let mut sim = Simulator::new(&s, 1).unwrap();
         sim.add_device(
             Box::new(Echo {
@@ -391,7 +395,7 @@ mod tests {
         assert_eq!(sink.inner.truth.len(), 1);
         assert_eq!(
             sink.inner.info.unwrap().devices_without_model,
-            vec!["vn200", "ttmrf"]
+            Vec::<&str>::new()
         );
     }
 }

@@ -3,16 +3,22 @@
 //! with the host receive time of the chunk that held its first byte.
 //!
 //! The decoder of a port is chosen by its channel's `protocol` metadata (`bahrs-2.0`,
-//! `watson-ahrs-e304`), else by the device name. `index` counts decoded messages per device (it
-//! equals the truth's `index` while nothing of that device was lost or damaged); `offset` equals the
-//! truth's `rx_offset` for every intact message. Ports without a decoder yet (VN-200, TT-Multi-RF)
-//! are counted, not decoded.
+//! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`), else by the device name. `index` counts decoded
+//! messages per device (it equals the truth's `index` while nothing of that device was lost or
+//! damaged); `offset` equals the truth's `rx_offset` for every intact message. The TT-Multi-RF
+//! port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read by the
+//! text decoder (auto mode) and the HEX decoder side by side over the same bytes, their messages
+//! merged in offset order (a message is released once both decoders have consumed past its
+//! first byte). Ports of unknown protocols are counted, not decoded.
 
 use std::collections::{BTreeMap, VecDeque};
 
 use bytes::BytesMut;
 use serde::Serialize;
 use tokio_util::codec::Decoder as _;
+use vigil_drivers::ttmrf::raw::{HexDecoder, RawFrame, RxMeta, encode_hex_string};
+use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
 use vigil_drivers::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
 
 /// A decoded message of any device.
@@ -23,6 +29,39 @@ pub enum Message<'a> {
     Bahrs(&'a bahrs::Message),
     /// Watson AHRS-E304 line.
     Watson(&'a watson::Line),
+    /// VN-200 binary or ASCII message.
+    Vn200(&'a Vn200Message),
+    /// TT-Multi-RF text message (CSV, JSON, NMEA, AT).
+    Ttmrf(&'a TextMessage),
+    /// TT-Multi-RF raw frame (HEX line).
+    TtmrfRaw(&'a RawLine),
+}
+
+/// A raw frame of the TT-Multi-RF port as replay writes it: the frame's bytes in hex and the
+/// receiver's metadata (the Mode S content is the Mode S decoder's job).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RawLine {
+    /// "mode_s", "mode_ac" or "uat".
+    pub raw: &'static str,
+    /// Frame bytes, upper-case hex (Mode A/C: the four octal digits as two bytes).
+    pub frame_hex: String,
+    /// Receive metadata (signal, TS1s, TS24h).
+    pub meta: RxMeta,
+}
+
+impl RawLine {
+    fn of(f: &RawFrame) -> Self {
+        let (raw, bytes, meta) = match f {
+            RawFrame::ModeS(m) => ("mode_s", m.data().to_vec(), m.meta),
+            RawFrame::ModeAc(m) => ("mode_ac", m.code.0.to_be_bytes().to_vec(), m.meta),
+            RawFrame::Uat(u) => ("uat", u.bytes.clone(), u.meta),
+        };
+        Self {
+            raw,
+            frame_hex: encode_hex_string(&bytes),
+            meta,
+        }
+    }
 }
 
 /// One decoded message with its place in the recording.
@@ -46,6 +85,13 @@ pub struct Decoded<'a> {
 pub enum PortSummary {
     /// A decoded port: the decoder's counters.
     Decoded(DecodeStats),
+    /// A port read by a text and a raw decoder (TT-Multi-RF).
+    TextAndRaw {
+        /// The text decoder's counters (raw lines are its unknown types).
+        text: DecodeStats,
+        /// The HEX decoder's counters (text lines are its skipped bytes).
+        raw: DecodeStats,
+    },
     /// A port without a decoder.
     NoDecoder {
         /// Always true.
@@ -74,6 +120,18 @@ impl Wrap for watson::Line {
     }
 }
 
+impl Wrap for Vn200Message {
+    fn wrap(&self) -> Message<'_> {
+        Message::Vn200(self)
+    }
+}
+
+impl Wrap for TextMessage {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(self)
+    }
+}
+
 struct Port<D: DeviceDecoder> {
     codec: Codec<D>,
     buf: BytesMut,
@@ -82,10 +140,7 @@ struct Port<D: DeviceDecoder> {
     index: u64,
 }
 
-impl<D: DeviceDecoder> Port<D>
-where
-    D::Message: Wrap,
-{
+impl<D: DeviceDecoder> Port<D> {
     fn new(decoder: D) -> Self {
         Self {
             codec: Codec(decoder),
@@ -109,7 +164,10 @@ where
         device: &str,
         eof: bool,
         f: &mut impl FnMut(Decoded<'_>) -> Result<(), E>,
-    ) -> Result<(), E> {
+    ) -> Result<(), E>
+    where
+        D::Message: Wrap,
+    {
         loop {
             let next = if eof {
                 self.codec.decode_eof(&mut self.buf)
@@ -138,9 +196,97 @@ where
     }
 }
 
+enum Pending {
+    Text(TextMessage),
+    Raw(RawLine),
+}
+
+/// The TT-Multi-RF port: text and HEX decoders over the same bytes, merged by offset.
+struct TtmrfPort {
+    text: Port<TextDecoder>,
+    raw: Port<HexDecoder>,
+    pending: Vec<(u64, Pending)>,
+    index: u64,
+}
+
+impl TtmrfPort {
+    fn new() -> Self {
+        Self {
+            text: Port::new(TextDecoder::new(TextMode::Auto)),
+            raw: Port::new(HexDecoder::new()),
+            pending: Vec::new(),
+            index: 0,
+        }
+    }
+
+    fn push(&mut self, t_host_ns: u64, bytes: &[u8]) {
+        self.text.push(t_host_ns, bytes);
+        self.raw.push(t_host_ns, bytes);
+    }
+
+    fn run<E>(
+        &mut self,
+        device: &str,
+        eof: bool,
+        f: &mut impl FnMut(Decoded<'_>) -> Result<(), E>,
+    ) -> Result<(), E> {
+        loop {
+            let next = if eof {
+                self.text.codec.decode_eof(&mut self.text.buf)
+            } else {
+                self.text.codec.decode(&mut self.text.buf)
+            };
+            let Ok(Some(l)) = next else { break };
+            self.pending.push((l.offset, Pending::Text(l.message)));
+        }
+        loop {
+            let next = if eof {
+                self.raw.codec.decode_eof(&mut self.raw.buf)
+            } else {
+                self.raw.codec.decode(&mut self.raw.buf)
+            };
+            let Ok(Some(l)) = next else { break };
+            self.pending
+                .push((l.offset, Pending::Raw(RawLine::of(&l.message))));
+        }
+        // Every later message of either decoder starts at or after its consumed bytes.
+        let frontier = if eof {
+            u64::MAX
+        } else {
+            self.text
+                .codec
+                .0
+                .stats()
+                .bytes_consumed
+                .min(self.raw.codec.0.stats().bytes_consumed)
+        };
+        self.pending.sort_by_key(|p| p.0);
+        let n = self.pending.partition_point(|p| p.0 < frontier);
+        for (offset, m) in self.pending.drain(..n) {
+            let t_host_ns = self.text.t_host_of(offset);
+            let index = self.index;
+            self.index += 1;
+            let message = match &m {
+                Pending::Text(t) => Message::Ttmrf(t),
+                Pending::Raw(r) => Message::TtmrfRaw(r),
+            };
+            f(Decoded {
+                device,
+                index,
+                offset,
+                t_host_ns,
+                message,
+            })?;
+        }
+        Ok(())
+    }
+}
+
 enum AnyPort {
     Bahrs(Port<bahrs::Decoder>),
     Watson(Port<watson::Decoder>),
+    Vn200(Box<Port<Vn200Decoder>>),
+    Ttmrf(Box<TtmrfPort>),
     NoDecoder { chunks: u64, bytes: u64 },
 }
 
@@ -174,6 +320,10 @@ impl Replayer {
                 ("watson-ahrs-e304", _) | ("", "watson") => {
                     AnyPort::Watson(Port::new(watson::Decoder::new()))
                 }
+                ("vn200-icd", _) | ("", "vn200") => {
+                    AnyPort::Vn200(Box::new(Port::new(Vn200Decoder::new())))
+                }
+                ("ttmrf-text", _) | ("", "ttmrf") => AnyPort::Ttmrf(Box::new(TtmrfPort::new())),
                 _ => AnyPort::NoDecoder {
                     chunks: 0,
                     bytes: 0,
@@ -190,6 +340,14 @@ impl Replayer {
                 p.run(device, false, f)
             }
             AnyPort::Watson(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::Vn200(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::Ttmrf(p) => {
                 p.push(t_host_ns, bytes);
                 p.run(device, false, f)
             }
@@ -216,6 +374,17 @@ impl Replayer {
                 AnyPort::Watson(p) => {
                     p.run(device, true, f)?;
                     PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::Vn200(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::Ttmrf(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::TextAndRaw {
+                        text: *p.text.codec.0.stats(),
+                        raw: *p.raw.codec.0.stats(),
+                    }
                 }
                 AnyPort::NoDecoder { chunks, bytes } => PortSummary::NoDecoder {
                     no_decoder: true,

@@ -232,33 +232,37 @@ impl World {
 
     /// Every intruder's true state at a GPS time.
     pub fn intruders(&self, t_gps_ns: i64) -> Vec<IntruderTruth> {
-        let t = self.elapsed_s(t_gps_ns);
-        self.intruders
-            .iter()
-            .map(|i| {
-                let k = i.trajectory.at(t);
-                let (lat, lon) = self.frame.to_geodetic_rad(k.north_m, k.east_m);
-                let reported_position = i.meta.spoof_offset_ned_m.map(|o| {
-                    let (la, lo) = self
-                        .frame
-                        .to_geodetic_rad(k.north_m + o[0], k.east_m + o[1]);
-                    [la.to_degrees(), lo.to_degrees(), k.height_m - o[2]]
-                });
-                IntruderTruth {
-                    address: i.meta.address.clone(),
-                    link: i.meta.link,
-                    callsign: i.meta.callsign.clone(),
-                    emitter_category: i.meta.emitter_category.clone(),
-                    lat_deg: lat.to_degrees(),
-                    lon_deg: lon.to_degrees(),
-                    height_m: k.height_m,
-                    alt_pressure_m: self.alt_pressure_m(k.height_m),
-                    vel_ned_mps: k.vel_ned_mps,
-                    track_rad: k.track_rad,
-                    reported_position,
-                }
-            })
+        (0..self.intruders.len())
+            .filter_map(|i| self.intruder(i, t_gps_ns))
             .collect()
+    }
+
+    /// Intruder `i`'s true state at a GPS time (`None` past the last intruder); device models
+    /// that report one target at a time use it rather than evaluating every intruder.
+    pub fn intruder(&self, i: usize, t_gps_ns: i64) -> Option<IntruderTruth> {
+        let t = self.elapsed_s(t_gps_ns);
+        let i = self.intruders.get(i)?;
+        let k = i.trajectory.at(t);
+        let (lat, lon) = self.frame.to_geodetic_rad(k.north_m, k.east_m);
+        let reported_position = i.meta.spoof_offset_ned_m.map(|o| {
+            let (la, lo) = self
+                .frame
+                .to_geodetic_rad(k.north_m + o[0], k.east_m + o[1]);
+            [la.to_degrees(), lo.to_degrees(), k.height_m - o[2]]
+        });
+        Some(IntruderTruth {
+            address: i.meta.address.clone(),
+            link: i.meta.link,
+            callsign: i.meta.callsign.clone(),
+            emitter_category: i.meta.emitter_category.clone(),
+            lat_deg: lat.to_degrees(),
+            lon_deg: lon.to_degrees(),
+            height_m: k.height_m,
+            alt_pressure_m: self.alt_pressure_m(k.height_m),
+            vel_ned_mps: k.vel_ned_mps,
+            track_rad: k.track_rad,
+            reported_position,
+        })
     }
 }
 

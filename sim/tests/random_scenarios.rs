@@ -1,31 +1,15 @@
 //! Random scenarios (trajectories, rates, bauds, chunking, faults) run without panic, stay
 //! deterministic, and every intact message decodes at its `rx_offset`.
 
-use tokio_util_free::decode_located;
+mod common;
+
+use common::decode_located;
 use vigil_sim::rng::Rng;
 use vigil_sim::scenario::{
     Axis, BahrsConfig, Fault, HealthSignal, HealthWord, Scenario, WatsonConfig, builtin,
 };
 use vigil_sim::trajectory::Segment;
 use vigil_sim::{MemorySink, Simulator};
-
-mod tokio_util_free {
-    use bytes::BytesMut;
-    use vigil_drivers::DeviceDecoder;
-
-    /// Decodes a whole stream, returning (offset of first byte, message) pairs.
-    pub fn decode_located<D: DeviceDecoder>(mut d: D, bytes: &[u8]) -> Vec<(u64, D::Message)> {
-        let mut buf = BytesMut::from(bytes);
-        let mut out = Vec::new();
-        while let Some(m) = d.decode(&mut buf) {
-            out.push((d.stats().last_frame_start, m));
-        }
-        while let Some(m) = d.decode_eof(&mut buf) {
-            out.push((d.stats().last_frame_start, m));
-        }
-        out
-    }
-}
 
 fn random_scenario(r: &mut Rng) -> Scenario {
     let mut s = builtin("link-errors").unwrap();
@@ -134,6 +118,11 @@ fn random_scenarios_run_and_decode() {
                     .into_iter()
                     .map(|(o, m)| (o, m.to_frame()))
                     .collect(),
+                "vn200" => decode_located(vigil_drivers::vn200::Vn200Decoder::new(), &bytes)
+                    .into_iter()
+                    .map(|(o, m)| (o, common::vn200_bytes(&m)))
+                    .collect(),
+                "ttmrf" => common::ttmrf_located(&bytes),
                 _ => decode_located(vigil_drivers::watson::Decoder::new(), &bytes)
                     .into_iter()
                     .map(|(o, m)| (o, m.to_bytes()))

@@ -1,9 +1,8 @@
 //! Device models: each turns the world's truth into the device's messages, encoded with the
 //! drivers' own encoders, with the device's clock, noise and scheduled faults.
 //!
-//! A model plugs in through [`DeviceModel`]; the engine owns one serial link per model. The VN-200
-//! and TT-Multi-RF models will implement the same trait with their drivers' encoders (their
-//! configuration is already part of the scenario). Adding one:
+//! A model plugs in through [`DeviceModel`]; the engine owns one serial link per model: [`bahrs`],
+//! [`watson`], [`vn200`] and [`ttmrf`], in that port order. Adding one:
 //! 1. `sim/src/device/<name>.rs`: a struct implementing [`DeviceModel`]; draw randomness only from
 //!    `Rng::stream(seed, "<name>/...")`; emit each message with the driver's encoder, its true
 //!    `t_gps_ns` and its true values (SI, units in names); answer host commands in `receive`;
@@ -14,6 +13,8 @@
 //!    `protocol()` string).
 
 pub mod bahrs;
+pub mod ttmrf;
+pub mod vn200;
 pub mod watson;
 
 use serde_json::{Map, Value};

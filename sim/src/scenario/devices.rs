@@ -12,9 +12,9 @@ pub struct Devices {
     pub bahrs: Option<BahrsConfig>,
     /// Watson AHRS-E304.
     pub watson: Option<WatsonConfig>,
-    /// VectorNav VN-200 (configuration only until its device model exists).
+    /// VectorNav VN-200 (model: `device::vn200`).
     pub vn200: Option<Vn200Config>,
-    /// Aerobits TT-Multi-RF (configuration only until its device model exists).
+    /// Aerobits TT-Multi-RF (model: `device::ttmrf`).
     pub ttmrf: Option<TtmrfConfig>,
 }
 
@@ -74,9 +74,35 @@ impl Devices {
             if !(v.rate_hz > 0.0 && v.rate_hz <= 400.0) {
                 return Err(invalid("devices.vn200.rate_hz", "must be within 0 .. 400"));
             }
+            // The default binary output is 139 bytes (sync, 9 header bytes, 127 payload, CRC).
+            let bytes_per_s = 139.0 * v.rate_hz;
+            if bytes_per_s > f64::from(v.baud) / 10.0 {
+                return Err(invalid(
+                    "devices.vn200.baud",
+                    format!(
+                        "{} baud carries {} bytes/s, the output needs {bytes_per_s:.0}",
+                        v.baud,
+                        v.baud / 10
+                    ),
+                ));
+            }
         }
         if let Some(t) = &self.ttmrf {
             check_baud("devices.ttmrf.baud", t.baud)?;
+            // The model sends CSV or JSON; the binary protocols (MAVLink, GDL90, ASTERIX) have
+            // encoders in the drivers but no model yet.
+            if !matches!(t.protocol.as_str(), "csv" | "json") {
+                return Err(invalid(
+                    "devices.ttmrf.protocol",
+                    "must be csv or json (mavlink, gdl90 and asterix are not modelled)",
+                ));
+            }
+            if !matches!(t.raw.as_str(), "off" | "hex" | "hexd" | "beast") {
+                return Err(invalid(
+                    "devices.ttmrf.raw",
+                    "must be off, hex, hexd or beast",
+                ));
+            }
         }
         Ok(())
     }
@@ -210,13 +236,14 @@ impl Default for WatsonNoise {
     }
 }
 
-/// VN-200 configuration (consumed by its device model once it exists).
+/// VN-200 configuration (`device::vn200`: Register 75 starts at `rate_hz`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Vn200Config {
     /// Baud rate.
     pub baud: u32,
-    /// Binary output rate, Hz (up to 400).
+    /// Binary output rate, Hz (up to 400); the sensor divides its 800 Hz IMU rate, so the rate
+    /// sent is 800 / round(800 / rate_hz) (e.g. 150 -> 160 Hz).
     pub rate_hz: f64,
     /// Whether the PPS output is wired (to the BAHRS sync input).
     pub pps: bool,
@@ -232,13 +259,14 @@ impl Default for Vn200Config {
     }
 }
 
-/// TT-Multi-RF configuration (consumed by its device model once it exists).
+/// TT-Multi-RF configuration (`device::ttmrf`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TtmrfConfig {
     /// Baud rate.
     pub baud: u32,
-    /// Decoded output protocol: "csv", "json", "mavlink", "gdl90", "asterix".
+    /// Decoded output protocol: "csv" or "json" (the model's; "mavlink", "gdl90" and "asterix"
+    /// are refused until modelled).
     pub protocol: String,
     /// Raw Mode S output: "off", "hex", "hexd", "beast".
     pub raw: String,
