@@ -21,7 +21,7 @@ use bytes::BytesMut;
 use serde::Serialize;
 use tokio_util::codec::Decoder as _;
 use vigil_drivers::ttmrf::raw::hex::HexDecoder;
-use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::ttmrf::text::{TextDecoder, TextMode};
 use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
 use vigil_drivers::{Codec, DeviceDecoder};
 use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Sample};
@@ -120,8 +120,67 @@ impl<D: DeviceDecoder> Port<D> {
 
 enum OwnPort {
     Vn200(Box<Port<Vn200Decoder>>),
-    TtText(Port<TextDecoder>),
+    TtMixed(Box<TtMixed>),
     TtHex(Port<HexDecoder>),
+}
+
+/// The TT-Multi-RF text port, which also carries raw HEX lines when raw output is on (manual:
+/// both go out on the same UART): a text and a HEX decoder each see every byte and skip the
+/// other's lines; their messages are merged in stream order, and each message's length runs to
+/// the next message of either kind, so the receive time of its last byte is right.
+struct TtMixed {
+    text: Port<TextDecoder>,
+    hex: Port<HexDecoder>,
+    queue: BTreeMap<u64, Sample>,
+}
+
+impl TtMixed {
+    fn new() -> Self {
+        Self {
+            text: Port::new(TextDecoder::new(TextMode::Auto)),
+            hex: Port::new(HexDecoder::new()),
+            queue: BTreeMap::new(),
+        }
+    }
+
+    /// No message of a port can start before this offset any more.
+    fn bound<D: DeviceDecoder>(p: &Port<D>) -> u64 {
+        p.pending
+            .as_ref()
+            .map_or(p.codec.0.stats().bytes_consumed, |(o, _)| *o)
+    }
+
+    fn feed(&mut self, bytes: &[u8], fed_end: u64, eof: bool) -> Samples {
+        for (o, _, m) in self.text.feed(bytes, fed_end, eof) {
+            self.queue.insert(o, Sample::TtText(Box::new(m)));
+        }
+        for (o, _, m) in self.hex.feed(bytes, fed_end, eof) {
+            self.queue.insert(o, Sample::TtRaw(Box::new(m)));
+        }
+        let bound = if eof {
+            u64::MAX
+        } else {
+            Self::bound(&self.text).min(Self::bound(&self.hex))
+        };
+        // Message starts known to be final: queued ones and the ports' pending ones.
+        let mut starts: Vec<u64> = self.queue.keys().copied().collect();
+        starts.extend(self.text.pending.as_ref().map(|(o, _)| *o));
+        starts.extend(self.hex.pending.as_ref().map(|(o, _)| *o));
+        starts.sort_unstable();
+        let mut out = Samples::new();
+        while let Some((&o, _)) = self.queue.first_key_value() {
+            let next = starts.iter().copied().find(|&s| s > o);
+            let end = match next {
+                Some(s) if s <= bound => s,
+                _ if eof => fed_end,
+                _ => break,
+            };
+            if let Some(sample) = self.queue.remove(&o) {
+                out.push((sample, o, end.saturating_sub(o) as usize));
+            }
+        }
+        out
+    }
 }
 
 /// The aligned replay: the Replayer for BAHRS / Watson, own ports for VN-200 / TT-Multi-RF, one
@@ -158,7 +217,7 @@ impl AlignedReplay {
         } else if protocol.starts_with("ttmrf-hex") {
             Some(OwnPort::TtHex(Port::new(HexDecoder::new())))
         } else if protocol.starts_with("ttmrf") || (protocol.is_empty() && device == "ttmrf") {
-            Some(OwnPort::TtText(Port::new(TextDecoder::new(TextMode::Auto))))
+            Some(OwnPort::TtMixed(Box::new(TtMixed::new())))
         } else {
             None
         }
@@ -191,7 +250,7 @@ impl AlignedReplay {
             samples = own_samples(p, bytes, fed_end, false);
         } else {
             let mut collect = |d: Decoded<'_>| -> Result<()> {
-                samples.push(replayer_sample(&d));
+                samples.extend(replayer_sample(&d));
                 Ok(())
             };
             self.replayer
@@ -208,7 +267,10 @@ impl AlignedReplay {
     ) -> Result<BTreeMap<String, PortSummary>> {
         let mut rest: Vec<(String, Samples)> = Vec::new();
         let mut collect = |d: Decoded<'_>| -> Result<()> {
-            rest.push((d.device.to_string(), vec![replayer_sample(&d)]));
+            rest.push((
+                d.device.to_string(),
+                replayer_sample(&d).into_iter().collect(),
+            ));
             Ok(())
         };
         let mut summary = self.replayer.finish(&mut collect)?;
@@ -217,7 +279,13 @@ impl AlignedReplay {
             rest.push((device.clone(), own_samples(p, &[], fed_end, true)));
             let stats = match p {
                 OwnPort::Vn200(p) => *p.codec.0.stats(),
-                OwnPort::TtText(p) => *p.codec.0.stats(),
+                OwnPort::TtMixed(p) => {
+                    // Each decoder skips the other's lines: report the text decoder's counters
+                    // with the raw frames added to the decoded count.
+                    let mut stats = *p.text.codec.0.stats();
+                    stats.frames_decoded += p.hex.codec.0.stats().frames_decoded;
+                    stats
+                }
                 OwnPort::TtHex(p) => *p.codec.0.stats(),
             };
             summary.insert(device.clone(), PortSummary::Decoded(stats));
@@ -253,10 +321,15 @@ impl AlignedReplay {
 }
 
 /// A Replayer message as a [`Sample`] with its start offset and wire length (re-encoded).
-fn replayer_sample(d: &Decoded<'_>) -> (Sample, u64, usize) {
+///
+/// VN-200 and TT-Multi-RF ports never reach the Replayer here: they are decoded by this module's
+/// own ports ([`AlignedReplay::own_port`]), which know each message's wire length (the Replayer
+/// reports only start offsets, and the receive time is that of the message's last byte).
+fn replayer_sample(d: &Decoded<'_>) -> Option<(Sample, u64, usize)> {
     match d.message {
-        Message::Bahrs(m) => (Sample::Bahrs(*m), d.offset, m.to_frame().len()),
-        Message::Watson(l) => (Sample::Watson(*l), d.offset, l.to_bytes().len()),
+        Message::Bahrs(m) => Some((Sample::Bahrs(*m), d.offset, m.to_frame().len())),
+        Message::Watson(l) => Some((Sample::Watson(*l), d.offset, l.to_bytes().len())),
+        Message::Vn200(_) | Message::Ttmrf(_) | Message::TtmrfRaw(_) => None,
     }
 }
 
@@ -272,11 +345,7 @@ fn own_samples(
             .into_iter()
             .map(|(o, n, m): (u64, usize, Vn200Message)| (Sample::Vn200(Box::new(m)), o, n))
             .collect(),
-        OwnPort::TtText(p) => p
-            .feed(bytes, fed_end, eof)
-            .into_iter()
-            .map(|(o, n, m): (u64, usize, TextMessage)| (Sample::TtText(Box::new(m)), o, n))
-            .collect(),
+        OwnPort::TtMixed(p) => p.feed(bytes, fed_end, eof),
         OwnPort::TtHex(p) => p
             .feed(bytes, fed_end, eof)
             .into_iter()
