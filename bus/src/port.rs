@@ -106,7 +106,11 @@ pub struct Bus {
 
 impl Bus {
     /// Creates the node and removes what dead nodes left behind.
+    ///
+    /// iceoryx2's own log is set to errors only (its default warns on stderr that no config file
+    /// was found, which is the normal case); the `IOX2_LOG_LEVEL` environment variable overrides.
     pub fn new(config: &BusConfig) -> Result<Self, BusError> {
+        iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Error);
         let name = NodeName::new(&config.node_name).map_err(|e| BusError::InvalidName {
             name: config.node_name.clone(),
             reason: format!("{e:?}"),
