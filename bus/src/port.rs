@@ -318,6 +318,10 @@ impl<T: Payload> Publisher<T> {
 }
 
 /// A received sample, read in place in shared memory, with what the subscriber learnt from it.
+///
+/// It borrows a slot of the publisher's shared memory until dropped: a subscriber may hold at most
+/// the topic's [`crate::policy::Policy::max_borrowed`] at once (receiving more fails), so copy out
+/// what must be kept and drop it.
 pub struct Received<T: Payload> {
     sample: Sample<ipc::Service, T, ()>,
     /// Samples of the same publisher missed just before this one (gap in `header.seq`).

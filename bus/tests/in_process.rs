@@ -110,6 +110,11 @@ fn a_late_subscriber_gets_the_current_state_from_the_history() {
     let a = sub.try_receive().unwrap().unwrap();
     assert_eq!(a.header.seq, 5);
     assert_eq!(a.devices().len(), 3);
+    // JSON lists only the 3 valid devices, names as text, an unknown age as null.
+    let v = serde_json::to_value(a.payload()).unwrap();
+    assert_eq!(v["devices"].as_array().unwrap().len(), 3);
+    assert_eq!(v["devices"][2]["name"], "watson");
+    assert!(v["devices"][2]["last_message_age_s"].is_null());
     drop(a);
     assert_eq!(sub.try_receive().unwrap().unwrap().header.seq, 6);
 }

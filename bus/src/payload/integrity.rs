@@ -79,6 +79,7 @@ pub struct DeviceIntegrity {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
 #[type_name("vigil.Integrity.v1")]
+#[serde(into = "IntegrityJson")]
 pub struct IntegrityPayload {
     /// Common header.
     pub header: Header,
@@ -97,6 +98,32 @@ pub struct IntegrityPayload {
     pub clock_sigma_s: f64,
     /// Devices; entries from `device_count` on are unspecified.
     pub devices: [DeviceIntegrity; MAX_DEVICES],
+}
+
+/// JSON form of [`IntegrityPayload`]: only the valid device entries.
+#[derive(Serialize)]
+struct IntegrityJson {
+    header: Header,
+    device_count: u32,
+    clock_status: u8,
+    leap_seconds_known: u8,
+    clock_offset_s: f64,
+    clock_sigma_s: f64,
+    devices: Vec<DeviceIntegrity>,
+}
+
+impl From<IntegrityPayload> for IntegrityJson {
+    fn from(p: IntegrityPayload) -> Self {
+        Self {
+            header: p.header,
+            device_count: p.device_count,
+            clock_status: p.clock_status,
+            leap_seconds_known: p.leap_seconds_known,
+            clock_offset_s: p.clock_offset_s,
+            clock_sigma_s: p.clock_sigma_s,
+            devices: p.devices().to_vec(),
+        }
+    }
 }
 
 impl IntegrityPayload {
