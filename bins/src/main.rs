@@ -3,6 +3,7 @@
 
 mod decode;
 mod geometry;
+mod listen;
 mod record_cmd;
 mod replay;
 mod replay_aligned;
@@ -34,6 +35,8 @@ enum Command {
     Record(record_cmd::RecordArgs),
     /// Decode a recording's raw chunks into JSON Lines (device, index, host receive time, message).
     Replay(replay::ReplayArgs),
+    /// Print what a vigil iceoryx2 service publishes, as JSON Lines (or latency statistics).
+    Listen(listen::ListenArgs),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +47,7 @@ fn main() -> ExitCode {
         Command::Sim(args) => sim_cmd::run(&args),
         Command::Record(args) => record_cmd::run(&args),
         Command::Replay(args) => replay::run(&args),
+        Command::Listen(args) => listen::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

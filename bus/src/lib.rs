@@ -1,29 +1,30 @@
-//! vigil's publication contract: iceoryx2 service names and fixed-size `#[repr(C)]` payloads.
+//! vigil's publication contract over iceoryx2 zero-copy shared memory: service names, payloads,
+//! delivery policies, and the publisher/subscriber wrappers.
 //!
 //! This crate depends on nothing else of vigil's, so a consumer (a detect-and-avoid stack, an
-//! integrity monitor, a test harness) needs only this crate. The payloads arrive with the service
-//! issue; for now it fixes the naming scheme.
+//! integrity monitor, a test harness) needs only this crate. See `examples/subscriber.rs` for a
+//! minimal consumer.
+//!
+//! - [`names`]: every service name, `[PREFIX/]vigil/{attitude,ownship,traffic,integrity,alerts}`,
+//!   each with an event service `.../event` for wake-up.
+//! - [`payload`]: every payload, `#[repr(C)]`, fixed size, with a schema version and a sequence
+//!   number.
+//! - [`policy`]: what a full subscriber buffer does, per topic (a slow or dead subscriber never
+//!   blocks the publisher).
+//! - [`Bus`], [`Publisher`], [`Subscriber`]: the wrappers that apply all of the above.
 #![deny(missing_docs)]
 
-/// Prefix of every vigil service name. A deployment (and every test) adds its own prefix in front,
-/// because iceoryx2 service names are global on a host.
-pub const SERVICE_ROOT: &str = "vigil";
+pub mod clock;
+pub mod names;
+pub mod payload;
+pub mod policy;
+mod port;
 
-/// Builds a full service name from a deployment prefix and a topic, e.g. `("test42", "traffic")`
-/// gives `"test42/vigil/traffic"`; an empty prefix gives `"vigil/traffic"`.
-pub fn service_name(prefix: &str, topic: &str) -> String {
-    if prefix.is_empty() {
-        format!("{SERVICE_ROOT}/{topic}")
-    } else {
-        format!("{prefix}/{SERVICE_ROOT}/{topic}")
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn names_carry_the_prefix() {
-        assert_eq!(super::service_name("", "traffic"), "vigil/traffic");
-        assert_eq!(super::service_name("t1", "alerts"), "t1/vigil/alerts");
-    }
-}
+pub use names::{SERVICE_ROOT, Topic, UnknownTopic, service_name};
+pub use payload::alerts::AlertPayload;
+pub use payload::attitude::{AttitudePayload, UnitAttitude};
+pub use payload::integrity::{DeviceIntegrity, IntegrityPayload};
+pub use payload::ownship::OwnshipPayload;
+pub use payload::traffic::{MAX_TARGETS, Target, TrafficPayload};
+pub use payload::{Header, Payload, SCHEMA_VERSION};
+pub use port::{Bus, BusConfig, BusError, CleanupReport, Publisher, Received, Subscriber};

@@ -1,0 +1,434 @@
+//! The publisher and subscriber wrappers: services built from [`crate::policy`], event wake-up,
+//! sequence numbers, send timestamps, gap counting and dead-node cleanup.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use iceoryx2::identifiers::UniquePublisherId;
+use iceoryx2::node::{Node, NodeBuilder};
+use iceoryx2::port::BackpressureAction;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher as IoxPublisher;
+use iceoryx2::port::subscriber::Subscriber as IoxSubscriber;
+use iceoryx2::prelude::{BackpressureStrategy, NodeName, ServiceName, SignalHandlingMode, ipc};
+use iceoryx2::sample::Sample;
+use iceoryx2::service::port_factory::event::PortFactory as EventFactory;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory as PubSubFactory;
+
+use crate::clock::monotonic_ns;
+use crate::payload::{Payload, SCHEMA_VERSION};
+use crate::policy::Overflow;
+
+/// A failure of the bus, with the service it concerns.
+#[derive(Debug, thiserror::Error)]
+pub enum BusError {
+    /// A name was rejected by iceoryx2 (bad characters or too long).
+    #[error("invalid iceoryx2 name {name:?}: {reason}")]
+    InvalidName {
+        /// The rejected name.
+        name: String,
+        /// iceoryx2's reason.
+        reason: String,
+    },
+    /// An iceoryx2 operation failed.
+    #[error("{op} on {service}: {reason}")]
+    Iceoryx {
+        /// What was attempted (e.g. "open publish-subscribe service").
+        op: &'static str,
+        /// Service name (or node name).
+        service: String,
+        /// iceoryx2's error.
+        reason: String,
+    },
+}
+
+fn iox<E: core::fmt::Debug>(op: &'static str, service: &str) -> impl FnOnce(E) -> BusError {
+    move |e| BusError::Iceoryx {
+        op,
+        service: service.to_string(),
+        reason: format!("{e:?}"),
+    }
+}
+
+/// Bus settings of one process.
+#[derive(Debug, Clone)]
+pub struct BusConfig {
+    /// Deployment prefix of every service name (empty: plain `vigil/...`).
+    pub prefix: String,
+    /// iceoryx2 node name (shows in iceoryx2's tools), e.g. `"vigil-run"`.
+    pub node_name: String,
+    /// Let iceoryx2 catch SIGINT/SIGTERM so [`Bus::termination_requested`] reports them. Off for a
+    /// program that handles signals itself (`vigil run` with tokio).
+    pub handle_signals: bool,
+    /// Period of [`Bus::cleanup_if_due`], s.
+    pub cleanup_period_s: f64,
+}
+
+impl Default for BusConfig {
+    fn default() -> Self {
+        Self {
+            prefix: String::new(),
+            node_name: "vigil".to_string(),
+            handle_signals: false,
+            cleanup_period_s: 1.0,
+        }
+    }
+}
+
+/// Outcome of one dead-node cleanup.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CleanupReport {
+    /// Dead nodes whose resources were removed.
+    pub cleaned: u64,
+    /// Dead nodes that could not be cleaned (no permission, or another process was at it).
+    pub failed: u64,
+}
+
+/// The publish-subscribe and event services of one topic.
+type Services<T> = (
+    PubSubFactory<ipc::Service, T, ()>,
+    EventFactory<ipc::Service>,
+);
+
+/// One process's connection to the bus: an iceoryx2 node and the deployment prefix.
+///
+/// Dead nodes (processes that died without dropping their ports, e.g. after SIGKILL) keep their
+/// ports registered until someone cleans them up; a new `Bus` cleans once at creation and
+/// [`Bus::cleanup_if_due`] should be called from the owner's periodic task.
+pub struct Bus {
+    node: Node<ipc::Service>,
+    prefix: String,
+    cleanup_period: Duration,
+    last_cleanup: Instant,
+}
+
+impl Bus {
+    /// Creates the node and removes what dead nodes left behind.
+    ///
+    /// iceoryx2's own log is set to errors only (its default warns on stderr that no config file
+    /// was found, which is the normal case); the `IOX2_LOG_LEVEL` environment variable overrides.
+    pub fn new(config: &BusConfig) -> Result<Self, BusError> {
+        iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Error);
+        let name = NodeName::new(&config.node_name).map_err(|e| BusError::InvalidName {
+            name: config.node_name.clone(),
+            reason: format!("{e:?}"),
+        })?;
+        let mode = if config.handle_signals {
+            SignalHandlingMode::HandleTerminationRequests
+        } else {
+            SignalHandlingMode::Disabled
+        };
+        let node = NodeBuilder::new()
+            .name(&name)
+            .signal_handling_mode(mode)
+            .create::<ipc::Service>()
+            .map_err(iox("create node", &config.node_name))?;
+        let bus = Self {
+            node,
+            prefix: config.prefix.clone(),
+            cleanup_period: Duration::from_secs_f64(config.cleanup_period_s.max(0.0)),
+            last_cleanup: Instant::now(),
+        };
+        bus.cleanup_dead_nodes();
+        Ok(bus)
+    }
+
+    /// The deployment prefix.
+    pub fn prefix(&self) -> &str {
+        &self.prefix
+    }
+
+    /// Removes the resources of every dead node of the host and disconnects their ports. Does not
+    /// wait for a node another process is already cleaning.
+    pub fn cleanup_dead_nodes(&self) -> CleanupReport {
+        let s = self.node.try_cleanup_dead_nodes();
+        CleanupReport {
+            cleaned: s.cleanups,
+            failed: s.failed_cleanups,
+        }
+    }
+
+    /// Runs [`Bus::cleanup_dead_nodes`] when the cleanup period has passed since the last one.
+    pub fn cleanup_if_due(&mut self) -> Option<CleanupReport> {
+        if self.last_cleanup.elapsed() < self.cleanup_period {
+            return None;
+        }
+        self.last_cleanup = Instant::now();
+        Some(self.cleanup_dead_nodes())
+    }
+
+    /// True once SIGINT or SIGTERM arrived (only with [`BusConfig::handle_signals`]).
+    pub fn termination_requested(&self) -> bool {
+        self.node.wait(Duration::ZERO).is_err()
+    }
+
+    fn services<T: Payload>(&self) -> Result<Services<T>, BusError> {
+        let topic = T::TOPIC;
+        let policy = topic.policy();
+        let name = topic.service_name(&self.prefix);
+        let sname = ServiceName::new(&name).map_err(|e| BusError::InvalidName {
+            name: name.clone(),
+            reason: format!("{e:?}"),
+        })?;
+        let pubsub = self
+            .node
+            .service_builder(&sname)
+            .publish_subscribe::<T>()
+            .enable_safe_overflow(policy.overflow == Overflow::LatestWins)
+            .subscriber_max_buffer_size(policy.buffer_size)
+            .history_size(policy.history_size)
+            .subscriber_max_borrowed_samples(policy.max_borrowed)
+            .max_subscribers(policy.max_subscribers)
+            .max_publishers(policy.max_publishers)
+            .max_nodes(policy.max_nodes)
+            .open_or_create()
+            .map_err(iox("open publish-subscribe service", &name))?;
+        let ename = topic.event_name(&self.prefix);
+        let esname = ServiceName::new(&ename).map_err(|e| BusError::InvalidName {
+            name: ename.clone(),
+            reason: format!("{e:?}"),
+        })?;
+        let event = self
+            .node
+            .service_builder(&esname)
+            .event()
+            .max_notifiers(policy.max_publishers)
+            .max_listeners(policy.max_subscribers)
+            .max_nodes(policy.max_nodes)
+            .open_or_create()
+            .map_err(iox("open event service", &ename))?;
+        Ok((pubsub, event))
+    }
+
+    /// Creates a publisher of `T` on its topic's service.
+    pub fn publisher<T: Payload>(&self) -> Result<Publisher<T>, BusError> {
+        let name = T::TOPIC.service_name(&self.prefix);
+        let (pubsub, event) = self.services::<T>()?;
+        let failed = Arc::new(AtomicU64::new(0));
+        let counter = Arc::clone(&failed);
+        // Never wait for a subscriber: a full buffer (alerts only; state topics overflow) makes
+        // the delivery to that subscriber fail at once, counted here.
+        let inner = pubsub
+            .publisher_builder()
+            .backpressure_strategy(BackpressureStrategy::DiscardData)
+            .set_backpressure_handler(move |_info: &iceoryx2::port::BackpressureInfo| {
+                counter.fetch_add(1, Ordering::Relaxed);
+                BackpressureAction::DiscardData
+            })
+            .create()
+            .map_err(iox("create publisher", &name))?;
+        let notifier = event
+            .notifier_builder()
+            .create()
+            .map_err(iox("create notifier", &name))?;
+        Ok(Publisher {
+            inner,
+            notifier,
+            _pubsub: pubsub,
+            _event: event,
+            next_seq: 1,
+            failed,
+            notify_failures: 0,
+        })
+    }
+
+    /// Creates a subscriber of `T` on its topic's service; it receives the topic's history first.
+    pub fn subscriber<T: Payload>(&self) -> Result<Subscriber<T>, BusError> {
+        let name = T::TOPIC.service_name(&self.prefix);
+        let policy = T::TOPIC.policy();
+        let (pubsub, event) = self.services::<T>()?;
+        let inner = pubsub
+            .subscriber_builder()
+            .buffer_size(policy.buffer_size)
+            .create()
+            .map_err(iox("create subscriber", &name))?;
+        let listener = event
+            .listener_builder()
+            .create()
+            .map_err(iox("create listener", &name))?;
+        Ok(Subscriber {
+            inner,
+            listener,
+            _pubsub: pubsub,
+            _event: event,
+            last_seq: Vec::new(),
+            missed: 0,
+            received: 0,
+        })
+    }
+}
+
+/// Publishes one payload type; stamps the header, sends, and wakes the subscribers.
+pub struct Publisher<T: Payload> {
+    inner: IoxPublisher<ipc::Service, T, ()>,
+    notifier: Notifier<ipc::Service>,
+    _pubsub: PubSubFactory<ipc::Service, T, ()>,
+    _event: EventFactory<ipc::Service>,
+    next_seq: u64,
+    failed: Arc<AtomicU64>,
+    notify_failures: u64,
+}
+
+impl<T: Payload> Publisher<T> {
+    /// Sends a copy of `value` (its header's `gps_time_ns` is kept; the rest is stamped). Returns
+    /// the number of subscribers it was delivered to.
+    pub fn publish(&mut self, value: &T) -> Result<usize, BusError> {
+        self.publish_with(|p| *p = *value)
+    }
+
+    /// Loans a sample in shared memory, lets `fill` write it in place (it starts as
+    /// `T::default()`), stamps the header and sends it: the way to publish the large traffic
+    /// payload without building it elsewhere first. Returns the number of subscribers reached.
+    pub fn publish_with(&mut self, fill: impl FnOnce(&mut T)) -> Result<usize, BusError> {
+        let service = T::TOPIC.as_str();
+        let mut sample = self.inner.loan().map_err(iox("loan sample", service))?;
+        let payload = sample.payload_mut();
+        fill(payload);
+        let h = payload.header_mut();
+        h.schema_version = SCHEMA_VERSION;
+        h.reserved = 0;
+        h.seq = self.next_seq;
+        h.send_mono_ns = monotonic_ns();
+        self.next_seq += 1;
+        let delivered = sample.send().map_err(iox("send", service))?;
+        // A failed wake-up (e.g. a listener that died) must not fail the publication: the sample
+        // is in the subscribers' buffers and they find it at their next wait timeout.
+        if self.notifier.notify().is_err() {
+            self.notify_failures += 1;
+        }
+        Ok(delivered)
+    }
+
+    /// Sequence number the next sample will carry.
+    pub fn next_seq(&self) -> u64 {
+        self.next_seq
+    }
+
+    /// Deliveries that failed because a subscriber's buffer was full (alerts), since creation.
+    pub fn failed_deliveries(&self) -> u64 {
+        self.failed.load(Ordering::Relaxed)
+    }
+
+    /// Wake-up notifications that failed, since creation.
+    pub fn notify_failures(&self) -> u64 {
+        self.notify_failures
+    }
+}
+
+/// A received sample, read in place in shared memory, with what the subscriber learnt from it.
+///
+/// It borrows a slot of the publisher's shared memory until dropped: a subscriber may hold at most
+/// the topic's [`crate::policy::Policy::max_borrowed`] at once (receiving more fails), so copy out
+/// what must be kept and drop it.
+pub struct Received<T: Payload> {
+    sample: Sample<ipc::Service, T, ()>,
+    /// Samples of the same publisher missed just before this one (gap in `header.seq`).
+    pub missed_before: u64,
+    /// Host monotonic time when it was received, ns.
+    pub receive_mono_ns: u64,
+}
+
+impl<T: Payload> Received<T> {
+    /// The payload.
+    pub fn payload(&self) -> &T {
+        self.sample.payload()
+    }
+
+    /// Latency from the publisher's send stamp to reception, ns (0 if the clocks disagree).
+    pub fn latency_ns(&self) -> u64 {
+        self.receive_mono_ns
+            .saturating_sub(self.payload().header().send_mono_ns)
+    }
+}
+
+impl<T: Payload> core::ops::Deref for Received<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        self.payload()
+    }
+}
+
+/// Receives one payload type, waits on the topic's event service, counts sequence gaps.
+pub struct Subscriber<T: Payload> {
+    inner: IoxSubscriber<ipc::Service, T, ()>,
+    listener: Listener<ipc::Service>,
+    _pubsub: PubSubFactory<ipc::Service, T, ()>,
+    _event: EventFactory<ipc::Service>,
+    /// Last sequence number seen per publisher (a topic may have several: alerts).
+    last_seq: Vec<(UniquePublisherId, u64)>,
+    missed: u64,
+    received: u64,
+}
+
+impl<T: Payload> Subscriber<T> {
+    /// Takes the next sample without waiting.
+    pub fn try_receive(&mut self) -> Result<Option<Received<T>>, BusError> {
+        let Some(sample) = self
+            .inner
+            .receive()
+            .map_err(iox("receive", T::TOPIC.as_str()))?
+        else {
+            return Ok(None);
+        };
+        let receive_mono_ns = monotonic_ns();
+        let seq = sample.payload().header().seq;
+        let origin = sample.origin();
+        let missed_before = match self.last_seq.iter_mut().find(|(o, _)| *o == origin) {
+            Some((_, last)) => {
+                // A lower or equal number means the publisher restarted: no gap to report.
+                let gap = seq.saturating_sub(last.saturating_add(1));
+                *last = seq;
+                gap
+            }
+            None => {
+                // First sample of this publisher: history may start anywhere, so no gap.
+                self.last_seq.push((origin, seq));
+                0
+            }
+        };
+        self.missed += missed_before;
+        self.received += 1;
+        Ok(Some(Received {
+            sample,
+            missed_before,
+            receive_mono_ns,
+        }))
+    }
+
+    /// Waits up to `timeout` for the publisher's wake-up (returns at once when one is pending).
+    /// Returns true when woken. Wake-ups may be merged; drain with [`Subscriber::try_receive`].
+    pub fn wait(&self, timeout: Duration) -> Result<bool, BusError> {
+        let n = self
+            .listener
+            .timed_wait(|_| {}, timeout)
+            .map_err(iox("wait", T::TOPIC.as_str()))?;
+        Ok(n > 0)
+    }
+
+    /// The next sample, waiting up to `timeout` for one.
+    pub fn receive_timeout(&mut self, timeout: Duration) -> Result<Option<Received<T>>, BusError> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            if let Some(r) = self.try_receive()? {
+                return Ok(Some(r));
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return Ok(None);
+            }
+            self.wait(deadline - now)?;
+        }
+    }
+
+    /// Samples received since creation.
+    pub fn received(&self) -> u64 {
+        self.received
+    }
+
+    /// Samples missed (sequence gaps) since creation, over all publishers.
+    pub fn missed(&self) -> u64 {
+        self.missed
+    }
+}

@@ -1,0 +1,190 @@
+//! Single-process behaviour of the bus: sequence gaps under each overflow policy, event wake-up,
+//! history for late joiners, and the payload layouts (the byte contract with other languages).
+
+mod common;
+
+use std::mem::{align_of, size_of};
+use std::time::{Duration, Instant};
+
+use common::*;
+use iceoryx2::prelude::ZeroCopySend;
+use vigil_bus::payload::SCHEMA_VERSION;
+use vigil_bus::{
+    AlertPayload, AttitudePayload, DeviceIntegrity, Header, IntegrityPayload, OwnshipPayload,
+    Target, Topic, TrafficPayload, UnitAttitude,
+};
+
+#[test]
+fn alerts_never_overwrite_a_full_buffer_and_the_gap_and_failures_are_counted() {
+    let b = bus(&unique_prefix("alert-gap"), "gap");
+    let mut publ = b.publisher::<AlertPayload>().unwrap();
+    let mut sub = b.subscriber::<AlertPayload>().unwrap();
+    let cap = Topic::Alerts.policy().buffer_size; // 256
+    // 300 alerts without reading: the first 256 are kept, seq 257..=300 are discarded for this
+    // subscriber and each counted as a failed delivery.
+    for _ in 0..300 {
+        publ.publish(&alert()).unwrap();
+    }
+    assert_eq!(publ.failed_deliveries(), (300 - cap) as u64);
+    for expected in 1..=cap as u64 {
+        let r = sub.try_receive().unwrap().expect("kept alert");
+        assert_eq!((r.header.seq, r.missed_before), (expected, 0));
+        assert_eq!(r.reason(), alert().reason());
+    }
+    assert!(sub.try_receive().unwrap().is_none());
+    // The next one (seq 301) shows the 44 lost ones as a gap.
+    publ.publish(&alert()).unwrap();
+    let r = sub.try_receive().unwrap().unwrap();
+    assert_eq!((r.header.seq, r.missed_before), (301, 300 - cap as u64));
+    drop(r);
+    assert_eq!((sub.received(), sub.missed()), (cap as u64 + 1, 44));
+}
+
+#[test]
+fn state_topics_keep_the_latest_and_show_the_overwritten_as_a_gap() {
+    let b = bus(&unique_prefix("state-gap"), "gap");
+    let mut publ = b.publisher::<AttitudePayload>().unwrap();
+    let mut sub = b.subscriber::<AttitudePayload>().unwrap();
+    let cap = Topic::Attitude.policy().buffer_size as u64; // 8
+    publ.publish(&attitude()).unwrap();
+    assert_eq!(sub.try_receive().unwrap().unwrap().header.seq, 1);
+    // seq 2..=21 without reading: the buffer keeps the newest 8 (14..=21); 2..=13 overwritten.
+    for _ in 0..20 {
+        publ.publish(&attitude()).unwrap();
+    }
+    assert_eq!(publ.failed_deliveries(), 0, "overflow is not a failure");
+    let first = sub.try_receive().unwrap().unwrap();
+    assert_eq!(first.header.seq, 21 - cap + 1);
+    assert_eq!(first.missed_before, 12);
+    drop(first);
+    let mut last = 0;
+    while let Some(r) = sub.try_receive().unwrap() {
+        assert_eq!(r.missed_before, 0);
+        last = r.header.seq;
+    }
+    assert_eq!(last, 21);
+    assert_eq!(sub.missed(), 12);
+}
+
+#[test]
+fn a_waiting_subscriber_is_woken_by_the_publisher() {
+    let prefix = unique_prefix("wake");
+    let b = bus(&prefix, "waiter");
+    let mut sub = b.subscriber::<OwnshipPayload>().unwrap();
+    // Nothing published: the wait times out.
+    let t0 = Instant::now();
+    assert!(!sub.wait(Duration::from_millis(50)).unwrap());
+    assert!(t0.elapsed() >= Duration::from_millis(45));
+    // A publisher on another thread (own node) sends after 100 ms; the wait returns on the
+    // wake-up long before its 10 s timeout.
+    let p = prefix.clone();
+    let t = std::thread::spawn(move || {
+        let b = bus(&p, "waker");
+        let mut publ = b.publisher::<OwnshipPayload>().unwrap();
+        std::thread::sleep(Duration::from_millis(100));
+        publ.publish(&ownship()).unwrap();
+        std::thread::sleep(Duration::from_millis(200));
+    });
+    let t0 = Instant::now();
+    let r = sub
+        .receive_timeout(Duration::from_secs(10))
+        .unwrap()
+        .unwrap();
+    assert!(t0.elapsed() < Duration::from_secs(5));
+    assert_eq!(content(r.payload()), content(&ownship()));
+    assert_eq!(r.header.schema_version, SCHEMA_VERSION);
+    drop(r);
+    t.join().unwrap();
+}
+
+#[test]
+fn a_late_subscriber_gets_the_current_state_from_the_history() {
+    let b = bus(&unique_prefix("history"), "history");
+    let mut publ = b.publisher::<IntegrityPayload>().unwrap();
+    for _ in 0..5 {
+        publ.publish(&integrity()).unwrap();
+    }
+    // History size 1: the late joiner receives exactly the latest state, seq 5.
+    let mut sub = b.subscriber::<IntegrityPayload>().unwrap();
+    publ.publish_with(|p| *p = integrity()).unwrap(); // connects the subscriber, delivers seq 6
+    let a = sub.try_receive().unwrap().unwrap();
+    assert_eq!(a.header.seq, 5);
+    assert_eq!(a.devices().len(), 3);
+    // JSON lists only the 3 valid devices, names as text, an unknown age as null.
+    let v = serde_json::to_value(a.payload()).unwrap();
+    assert_eq!(v["devices"].as_array().unwrap().len(), 3);
+    assert_eq!(v["devices"][2]["name"], "watson");
+    assert!(v["devices"][2]["last_message_age_s"].is_null());
+    drop(a);
+    assert_eq!(sub.try_receive().unwrap().unwrap().header.seq, 6);
+}
+
+#[test]
+fn traffic_is_written_in_place_and_read_whole() {
+    let b = bus(&unique_prefix("traffic"), "traffic");
+    let mut publ = b.publisher::<TrafficPayload>().unwrap();
+    let mut sub = b.subscriber::<TrafficPayload>().unwrap();
+    let t = traffic();
+    publ.publish_with(|p| p.set_targets(t.targets())).unwrap();
+    let r = sub.try_receive().unwrap().unwrap();
+    assert_eq!(r.count as usize, vigil_bus::MAX_TARGETS);
+    assert_eq!(format!("{:?}", r.targets()), format!("{:?}", t.targets()));
+    // JSON: only the valid targets, NaN as null, callsign as text.
+    let v = serde_json::to_value(r.payload()).unwrap();
+    assert_eq!(
+        v["targets"].as_array().unwrap().len(),
+        vigil_bus::MAX_TARGETS
+    );
+    assert_eq!(v["targets"][1]["callsign"], "T00001");
+    assert!(v["targets"][1]["tau_mod_s"].is_null());
+    assert_eq!(v["targets"][2]["tau_mod_s"], 22.0);
+    assert_eq!(v["header"]["seq"], 1);
+}
+
+#[test]
+fn payload_layouts_are_fixed() {
+    // Sizes derived by hand from the field lists (every field naturally aligned, explicit
+    // padding, so there are no implicit holes):
+    // Header: u32 + u32 + u64 + i64 + u64 = 32.
+    assert_eq!(size_of::<Header>(), 32);
+    // UnitAttitude: i64 + 6 f64 + 2 u8 + 6 pad = 64; Attitude: 32 + 6*8 + 3*64 + 9 + 3 + 4 = 288.
+    assert_eq!(size_of::<UnitAttitude>(), 64);
+    assert_eq!(size_of::<AttitudePayload>(), 288);
+    // Ownship: 32 + 12 f64 + 2 u8 + 6 pad = 136.
+    assert_eq!(size_of::<OwnshipPayload>(), 136);
+    // Target: u32 + 4 u8 + 8 callsign + 14 f64 = 128; Traffic: 32 + 2 u32 + 1024*128 = 131112.
+    assert_eq!(size_of::<Target>(), 128);
+    assert_eq!(size_of::<TrafficPayload>(), 131_112);
+    // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 8 u64 = 96; Integrity: 32 + 8 + 2 f64 + 8*96 = 824.
+    assert_eq!(size_of::<DeviceIntegrity>(), 96);
+    assert_eq!(size_of::<IntegrityPayload>(), 824);
+    // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
+    assert_eq!(size_of::<AlertPayload>(), 208);
+    assert_eq!(align_of::<TrafficPayload>(), 8);
+}
+
+#[test]
+fn type_names_are_explicit_and_versioned() {
+    // SAFETY: `type_name` is an unsafe fn in iceoryx2 0.10 because a wrong implementation is
+    // unsound; calling it only reads a static string.
+    let names = unsafe {
+        [
+            <AttitudePayload as ZeroCopySend>::type_name(),
+            <OwnshipPayload as ZeroCopySend>::type_name(),
+            <TrafficPayload as ZeroCopySend>::type_name(),
+            <IntegrityPayload as ZeroCopySend>::type_name(),
+            <AlertPayload as ZeroCopySend>::type_name(),
+        ]
+    };
+    assert_eq!(
+        names,
+        [
+            "vigil.Attitude.v1",
+            "vigil.Ownship.v1",
+            "vigil.Traffic.v1",
+            "vigil.Integrity.v1",
+            "vigil.Alert.v1"
+        ]
+    );
+    assert_eq!(SCHEMA_VERSION, 1);
+}
