@@ -13,6 +13,8 @@
 //!    `protocol()` string).
 
 pub mod bahrs;
+#[cfg(test)]
+mod scripted_host;
 pub mod ttmrf;
 pub mod vn200;
 pub mod watson;

@@ -7,41 +7,12 @@ use vigil_drivers::modes::{ModesDecoder, TrackerConfig};
 use vigil_drivers::ttmrf::at::AtResponse;
 use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
 
+use super::super::scripted_host::ScriptedHost;
 use super::*;
 use crate::Simulator;
-use crate::engine::{MemorySink, RunInfo, Sink, SinkError};
-use crate::link::Chunk;
+use crate::engine::MemorySink;
 use crate::scenario::builtin;
 use crate::truth::TruthRecord;
-
-struct Host {
-    inner: MemorySink,
-    script: Vec<(usize, Vec<u8>)>,
-    polls: usize,
-    port: u16,
-}
-
-impl Sink for Host {
-    fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
-        self.port = info.ports.iter().position(|p| p.device == "ttmrf").unwrap() as u16;
-        self.inner.start(info)
-    }
-    fn chunk(&mut self, c: &Chunk) -> Result<(), SinkError> {
-        self.inner.chunk(c)
-    }
-    fn truth(&mut self, r: &TruthRecord, t: u64) -> Result<(), SinkError> {
-        self.inner.truth(r, t)
-    }
-    fn host_input(&mut self) -> Vec<(u16, Vec<u8>)> {
-        let k = self.polls;
-        self.polls += 1;
-        self.script
-            .iter()
-            .filter(|(w, _)| *w == k)
-            .map(|(_, b)| (self.port, b.clone()))
-            .collect()
-    }
-}
 
 fn run(
     s: &crate::Scenario,
@@ -49,12 +20,7 @@ fn run(
     script: Vec<(usize, Vec<u8>)>,
 ) -> (MemorySink, Vec<u8>, Vec<TruthRecord>) {
     let mut sim = Simulator::new(s, 3).unwrap();
-    let mut host = Host {
-        inner: MemorySink::default(),
-        script,
-        polls: 0,
-        port: 0,
-    };
+    let mut host = ScriptedHost::new("ttmrf", script);
     sim.run(ns, &mut host).unwrap();
     let port = host.port;
     let sink = host.inner;

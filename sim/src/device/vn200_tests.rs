@@ -5,52 +5,16 @@ use vigil_drivers::vn200::ascii::{AsciiMessage, ErrorCode, RegisterValue};
 use vigil_drivers::vn200::status::InsMode;
 use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
 
+use super::super::scripted_host::ScriptedHost;
 use super::*;
 use crate::Simulator;
-use crate::engine::{MemorySink, RunInfo, Sink, SinkError};
-use crate::link::Chunk;
+use crate::engine::MemorySink;
 use crate::scenario::builtin;
-use crate::truth::TruthRecord;
-
-/// A memory sink whose host writes given lines to the VN-200 port at the window starts listed.
-struct Host {
-    inner: MemorySink,
-    script: Vec<(usize, Vec<u8>)>,
-    polls: usize,
-    port: u16,
-}
-
-impl Sink for Host {
-    fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
-        self.port = info.ports.iter().position(|p| p.device == "vn200").unwrap() as u16;
-        self.inner.start(info)
-    }
-    fn chunk(&mut self, c: &Chunk) -> Result<(), SinkError> {
-        self.inner.chunk(c)
-    }
-    fn truth(&mut self, r: &TruthRecord, t: u64) -> Result<(), SinkError> {
-        self.inner.truth(r, t)
-    }
-    fn host_input(&mut self) -> Vec<(u16, Vec<u8>)> {
-        let k = self.polls;
-        self.polls += 1;
-        self.script
-            .iter()
-            .filter(|(w, _)| *w == k)
-            .map(|(_, b)| (self.port, b.clone()))
-            .collect()
-    }
-}
 
 fn run(name: &str, ns: i64, script: Vec<(usize, Vec<u8>)>) -> (MemorySink, Vec<Vn200Message>) {
     let s = builtin(name).unwrap();
     let mut sim = Simulator::new(&s, 7).unwrap();
-    let mut host = Host {
-        inner: MemorySink::default(),
-        script,
-        polls: 0,
-        port: 0,
-    };
+    let mut host = ScriptedHost::new("vn200", script);
     sim.run(ns, &mut host).unwrap();
     let sink = host.inner;
     let port = sink
