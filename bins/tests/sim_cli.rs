@@ -2,21 +2,14 @@
 //! identical replays, replay against the truth file, truncated recordings, bad arguments.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn vigil(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args(args)
-        .output()
-        .expect("run vigil")
-}
+mod common;
+use common::vigil;
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_cli");
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    common::tmp("sim_cli", name)
 }
 
 fn sim(scenario: &str, seconds: &str, seed: &str, out: &Path, truth: &Path) {
