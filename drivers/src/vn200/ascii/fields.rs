@@ -165,11 +165,12 @@ macro_rules! ascii_uint {
 }
 ascii_uint!(u8, u16, u32);
 
-impl<const N: usize> AsciiRecord for [f32; N] {
+/// A fixed number of consecutive fields of one kind (vectors, matrices).
+impl<T: AsciiRecord + Copy + Default, const N: usize> AsciiRecord for [T; N] {
     fn parse(f: &mut Fields<'_>) -> Result<Self, AsciiError> {
-        let mut a = [0.0; N];
+        let mut a = [T::default(); N];
         for x in &mut a {
-            *x = f.f32()?;
+            *x = T::parse(f)?;
         }
         Ok(a)
     }
@@ -180,22 +181,6 @@ impl<const N: usize> AsciiRecord for [f32; N] {
     }
 }
 
-impl<const N: usize> AsciiRecord for [f64; N] {
-    fn parse(f: &mut Fields<'_>) -> Result<Self, AsciiError> {
-        let mut a = [0.0; N];
-        for x in &mut a {
-            *x = f.f64()?;
-        }
-        Ok(a)
-    }
-    fn format(&self, out: &mut String) {
-        for x in self {
-            x.format(out);
-        }
-    }
-}
-
-/// InsStatus is written as four hex digits in the ASCII registers (e.g. `D085`, 4.7.1).
 impl AsciiRecord for InsStatus {
     fn parse(f: &mut Fields<'_>) -> Result<Self, AsciiError> {
         Ok(InsStatus(f.hex(4)? as u16))
