@@ -7,6 +7,7 @@ mod listen;
 mod record_cmd;
 mod replay;
 mod replay_aligned;
+mod replay_fused;
 mod sim_cmd;
 #[cfg(target_os = "linux")]
 mod sim_live;

@@ -33,8 +33,8 @@ pub struct ReplayArgs {
     /// Pace the replay at this multiple of real time (default: as fast as possible).
     #[arg(long)]
     pub speed: Option<f64>,
-    /// What to write: the decoded messages, or every message on GPS time (`aligned`: see
-    /// `replay_aligned`).
+    /// What to write: the decoded messages, every message on GPS time (`aligned`: see
+    /// `replay_aligned`), or the fused outputs (`fused`: see `replay_fused`).
     #[arg(long, value_enum, default_value = "decoded")]
     pub emit: Emit,
 }
@@ -46,6 +46,8 @@ pub enum Emit {
     Decoded,
     /// Every message's GPS time, 1-sigma and time source (issue 7).
     Aligned,
+    /// Attitude-check records, ownship states and traffic pictures (issues 8 and 9).
+    Fused,
 }
 
 /// Writes one decoded message as a JSON line.
@@ -117,6 +119,12 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
                 return Err(anyhow!("--speed applies to --emit decoded only"));
             }
             crate::replay_aligned::replay_aligned(&data, &mut out)
+        }
+        Emit::Fused => {
+            if args.speed.is_some() {
+                return Err(anyhow!("--speed applies to --emit decoded only"));
+            }
+            crate::replay_fused::replay_fused(&data, &mut out)
         }
     };
     let summary = match result {

@@ -7,6 +7,7 @@ pub mod attitude;
 pub mod geometry;
 pub mod magnetic;
 pub mod ownship;
+pub mod pipeline;
 pub mod time;
 pub mod traffic;
 pub mod units;
