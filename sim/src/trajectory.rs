@@ -115,6 +115,10 @@ struct Leg {
     w: f64,
 }
 
+/// Peak roll rate when the bank changes at a segment boundary, deg/s (a gentle manoeuvre for a
+/// small aircraft).
+pub const ROLL_RATE_DPS: f64 = 15.0;
+
 /// A trajectory: start state, constant horizontal speed and a list of segments.
 #[derive(Debug, Clone)]
 pub struct Trajectory {
@@ -167,6 +171,41 @@ impl Trajectory {
         Self { speed_mps, legs }
     }
 
+    /// Roll, rad, and roll rate, rad/s, at `t_s`. Within a segment the roll is that of the
+    /// coordinated turn ([`Kinematics::roll_rad`]); at a segment boundary where it changes, the
+    /// aircraft rolls from one value to the other in a smooth S-curve (3x^2 - 2x^3) centred on the
+    /// boundary, at a mean roll rate of [`ROLL_RATE_DPS`] / 1.5 (peak [`ROLL_RATE_DPS`]).
+    ///
+    /// Decision: only the attitude rolls smoothly; track and position keep the closed-form
+    /// segments (the turn rate still steps). A truth bank that jumped by 12 deg between two
+    /// samples could be met by no real aircraft and made every unit's interpolated attitude
+    /// disagree for a sample; the small mismatch left between roll and turn rate during the
+    /// sub-second roll-in affects no attitude comparison (every unit sees the same truth).
+    pub fn roll_at(&self, t_s: f64) -> (f64, f64) {
+        let k = self.at(t_s);
+        let mut roll = k.roll_rad();
+        let mut rate = 0.0;
+        let i = self.legs.partition_point(|l| l.t0_s <= t_s);
+        // The nearest boundary: the start of the leg at t_s, or of the next one.
+        for b in [i.saturating_sub(1), i] {
+            let Some(leg) = self.legs.get(b).filter(|_| b > 0) else {
+                continue;
+            };
+            let before = self.at(leg.t0_s - 1e-9).roll_rad();
+            let after = self.at(leg.t0_s).roll_rad();
+            let d = after - before;
+            let span = 1.5 * d.abs() / ROLL_RATE_DPS.to_radians();
+            if span <= 0.0 || (t_s - leg.t0_s).abs() >= span / 2.0 {
+                continue;
+            }
+            let x = (t_s - (leg.t0_s - span / 2.0)) / span;
+            roll = before + d * x * x * (3.0 - 2.0 * x);
+            rate = d * 6.0 * x * (1.0 - x) / span;
+            break;
+        }
+        (roll, rate)
+    }
+
     /// The state `t_s` seconds after the start (times before the start give the start state
     /// extrapolated backwards along the first segment).
     pub fn at(&self, t_s: f64) -> Kinematics {
@@ -206,6 +245,47 @@ fn eval(leg: &Leg, v: f64, tau: f64) -> Kinematics {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn roll_changes_smoothly_across_a_segment_boundary() {
+        // 40 m/s, straight 10 s then a 3 deg/s turn: bank atan(40 x 0.05236 / 9.80665) = 12.055
+        // deg, rolled in over 1.5 x 12.055 / 15 = 1.2055 s centred on t = 10 s.
+        let t = Trajectory::new(
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            40.0,
+            &[
+                Segment::Straight { duration_s: 10.0 },
+                Segment::Turn {
+                    duration_s: 30.0,
+                    rate_dps: 3.0,
+                },
+            ],
+        );
+        let bank = (40.0 * 3f64.to_radians() / G0_MPS2).atan();
+        assert!((bank.to_degrees() - 12.055).abs() < 1e-3);
+        let span = 1.5 * bank.to_degrees() / ROLL_RATE_DPS;
+        assert_eq!(t.roll_at(5.0), (0.0, 0.0));
+        assert_eq!(t.roll_at(10.0 - span / 2.0 - 1e-6).0, 0.0);
+        // Half-way at the boundary, at the peak rate.
+        let (r, p) = t.roll_at(10.0);
+        assert!((r - bank / 2.0).abs() < 1e-9);
+        assert!(
+            (p.to_degrees() - ROLL_RATE_DPS).abs() < 1e-6,
+            "{}",
+            p.to_degrees()
+        );
+        assert!((t.roll_at(10.0 + span / 2.0 + 1e-6).0 - bank).abs() < 1e-12);
+        // Monotonic, and never a step bigger than the peak rate allows.
+        let mut prev = t.roll_at(9.0).0;
+        for k in 1..=200 {
+            let r = t.roll_at(9.0 + k as f64 * 0.01).0;
+            assert!(r >= prev && r - prev <= ROLL_RATE_DPS.to_radians() * 0.01 + 1e-12);
+            prev = r;
+        }
+    }
 
     #[test]
     fn full_circle_returns_to_start_and_bank_by_hand() {

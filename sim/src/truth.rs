@@ -181,7 +181,8 @@ impl World {
     pub fn ownship(&self, t_gps_ns: i64) -> OwnshipTruth {
         let k = self.ownship_kinematics(t_gps_ns);
         let (lat, lon) = self.frame.to_geodetic_rad(k.north_m, k.east_m);
-        let (yaw, pitch, roll) = (k.track_rad, k.pitch_rad(), k.roll_rad());
+        let (roll, roll_rate) = self.ownship.roll_at(self.elapsed_s(t_gps_ns));
+        let (yaw, pitch) = (k.track_rad, k.pitch_rad());
         let c = dcm_nb(yaw, pitch, roll);
         // Specific force f = a - g, gravity (0, 0, g0) in NED; body = C_nb^T f.
         let f_ned = [
@@ -190,10 +191,11 @@ impl World {
             k.accel_ned_mps2[2] - G0_MPS2,
         ];
         let f_body = [0, 1, 2].map(|j| (0..3).map(|i| c[i][j] * f_ned[i]).sum::<f64>());
-        // Euler rates: yaw' = omega, pitch' = roll' = 0 within a segment.
+        // Euler rates: yaw' = omega, pitch' = 0, roll' = 0 within a segment (and the roll-in
+        // rate at a boundary).
         let w = k.turn_rate_radps;
         let rates = [
-            -w * pitch.sin(),
+            roll_rate - w * pitch.sin(),
             w * roll.sin() * pitch.cos(),
             w * roll.cos() * pitch.cos(),
         ];
@@ -244,7 +246,11 @@ impl World {
         let i = self.intruders.get(i)?;
         let k = i.trajectory.at(t);
         let (lat, lon) = self.frame.to_geodetic_rad(k.north_m, k.east_m);
-        let reported_position = i.meta.spoof_offset_ned_m.map(|o| {
+        let spoofing = i
+            .meta
+            .spoof_offset_ned_m
+            .filter(|_| t >= i.meta.spoof_from_s);
+        let reported_position = spoofing.map(|o| {
             let (la, lo) = self
                 .frame
                 .to_geodetic_rad(k.north_m + o[0], k.east_m + o[1]);
@@ -382,13 +388,21 @@ mod tests {
         // The intruder's pressure altitude is that of its height.
         let i = &w.intruders(w.start_gps_ns)[0];
         assert!((i.alt_pressure_m - geopotential_m(630.0)).abs() < 1e-6);
-        // spoofed-target: the reported position is 2 km north and 2 km east of the true one.
+        // spoofed-target: honest for the first 60 s, then the reported position is 2 km north
+        // and 2 km east of the true one.
         let w = World::new(&builtin("spoofed-target").unwrap(), mag()).unwrap();
-        let i = &w.intruders(w.start_gps_ns)[0];
+        assert!(w.intruders(w.start_gps_ns)[0].reported_position.is_none());
+        let t_spoof = w.start_gps_ns + 60_000_000_000;
+        assert!(
+            w.intruders(t_spoof - 1_000_000)[0]
+                .reported_position
+                .is_none()
+        );
+        let i = &w.intruders(t_spoof)[0];
         let rep = i.reported_position.unwrap();
         let (tn, te) = w.frame.to_local_m(i.lat_deg, i.lon_deg);
         let (rn, re) = w.frame.to_local_m(rep[0], rep[1]);
         assert!((rn - tn - 2000.0).abs() < 1e-6 && (re - te - 2000.0).abs() < 1e-6);
-        assert!(w.intruders(w.start_gps_ns)[1].reported_position.is_none());
+        assert!(w.intruders(t_spoof)[1].reported_position.is_none());
     }
 }

@@ -77,6 +77,10 @@ pub struct AttitudeChecker {
     pairs: [[PairAxisState; 3]; 3],
     joint: [Persistence; 3],
     last_t_ns: Option<i64>,
+    /// Since when each axis (roll, pitch, heading, joint) has been settling, GPS ns.
+    settle_since: [Option<i64>; 4],
+    /// The previous outcome of each axis (roll, pitch, heading, joint).
+    prev_isolation: [Isolation; 4],
     vertical: VerticalChannel,
     finished: bool,
 }
@@ -102,6 +106,8 @@ impl AttitudeChecker {
             pairs: Default::default(),
             joint: Default::default(),
             last_t_ns: None,
+            settle_since: [None; 4],
+            prev_isolation: [Isolation::NoFault; 4],
             vertical: VerticalChannel::default(),
             finished: false,
         })
@@ -407,21 +413,76 @@ impl AttitudeChecker {
             bahrs_watson: f(&pairs.bahrs_watson),
             vn200_watson: f(&pairs.vn200_watson),
         };
-        let isolation = IsolationRecord {
+        let raw = IsolationRecord {
             roll: isolate(&verdicts(&|r| r.roll.verdict), false, vn_healthy),
             pitch: isolate(&verdicts(&|r| r.pitch.verdict), false, vn_healthy),
             heading: isolate(&verdicts(&|r| r.heading.verdict), true, vn_healthy),
             joint: Isolation::NoFault,
         };
         // The joint test includes the heading: when the heading alone is a magnetic disturbance,
-        // the same rule keeps the joint test from isolating a healthy VN-200.
+        // the same rule keeps the joint test from isolating a healthy VN-200, and a joint failure
+        // of a pair with the VN-200 that the heading explains is the disturbance too (roll and
+        // pitch keep their own per-axis tests, so a tilt fault is still caught there).
+        let magnetic = raw.heading == Isolation::MagneticDisturbance;
+        let joint = match isolate(&verdicts(&|r| r.joint.verdict), magnetic, vn_healthy) {
+            Isolation::DetectedNotIsolated | Isolation::Isolated(Unit::Vn200)
+                if magnetic
+                    && pairs.bahrs_watson.joint.verdict != PairVerdict::Fail
+                    && (pairs.bahrs_vn200.joint.verdict == PairVerdict::Fail
+                        || pairs.vn200_watson.joint.verdict == PairVerdict::Fail) =>
+            {
+                Isolation::MagneticDisturbance
+            }
+            other => other,
+        };
+        let raw = IsolationRecord { joint, ..raw };
+        // Transitions. Onset: a single failed pair waits (bounded) for another exceeding pair of
+        // the axis to settle. End of a magnetic disturbance: its failed pairs clear one by one
+        // (each after its own hysteresis); while every failed pair is only clearing (no longer
+        // exceeding), the axis stays "magnetic disturbance" instead of becoming a new fault.
+        let exceeding = |verdict: PairVerdict, f: &dyn Fn(&PairRecord) -> (PairVerdict, bool)| {
+            [&pairs.bahrs_vn200, &pairs.bahrs_watson, &pairs.vn200_watson]
+                .into_iter()
+                .any(|r| f(r) == (verdict, true))
+        };
+        let axis = |ai: usize| {
+            move |r: &PairRecord| {
+                let a = [&r.roll, &r.pitch, &r.heading][ai];
+                (a.verdict, a.stat_exceeded || a.fixed_exceeded)
+            }
+        };
+        let joint_of = |r: &PairRecord| (r.joint.verdict, r.joint.ratio.is_some_and(|x| x > 1.0));
+        let settle_ns = (p.isolation_settle_s * 1e9) as i64;
+        let mut transition =
+            |slot: usize, iso: Isolation, f: &dyn Fn(&PairRecord) -> (PairVerdict, bool)| {
+                let prev = self.prev_isolation[slot];
+                let out =
+                    if iso == Isolation::DetectedNotIsolated && exceeding(PairVerdict::Pass, f) {
+                        let since = *self.settle_since[slot].get_or_insert(t);
+                        if t.saturating_sub(since) < settle_ns {
+                            Isolation::Settling
+                        } else {
+                            iso
+                        }
+                    } else if matches!(iso, Isolation::DetectedNotIsolated | Isolation::Isolated(_))
+                        && prev == Isolation::MagneticDisturbance
+                        && !exceeding(PairVerdict::Fail, f)
+                    {
+                        Isolation::MagneticDisturbance
+                    } else {
+                        iso
+                    };
+                if iso != Isolation::DetectedNotIsolated {
+                    self.settle_since[slot] = None;
+                }
+                self.prev_isolation[slot] = out;
+                out
+            };
         let isolation = IsolationRecord {
-            joint: isolate(
-                &verdicts(&|r| r.joint.verdict),
-                isolation.heading == Isolation::MagneticDisturbance,
-                vn_healthy,
-            ),
-            ..isolation
+            roll: transition(0, raw.roll, &axis(0)),
+            pitch: transition(1, raw.pitch, &axis(1)),
+            heading: transition(2, raw.heading, &axis(2)),
+            joint: transition(3, raw.joint, &joint_of),
         };
         let all = [
             isolation.roll,
@@ -434,7 +495,10 @@ impl AttitudeChecker {
         let mut fault = false;
         for i in all {
             match i {
-                Isolation::NoFault | Isolation::NotCompared | Isolation::MagneticDisturbance => {}
+                Isolation::NoFault
+                | Isolation::NotCompared
+                | Isolation::MagneticDisturbance
+                | Isolation::Settling => {}
                 Isolation::DetectedNotIsolated => fault = true,
                 Isolation::MultipleFault => {
                     fault = true;

@@ -63,6 +63,10 @@ pub enum Isolation {
     MultipleFault,
     /// Heading only: the two magnetic units agree against a healthy VN-200.
     MagneticDisturbance,
+    /// One pair failed while another pair of the axis exceeds its threshold without having
+    /// failed yet: the outcome is held (not declared) for at most `isolation_settle_s` while
+    /// that pair's persistence decides (set by the checker, never by [`isolate`]).
+    Settling,
 }
 
 /// Isolates per the rules of the module. `heading` selects the magnetic rule, which needs

@@ -19,6 +19,7 @@
 //! | `watson_period_s`          | s      | 0.01 .. 1      | 0.0844 (11.85 Hz)  |
 //! | `frozen_window_s`          | s      | 0.1 .. 10      | 1                  |
 //! | `reset_after_gap_s`        | s      | 1 .. 600       | 5                  |
+//! | `isolation_settle_s`       | s      | 0 .. 5         | 1                  |
 //! | `bahrs_default_sigma_*_deg`| deg    | 0.01 .. 10     | tilt 0.5, heading 2|
 //! | `vn200_default_sigma_*_deg`| deg    | 0.01 .. 10     | tilt 0.3, heading 1|
 //! | `watson_sigma_*_deg`       | deg    | 0.01 .. 10     | tilt 0.75, heading 2|
@@ -127,6 +128,13 @@ pub struct CheckParams {
     pub frozen_window_s: f64,
     /// A pair not compared for longer than this forgets its persistence state, s.
     pub reset_after_gap_s: f64,
+    /// When one pair has failed and another pair of the same axis is exceeding its threshold
+    /// but not yet failed (its persistence is still counting), isolation waits up to this long
+    /// for it to settle before declaring "detected, not isolated", s. Two units that become
+    /// wrong together (a magnetic disturbance on both compasses) or one unit compared against
+    /// two others at different rates fail their pairs a few samples apart; without the wait the
+    /// first of them would declare a fault the second one explains.
+    pub isolation_settle_s: f64,
     /// BAHRS sigmas used until its first 0x03.
     pub bahrs_default_sigma: AxisSigmas,
     /// VN-200 sigmas used when YprU is absent.
@@ -161,6 +169,7 @@ impl Default for CheckParams {
             bahrs_period_s: 0.02,
             frozen_window_s: 1.0,
             reset_after_gap_s: 5.0,
+            isolation_settle_s: 1.0,
             bahrs_default_sigma: AxisSigmas {
                 tilt_deg: 0.5,
                 heading_deg: 2.0,
@@ -199,7 +208,7 @@ pub struct ParamError {
 impl CheckParams {
     /// Checks every parameter against its range.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let checks: [(&'static str, f64, f64, f64); 17] = [
+        let checks: [(&'static str, f64, f64, f64); 18] = [
             ("p_false_alarm", self.p_false_alarm, 1e-12, 0.1),
             ("limit_pitch_deg", self.limit_pitch_deg, 0.5, 30.0),
             ("limit_roll_deg", self.limit_roll_deg, 0.5, 30.0),
@@ -246,6 +255,7 @@ impl CheckParams {
             ("bahrs_period_s", self.bahrs_period_s, 0.001, 1.0),
             ("frozen_window_s", self.frozen_window_s, 0.1, 10.0),
             ("reset_after_gap_s", self.reset_after_gap_s, 1.0, 600.0),
+            ("isolation_settle_s", self.isolation_settle_s, 0.0, 5.0),
             (
                 "declination_refresh_s",
                 self.declination_refresh_s,

@@ -9,6 +9,10 @@
 //!   cleared when it is back to 0: hysteresis of the same length.
 //! - An accumulated-excess (CUSUM) detector catches slow drifts that stay just under the threshold:
 //!   `S = max(0, S + (z - slack))` over normalised differences `z`, declared at `cusum_limit`.
+//!   `S` is capped at twice the limit: it would otherwise keep growing through a long fault and
+//!   hold the fault for as long after the units agree again (a 60 s magnetic disturbance kept
+//!   its pairs failed for 70 s after it ended); with the cap it drains below the clearing level
+//!   (half the limit) in 1.5 x limit / slack samples (45, 0.9 s at 50 Hz, at the defaults).
 
 use serde::Serialize;
 
@@ -68,7 +72,7 @@ impl Persistence {
         } else {
             self.counter_s = (self.counter_s - dt).max(0.0);
         }
-        self.cusum = (self.cusum + z.abs() - p.cusum_slack).max(0.0);
+        self.cusum = (self.cusum + z.abs() - p.cusum_slack).clamp(0.0, 2.0 * p.cusum_limit);
         let cusum_fault = self.cusum >= p.cusum_limit;
         if self.counter_s >= p.declare_after_s || cusum_fault {
             self.fault = true;
@@ -124,6 +128,22 @@ mod tests {
         for _ in 0..300 {
             assert!(!s.update(0.1, 0.0, 0.01, &p));
         }
+    }
+
+    #[test]
+    fn a_long_fault_clears_soon_after_the_units_agree_again() {
+        let p = PersistenceParams::default();
+        let mut s = Persistence::default();
+        // 60 s at 50 Hz, 4.42 sigma over (z clamped to the threshold as the checker does).
+        for _ in 0..3000 {
+            assert!(s.update(0.9, 4.42, 0.02, &p) || s.cusum < p.cusum_limit);
+        }
+        assert!(s.fault);
+        assert_eq!(s.cusum, 2.0 * p.cusum_limit);
+        // Agreement again (z = 0): S falls by the slack (2) per sample from 120 to below 30:
+        // 46 samples; the counter is already 0 (the ratio stayed under 1).
+        let cleared = (1..=200).find(|_| !s.update(0.0, 0.0, 0.02, &p));
+        assert_eq!(cleared, Some(46));
     }
 
     #[test]

@@ -150,7 +150,9 @@ impl GnssFix {
 pub struct OwnshipSolution {
     /// Always "ownship" (JSON Lines of `vigil replay --emit fused`).
     pub kind: &'static str,
-    /// The state used by the traffic fusion.
+    /// The state used by the traffic fusion (flattened into the JSON line: `t_gps_ns`, `lat_deg`,
+    /// ...).
+    #[serde(flatten)]
     pub ownship: Ownship,
     /// 1-sigma velocity, m/s (VelU, or from NACv's 95 % bound / 2).
     pub velocity_sigma_mps: Option<f64>,

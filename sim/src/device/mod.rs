@@ -155,11 +155,12 @@ impl FaultSchedule {
             .any(|f| matches!(f, Fault::PpsLoss { from_s, to_s } if active(t_s, *from_s, *to_s)))
     }
 
-    /// Whether GNSS is lost at `t_s`.
-    pub fn gnss_lost(&self, t_s: f64) -> bool {
-        self.faults
-            .iter()
-            .any(|f| matches!(f, Fault::GnssOutage { from_s, to_s } if active(t_s, *from_s, *to_s)))
+    /// Whether `device`'s GNSS receiver has no fix at `t_s`.
+    pub fn gnss_lost(&self, device: &str, t_s: f64) -> bool {
+        self.faults.iter().any(|f| {
+            matches!(f, Fault::GnssOutage { from_s, to_s, device: d }
+                if active(t_s, *from_s, *to_s) && d.as_deref().is_none_or(|d| d == device))
+        })
     }
 
     /// Reset times of a device, s from start, ascending.

@@ -358,7 +358,7 @@ impl TtmrfModel {
     }
 
     fn gnss(&mut self, t: i64, world: &World, faults: &FaultSchedule) -> Option<Emission> {
-        let lost = faults.gnss_lost(world.elapsed_s(t));
+        let lost = faults.gnss_lost("ttmrf", world.elapsed_s(t));
         let o = world.ownship(t);
         let g = if lost {
             Gnss {
@@ -429,7 +429,7 @@ impl TtmrfModel {
 
     /// GGA then RMC (manual 9.2.1, NMEA output of the GNSS section) for CSV mode.
     fn nmea(&mut self, t: i64, world: &World, faults: &FaultSchedule, out: &mut Vec<Emission>) {
-        let lost = faults.gnss_lost(world.elapsed_s(t));
+        let lost = faults.gnss_lost("ttmrf", world.elapsed_s(t));
         let o = world.ownship(t);
         let utc_s = utc_ns_of_day(t) as f64 / 1e9;
         let d = crate::units::gps_ns_to_utc_date(t);

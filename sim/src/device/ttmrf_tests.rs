@@ -100,7 +100,9 @@ fn json_traffic_once_per_second_per_intruder_with_gnss() {
 
 #[test]
 fn raw_hex_frames_decode_to_the_reported_positions() {
-    let s = builtin("spoofed-target").unwrap();
+    let mut s = builtin("spoofed-target").unwrap();
+    // The scenario starts spoofing at 60 s; from the start here.
+    s.intruders[0].spoof_from_s = 0.0;
     let (_, bytes, truth) = run(&s, 4_000_000_000, Vec::new());
     let raw: Vec<_> = truth
         .iter()

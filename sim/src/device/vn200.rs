@@ -201,7 +201,7 @@ impl Vn200Model {
 
     fn sample(&mut self, world: &World, faults: &FaultSchedule, t: i64) -> Sample {
         let o = world.ownship(t);
-        let lost = faults.gnss_lost(world.elapsed_s(t));
+        let lost = faults.gnss_lost("vn200", world.elapsed_s(t));
         let since = if lost {
             let from = *self.outage_from_ns.get_or_insert(t);
             (t - from) as f64 / 1e9

@@ -4,7 +4,7 @@
 use super::{Scenario, ScenarioError};
 
 /// Names of the built-in scenarios.
-pub const BUILTIN_NAMES: [&str; 9] = [
+pub const BUILTIN_NAMES: [&str; 10] = [
     "nominal",
     "headon",
     "crossing",
@@ -14,6 +14,7 @@ pub const BUILTIN_NAMES: [&str; 9] = [
     "spoofed-target",
     "link-errors",
     "magnetic-disturbance",
+    "vn200-gnss-loss",
 ];
 
 fn text(name: &str) -> Option<&'static str> {
@@ -27,6 +28,7 @@ fn text(name: &str) -> Option<&'static str> {
         "spoofed-target" => include_str!("../../scenarios/spoofed-target.toml"),
         "link-errors" => include_str!("../../scenarios/link-errors.toml"),
         "magnetic-disturbance" => include_str!("../../scenarios/magnetic-disturbance.toml"),
+        "vn200-gnss-loss" => include_str!("../../scenarios/vn200-gnss-loss.toml"),
         _ => return None,
     })
 }

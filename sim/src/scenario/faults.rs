@@ -111,6 +111,10 @@ pub enum Fault {
         from_s: f64,
         /// End, s.
         to_s: Option<f64>,
+        /// Only this device's receiver loses its fix (e.g. "vn200": an antenna fault while the
+        /// TT-Multi-RF's own GNSS keeps working); absent: every receiver (jamming).
+        #[serde(default)]
+        device: Option<String>,
     },
     /// The link of a device is cut: bytes sent meanwhile are lost.
     LinkLoss {
@@ -159,7 +163,7 @@ impl Fault {
             | Fault::BahrsHealth { from_s, to_s, .. }
             | Fault::MagneticDisturbance { from_s, to_s, .. }
             | Fault::PpsLoss { from_s, to_s }
-            | Fault::GnssOutage { from_s, to_s }
+            | Fault::GnssOutage { from_s, to_s, .. }
             | Fault::LinkLoss { from_s, to_s, .. }
             | Fault::BitErrors { from_s, to_s, .. }
             | Fault::DroppedBytes { from_s, to_s, .. } => (*from_s, *to_s),
@@ -186,6 +190,13 @@ impl Fault {
                     format!("must be one of {}", DEVICES.join(", ")),
                 ))
             }
+            Fault::GnssOutage {
+                device: Some(device),
+                ..
+            } if !["vn200", "ttmrf"].contains(&device.as_str()) => Err(invalid(
+                &format!("{key}.device"),
+                "must be vn200 or ttmrf (the devices with a GNSS receiver)",
+            )),
             Fault::BitErrors { rate, .. } | Fault::DroppedBytes { rate, .. }
                 if !(0.0..=0.5).contains(rate) =>
             {

@@ -159,6 +159,10 @@ pub struct Intruder {
     /// (north, east, down, m). `None` for an honest target.
     #[serde(default)]
     pub spoof_offset_ned_m: Option<[f64; 3]>,
+    /// Scenario time the spoofing starts, s (default 0: from the start). Before it the target
+    /// reports its true position, so a receiver sees the reported position jump when it starts.
+    #[serde(default)]
+    pub spoof_from_s: f64,
 }
 
 fn default_category() -> String {
@@ -214,6 +218,7 @@ impl TrafficGenerator {
                         },
                     ],
                     spoof_offset_ned_m: None,
+                    spoof_from_s: 0.0,
                 }
             })
             .collect()
