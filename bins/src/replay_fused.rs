@@ -72,3 +72,7 @@ pub fn replay_fused<W: Write>(mcap: &[u8], out: &mut W) -> Result<ReplaySummary>
         Ok(())
     })
 }
+
+#[cfg(test)]
+#[path = "fused_scenarios_tests.rs"]
+mod scenario_tests;

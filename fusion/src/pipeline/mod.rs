@@ -14,8 +14,9 @@
 //!
 //! The pipeline's clock is the GPS time of the samples themselves: a step at time `T` is taken
 //! when the first sample at or after `T` arrives, so replaying the same samples gives the same
-//! outputs (no wall clock). Only samples whose clock model is locked or coasting move the clock,
-//! so an unlocked device's guess cannot push it; a jump of more than
+//! outputs (no wall clock). Only samples whose clock model is locked or coasting move the clock
+//! (a locking model's samples are used but do not move it), and samples of an unlocked model are
+//! not used at all, so a device's guess cannot push the clock; a jump of more than
 //! [`PipelineConfig::max_step_gap_s`] restarts the grid instead of emitting every step between.
 //! Samples that are not aligned are counted per device ([`DeviceActivity`]) and otherwise not
 //! used: the fusion compares samples on one timebase only.
@@ -41,6 +42,9 @@ use crate::ownship::{OwnshipBuilder, OwnshipParams, OwnshipSolution};
 use crate::time::aligner::{AlignedSample, Device, Sample};
 use crate::time::{AlignedTime, ClockStatus};
 use crate::traffic::{Target, TrackManager, TrafficParams, TrafficStats};
+
+#[cfg(test)]
+mod tests;
 
 const NS_PER_S: f64 = 1e9;
 
@@ -130,7 +134,9 @@ pub struct DeviceActivity {
     pub samples: u64,
     /// Samples that were not aligned (not used).
     pub not_aligned: u64,
-    /// GPS time of the newest aligned sample, ns.
+    /// Samples whose clock model was unlocked (not used).
+    pub unlocked: u64,
+    /// GPS time of the newest sample used, ns.
     pub last_t_gps_ns: Option<i64>,
     /// Clock status of the newest aligned sample.
     pub last_status: Option<ClockStatus>,
@@ -208,11 +214,16 @@ impl Pipeline {
                 return;
             }
         };
+        act.last_status = Some(time.status);
+        if time.status == ClockStatus::Unlocked {
+            // A time from a model that is not locked is a guess: not compared with anything.
+            act.unlocked += 1;
+            return;
+        }
         act.last_t_gps_ns = Some(
             act.last_t_gps_ns
                 .map_or(time.t_gps_ns, |p| p.max(time.t_gps_ns)),
         );
-        act.last_status = Some(time.status);
         if matches!(time.status, ClockStatus::Locked | ClockStatus::Coasting) {
             self.advance(time.t_gps_ns, out);
         }

@@ -265,7 +265,9 @@ impl TrackManager {
                 frame_geo,
             ) {
                 (Some(a), Some(f), _, _) => (AltitudeKind::Pressure, Some(a), Some(f)),
-                (None, _, Some(a), Some(f)) => (AltitudeKind::Geometric, Some(a), Some(f)),
+                // Baro missing on either side (the intruder sent none, or the ownship has no
+                // BAHRS pressure altitude): geometric against geometric.
+                (_, _, Some(a), Some(f)) => (AltitudeKind::Geometric, Some(a), Some(f)),
                 _ => (AltitudeKind::None, None, None),
             };
             // Velocity uncertainty is not reported per target here; position uncertainty grows
