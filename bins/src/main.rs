@@ -3,6 +3,7 @@
 
 mod decode;
 mod geometry;
+mod golden;
 mod listen;
 mod record_cmd;
 mod replay;

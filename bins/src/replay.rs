@@ -37,6 +37,13 @@ pub struct ReplayArgs {
     /// `replay_aligned`), or the fused outputs (`fused`: see `replay_fused`).
     #[arg(long, value_enum, default_value = "decoded")]
     pub emit: Emit,
+    /// Compare the fused outputs with this golden file (see `golden`); exits non-zero with a
+    /// report of every difference beyond tolerance.
+    #[arg(long, value_name = "GOLDEN")]
+    pub check: Option<PathBuf>,
+    /// With --check: rewrite the golden file from this replay instead of comparing.
+    #[arg(long, requires = "check")]
+    pub bless: bool,
 }
 
 /// Output of `vigil replay`.
@@ -110,6 +117,12 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
     }
     let data = std::fs::read(&args.input)
         .with_context(|| format!("cannot read {}", args.input.display()))?;
+    if let Some(golden) = &args.check {
+        if args.speed.is_some() {
+            return Err(anyhow!("--speed does not apply to --check"));
+        }
+        return crate::golden::check(&args.input, &data, golden, args.bless);
+    }
     let stdout = io::stdout();
     let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
     let result = match args.emit {

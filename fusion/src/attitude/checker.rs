@@ -456,22 +456,25 @@ impl AttitudeChecker {
         let mut transition =
             |slot: usize, iso: Isolation, f: &dyn Fn(&PairRecord) -> (PairVerdict, bool)| {
                 let prev = self.prev_isolation[slot];
-                let out =
-                    if iso == Isolation::DetectedNotIsolated && exceeding(PairVerdict::Pass, f) {
-                        let since = *self.settle_since[slot].get_or_insert(t);
-                        if t.saturating_sub(since) < settle_ns {
-                            Isolation::Settling
-                        } else {
-                            iso
-                        }
-                    } else if matches!(iso, Isolation::DetectedNotIsolated | Isolation::Isolated(_))
-                        && prev == Isolation::MagneticDisturbance
-                        && !exceeding(PairVerdict::Fail, f)
-                    {
-                        Isolation::MagneticDisturbance
+                // Settling only at an onset: a fault already declared is not withdrawn by it.
+                let out = if iso == Isolation::DetectedNotIsolated
+                    && prev != Isolation::DetectedNotIsolated
+                    && exceeding(PairVerdict::Pass, f)
+                {
+                    let since = *self.settle_since[slot].get_or_insert(t);
+                    if t.saturating_sub(since) < settle_ns {
+                        Isolation::Settling
                     } else {
                         iso
-                    };
+                    }
+                } else if matches!(iso, Isolation::DetectedNotIsolated | Isolation::Isolated(_))
+                    && prev == Isolation::MagneticDisturbance
+                    && !exceeding(PairVerdict::Fail, f)
+                {
+                    Isolation::MagneticDisturbance
+                } else {
+                    iso
+                };
                 if iso != Isolation::DetectedNotIsolated {
                     self.settle_since[slot] = None;
                 }

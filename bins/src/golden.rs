@@ -1,0 +1,479 @@
+//! Golden files of the fused outputs, and `vigil replay FILE.mcap --check GOLDEN [--bless]`
+//! (issue 11).
+//!
+//! A golden file is JSON Lines: a header line (`"kind": "golden"`, the format version and the
+//! recording's file name), then one line per fused output in the order the pipeline emits them,
+//! each a projection of the output onto the fields a reviewer and the DAA/integrity consumers care
+//! about, with numbers rounded to a fixed resolution so the file is stable and its diffs readable:
+//! - `attitude_check`: every 10th record (5 Hz at the BAHRS' 50 Hz) and every record whose verdict
+//!   (fault, isolated unit, magnetic disturbance, integrity risk, per-pair verdicts) differs from
+//!   the previous record's: the voted attitude, the pairwise differences and joint test ratios;
+//! - `ownship`: every step: source, position, altitudes, velocity, heading;
+//! - `traffic`: every step: per target (priority order) address, range, bearings, vertical
+//!   separation, range rate, CPA, modified tau, loss-of-well-clear interval, raw and filtered
+//!   alert levels, plausibility flags.
+//!
+//! `--check` compares field by field, record by record, with a tolerance per field chosen by the
+//! unit in its name (below); the replay is deterministic, so on one machine the outputs are
+//! identical and the tolerances only absorb floating-point differences between platforms. A
+//! difference beyond tolerance is reported as record, field, golden value, new value and
+//! difference. `--bless` rewrites the golden file from the replay.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use serde_json::{Map, Value, json};
+use vigil_fusion::attitude::record::{AttitudeRecord, PairRecord};
+use vigil_fusion::ownship::OwnshipSolution;
+use vigil_fusion::pipeline::{Fused, PipelineConfig, TrafficPicture};
+
+/// Format version of the golden files.
+pub const FORMAT: u64 = 1;
+
+/// Every n-th attitude record is kept (plus every change of verdict).
+const ATTITUDE_EVERY: u64 = 10;
+
+/// Most differences listed in a report.
+const MAX_REPORTED: usize = 25;
+
+/// Rounds to `decimals` decimal places (NaN and infinities become null).
+fn r(x: f64, decimals: i32) -> Value {
+    if !x.is_finite() {
+        return Value::Null;
+    }
+    let k = 10f64.powi(decimals);
+    json!((x * k).round() / k)
+}
+
+fn ro(x: Option<f64>, decimals: i32) -> Value {
+    x.map_or(Value::Null, |x| r(x, decimals))
+}
+
+/// The verdict string of a pair record: roll, pitch, heading, joint as P(ass)/F(ail)/-.
+fn verdicts(p: &PairRecord) -> String {
+    use vigil_fusion::attitude::isolation::PairVerdict;
+    [
+        p.roll.verdict,
+        p.pitch.verdict,
+        p.heading.verdict,
+        p.joint.verdict,
+    ]
+    .iter()
+    .map(|v| match v {
+        PairVerdict::Pass => 'P',
+        PairVerdict::Fail => 'F',
+        PairVerdict::NotCompared => '-',
+    })
+    .collect()
+}
+
+/// Projects fused outputs onto golden lines.
+#[derive(Debug, Default)]
+pub struct Projector {
+    attitude_count: u64,
+    last_key: Option<String>,
+}
+
+impl Projector {
+    /// The golden line of `o`, or `None` for an attitude record that is decimated away.
+    pub fn project(&mut self, o: &Fused) -> Option<Value> {
+        match o {
+            Fused::Attitude(a) => self.attitude(a),
+            Fused::Ownship(o) => Some(ownship(o)),
+            Fused::Traffic(p) => Some(traffic(p)),
+        }
+    }
+
+    fn attitude(&mut self, a: &AttitudeRecord) -> Option<Value> {
+        let p = &a.pairs;
+        let key = format!(
+            "{}{:?}{}{}{}/{}/{}",
+            a.fault,
+            a.isolated,
+            a.magnetic_disturbance,
+            a.bahrs_integrity_risk,
+            verdicts(&p.bahrs_vn200),
+            verdicts(&p.bahrs_watson),
+            verdicts(&p.vn200_watson)
+        );
+        let n = self.attitude_count;
+        self.attitude_count += 1;
+        let changed = self.last_key.as_deref() != Some(key.as_str());
+        self.last_key = Some(key);
+        if !changed && n % ATTITUDE_EVERY != 0 {
+            return None;
+        }
+        let diffs = |pr: &PairRecord| {
+            Value::Array(
+                [&pr.roll, &pr.pitch, &pr.heading]
+                    .iter()
+                    .map(|x| ro(x.comparison.map(|c| c.diff_deg), 4))
+                    .collect(),
+            )
+        };
+        let voted = |v: &Option<vigil_fusion::attitude::record::VotedAxis>| {
+            ro(v.as_ref().map(|v| v.value_deg), 4)
+        };
+        Some(json!({
+            "kind": "attitude_check",
+            "t_gps_ns": a.t_gps_ns,
+            "fault": a.fault,
+            "isolated": a.isolated,
+            "magnetic_disturbance": a.magnetic_disturbance,
+            "bahrs_integrity_risk": a.bahrs_integrity_risk,
+            "verdicts_bv_bw_vw": format!("{}/{}/{}", verdicts(&p.bahrs_vn200),
+                verdicts(&p.bahrs_watson), verdicts(&p.vn200_watson)),
+            "voted_deg": [voted(&a.voted.roll), voted(&a.voted.pitch), voted(&a.voted.heading)],
+            "diff_bahrs_vn200_deg": diffs(&p.bahrs_vn200),
+            "diff_bahrs_watson_deg": diffs(&p.bahrs_watson),
+            "diff_vn200_watson_deg": diffs(&p.vn200_watson),
+            "joint_ratio": [ro(p.bahrs_vn200.joint.ratio, 4), ro(p.bahrs_watson.joint.ratio, 4),
+                ro(p.vn200_watson.joint.ratio, 4)],
+        }))
+    }
+}
+
+fn ownship(o: &OwnshipSolution) -> Value {
+    let s = &o.ownship;
+    json!({
+        "kind": "ownship",
+        "t_gps_ns": s.t_gps_ns,
+        "source": s.source,
+        "lat_deg": r(s.lat_deg, 7),
+        "lon_deg": r(s.lon_deg, 7),
+        "alt_pressure_m": ro(s.alt_pressure_m, 2),
+        "alt_geometric_m": ro(s.alt_geometric_m, 2),
+        "track_deg": r(s.track_deg, 3),
+        "ground_speed_mps": r(s.ground_speed_mps, 3),
+        "vertical_rate_mps": r(s.vertical_rate_mps, 3),
+        "heading_deg": r(s.heading_deg, 3),
+        "heading_source": o.heading_source,
+        "position_sigma_m": r(s.position_sigma_m, 2),
+    })
+}
+
+fn traffic(p: &TrafficPicture) -> Value {
+    let targets: Vec<Value> = p
+        .targets
+        .iter()
+        .map(|t| {
+            let g = t.geometry.as_ref();
+            let mut m = Map::new();
+            m.insert("address".into(), json!(format!("{:06X}", t.key.address)));
+            m.insert("altitude_kind".into(), json!(t.altitude_kind));
+            m.insert("bearing_true_deg".into(), r(t.bearing_true_deg, 3));
+            m.insert("bearing_relative_deg".into(), r(t.bearing_relative_deg, 3));
+            m.insert(
+                "horizontal_distance_m".into(),
+                ro(g.map(|g| g.horizontal_distance_m), 1),
+            );
+            m.insert(
+                "vertical_separation_m".into(),
+                ro(g.map(|g| g.vertical_separation_m), 1),
+            );
+            m.insert("range_rate_mps".into(), ro(g.map(|g| g.range_rate_mps), 2));
+            m.insert("tcpa_s".into(), ro(g.map(|g| g.tcpa_s), 2));
+            m.insert("hmd_m".into(), ro(g.map(|g| g.hmd_m), 1));
+            m.insert("tau_mod_s".into(), ro(g.and_then(|g| g.tau_mod_s), 2));
+            m.insert(
+                "lowc_s".into(),
+                g.and_then(|g| g.loss_of_well_clear_interval_s)
+                    .map_or(Value::Null, |iv| json!([r(iv.0, 2), r(iv.1, 2)])),
+            );
+            m.insert("raw_alert_level".into(), json!(t.raw_alert_level));
+            m.insert("alert_level".into(), json!(t.alert_level));
+            m.insert("suspect".into(), json!(t.flags.any()));
+            Value::Object(m)
+        })
+        .collect();
+    json!({
+        "kind": "traffic",
+        "t_gps_ns": p.t_gps_ns,
+        "targets": targets,
+    })
+}
+
+/// The tolerance of a field, by the unit in its name: the rounding of the projection plus
+/// margin for floating-point differences between platforms. `None`: must be equal.
+fn tolerance(field: &str) -> Option<f64> {
+    let f = field.trim_end_matches(|c: char| c == ']' || c.is_ascii_digit() || c == '[');
+    if f == "t_gps_ns" {
+        return None;
+    }
+    [
+        ("lat_deg", 2e-7),
+        ("lon_deg", 2e-7),
+        ("_deg", 2e-4),
+        ("_mps", 2e-3),
+        ("_m", 0.2),
+        ("_s", 0.02),
+        ("ratio", 2e-4),
+    ]
+    .iter()
+    .find(|(suffix, _)| f.ends_with(suffix))
+    .map(|(_, t)| *t)
+}
+
+/// One difference found by [`compare`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Difference {
+    /// 1-based line of the golden file (header = line 1).
+    pub line: usize,
+    /// Kind of the record.
+    pub kind: String,
+    /// GPS time of the record, ns.
+    pub t_gps_ns: Option<i64>,
+    /// Field path, e.g. `targets[0].alert_level`.
+    pub field: String,
+    /// Value in the golden file.
+    pub golden: Value,
+    /// Value now.
+    pub now: Value,
+}
+
+fn walk(path: &str, g: &Value, n: &Value, out: &mut Vec<(String, Value, Value)>) {
+    match (g, n) {
+        (Value::Object(a), Value::Object(b)) => {
+            for (k, va) in a {
+                let p = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                walk(&p, va, b.get(k).unwrap_or(&Value::Null), out);
+            }
+            for (k, vb) in b {
+                if !a.contains_key(k) {
+                    out.push((format!("{path}.{k}"), Value::Null, vb.clone()));
+                }
+            }
+        }
+        (Value::Array(a), Value::Array(b)) if a.len() == b.len() => {
+            for (i, (va, vb)) in a.iter().zip(b).enumerate() {
+                walk(&format!("{path}[{i}]"), va, vb, out);
+            }
+        }
+        (Value::Number(a), Value::Number(b)) => {
+            let (x, y) = (
+                a.as_f64().unwrap_or(f64::NAN),
+                b.as_f64().unwrap_or(f64::NAN),
+            );
+            let ok = match tolerance(path) {
+                Some(tol) => (x - y).abs() <= tol,
+                None => a == b,
+            };
+            if !ok {
+                out.push((path.to_string(), g.clone(), n.clone()));
+            }
+        }
+        _ if g == n => {}
+        _ => out.push((path.to_string(), g.clone(), n.clone())),
+    }
+}
+
+/// Compares the records of a golden file (without its header) with the new ones.
+pub fn compare(golden: &[Value], now: &[Value]) -> Vec<Difference> {
+    let mut out = Vec::new();
+    for (i, (g, n)) in golden.iter().zip(now).enumerate() {
+        let mut fields = Vec::new();
+        walk("", g, n, &mut fields);
+        for (field, gv, nv) in fields {
+            out.push(Difference {
+                line: i + 2,
+                kind: g["kind"].as_str().unwrap_or("?").to_string(),
+                t_gps_ns: g["t_gps_ns"].as_i64(),
+                field,
+                golden: gv,
+                now: nv,
+            });
+        }
+    }
+    out
+}
+
+/// A readable report of a comparison (empty when nothing differs).
+pub fn report(golden: &[Value], now: &[Value], diffs: &[Difference]) -> String {
+    let mut s = String::new();
+    let t0 = golden
+        .first()
+        .or(now.first())
+        .and_then(|v| v["t_gps_ns"].as_i64())
+        .unwrap_or(0);
+    if golden.len() != now.len() {
+        let _ = writeln!(
+            s,
+            "record count: golden {}, now {} ({} {})",
+            golden.len(),
+            now.len(),
+            golden.len().abs_diff(now.len()),
+            if now.len() > golden.len() {
+                "more at the end"
+            } else {
+                "missing at the end"
+            }
+        );
+    }
+    if !diffs.is_empty() {
+        let records: std::collections::BTreeSet<usize> = diffs.iter().map(|d| d.line).collect();
+        let _ = writeln!(
+            s,
+            "{} field(s) differ in {} record(s); first {}:",
+            diffs.len(),
+            records.len(),
+            diffs.len().min(MAX_REPORTED)
+        );
+    }
+    for d in diffs.iter().take(MAX_REPORTED) {
+        let t = d.t_gps_ns.map_or(String::new(), |t| {
+            format!(" at {:.3} s", (t - t0) as f64 * 1e-9)
+        });
+        let delta = match (d.golden.as_f64(), d.now.as_f64()) {
+            (Some(a), Some(b)) => format!(
+                " ({:+}, tolerance {})",
+                b - a,
+                tolerance(&d.field).map_or("exact".to_string(), |t| t.to_string())
+            ),
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            s,
+            "  line {} {}{}: {}: golden {}, now {}{}",
+            d.line, d.kind, t, d.field, d.golden, d.now, delta
+        );
+    }
+    s
+}
+
+/// The header line of a golden file.
+fn header(recording: &Path) -> Value {
+    json!({
+        "kind": "golden",
+        "format": FORMAT,
+        "recording": recording.file_name().map(|n| n.to_string_lossy().into_owned()),
+        "bless": "vigil replay RECORDING --check THIS_FILE --bless (see README: Golden replays)",
+    })
+}
+
+/// Replays `mcap` and projects its fused outputs onto golden lines.
+pub fn golden_lines(mcap: &[u8], cfg: PipelineConfig) -> Result<Vec<Value>> {
+    let mut proj = Projector::default();
+    let mut lines = Vec::new();
+    let summary = crate::replay_fused::replay_fused_with(mcap, cfg, |o| {
+        lines.extend(proj.project(o));
+        Ok(())
+    })?;
+    if summary.mcap_messages == 0 {
+        bail!("not a readable mcap recording");
+    }
+    Ok(lines)
+}
+
+/// Writes a golden file.
+pub fn write_golden(path: &Path, recording: &Path, lines: &[Value]) -> Result<()> {
+    let mut s = serde_json::to_string(&header(recording))?;
+    s.push('\n');
+    for l in lines {
+        s.push_str(&serde_json::to_string(l)?);
+        s.push('\n');
+    }
+    std::fs::write(path, s).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Reads a golden file: its records without the header.
+pub fn read_golden(path: &Path) -> Result<Vec<Value>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read golden file {}", path.display()))?;
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let head: Value = serde_json::from_str(lines.next().unwrap_or("{}"))
+        .with_context(|| format!("{}: line 1 is not JSON", path.display()))?;
+    if head["kind"] != "golden" || head["format"] != FORMAT {
+        bail!(
+            "{}: not a golden file of format {FORMAT} (header: {head})",
+            path.display()
+        );
+    }
+    lines
+        .enumerate()
+        .map(|(i, l)| {
+            serde_json::from_str(l)
+                .with_context(|| format!("{}: line {} is not JSON", path.display(), i + 2))
+        })
+        .collect()
+}
+
+/// Runs `--check GOLDEN [--bless]` on the recording `input` (its bytes `mcap`).
+pub fn check(input: &Path, mcap: &[u8], golden: &Path, bless: bool) -> Result<()> {
+    let now = golden_lines(mcap, PipelineConfig::default())?;
+    if bless {
+        write_golden(golden, input, &now)?;
+        eprintln!("{}: blessed, {} records", golden.display(), now.len());
+        return Ok(());
+    }
+    let old = read_golden(golden)?;
+    let diffs = compare(&old, &now);
+    if diffs.is_empty() && old.len() == now.len() {
+        eprintln!("{}: ok, {} records match", golden.display(), now.len());
+        return Ok(());
+    }
+    bail!(
+        "golden check failed against {}:\n{}",
+        golden.display(),
+        report(&old, &now, &diffs)
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tolerances_follow_the_unit_in_the_name() {
+        assert_eq!(tolerance("t_gps_ns"), None);
+        assert_eq!(tolerance("voted_deg[2]"), Some(2e-4));
+        assert_eq!(tolerance("lat_deg"), Some(2e-7));
+        assert_eq!(tolerance("targets[3].horizontal_distance_m"), Some(0.2));
+        assert_eq!(tolerance("targets[0].lowc_s[1]"), Some(0.02));
+        assert_eq!(tolerance("targets[0].alert_level"), None);
+        assert_eq!(tolerance("joint_ratio[1]"), Some(2e-4));
+    }
+
+    #[test]
+    fn a_change_beyond_tolerance_is_reported_with_both_values() {
+        let g = vec![
+            json!({"kind": "ownship", "t_gps_ns": 1_000_000_000i64, "lat_deg": 47.1234567,
+                "heading_deg": 10.0, "source": "vn200_ins"}),
+            json!({"kind": "traffic", "t_gps_ns": 2_000_000_000i64,
+                "targets": [{"address": "4B1A01", "alert_level": 2, "tcpa_s": 30.0}]}),
+        ];
+        let mut n = g.clone();
+        // Within tolerance: not reported.
+        n[0]["heading_deg"] = json!(10.0001);
+        assert!(compare(&g, &n).is_empty());
+        n[0]["heading_deg"] = json!(10.5);
+        n[1]["targets"][0]["alert_level"] = json!(3);
+        n[0]["source"] = json!("tt_multi_rf_gnss");
+        let d = compare(&g, &n);
+        assert_eq!(d.len(), 3);
+        let text = report(&g, &n, &d);
+        assert!(text.contains("3 field(s) differ in 2 record(s)"), "{text}");
+        assert!(
+            text.contains("line 2 ownship at 0.000 s: heading_deg: golden 10.0, now 10.5 (+0.5, tolerance 0.0002)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("line 3 traffic at 1.000 s: targets[0].alert_level: golden 2, now 3 (+1, tolerance exact)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("source: golden \"vn200_ins\", now \"tt_multi_rf_gnss\""),
+            "{text}"
+        );
+        // A missing record.
+        let text = report(&g, &n[..1], &compare(&g, &n[..1]));
+        assert!(
+            text.contains("record count: golden 2, now 1 (1 missing at the end)"),
+            "{text}"
+        );
+    }
+}
