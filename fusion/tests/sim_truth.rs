@@ -265,6 +265,13 @@ fn run(scenario: &Scenario, seconds: i64, seed: u64) -> Run {
     }
     let report = aligner.clock_report(last_host);
     let stats = *aligner.bahrs().stats();
+    println!(
+        "{}: BAHRS pulses named by the VN-200 PPS time {}, by the host clock {}, unidentified {}",
+        scenario.name,
+        stats.pulses_from_vn200_pps,
+        stats.pulses_from_host_clock,
+        stats.pulses_unidentified
+    );
     outs.extend(aligner.flush());
     let mut outputs: BTreeMap<Device, u64> = BTreeMap::new();
     let joined = outs
@@ -313,24 +320,33 @@ fn percentile(sorted: &[i64], p: f64) -> i64 {
 /// Checks one device (and message classes, when given) after `from_s`: p99 |error| and the
 /// 2-sigma share; prints the figures.
 fn check(run: &Run, device: Device, classes: &[&str], from_s: f64, p99_max_ns: i64) {
-    let name = &run.name;
-    let sel: Vec<&Joined> = run
-        .joined
-        .iter()
-        .filter(|j| {
-            j.device == device
-                && j.at_s >= from_s
-                && (classes.is_empty() || classes.contains(&j.class))
-        })
-        .collect();
-    let aligned: Vec<&&Joined> = sel.iter().filter(|j| j.err_ns.is_some()).collect();
-    let mut abs: Vec<i64> = aligned.iter().map(|j| j.err_ns.unwrap().abs()).collect();
-    abs.sort_unstable();
     let what = if classes.is_empty() {
         "all".to_string()
     } else {
         classes.join("+")
     };
+    check_sel(run, device, &what, p99_max_ns, |j| {
+        j.at_s >= from_s && (classes.is_empty() || classes.contains(&j.class))
+    })
+}
+
+/// As [`check`], for the samples of `device` that `keep` selects (labelled `what`).
+fn check_sel(
+    run: &Run,
+    device: Device,
+    what: &str,
+    p99_max_ns: i64,
+    keep: impl Fn(&Joined) -> bool,
+) {
+    let name = &run.name;
+    let sel: Vec<&Joined> = run
+        .joined
+        .iter()
+        .filter(|j| j.device == device && keep(j))
+        .collect();
+    let aligned: Vec<&&Joined> = sel.iter().filter(|j| j.err_ns.is_some()).collect();
+    let mut abs: Vec<i64> = aligned.iter().map(|j| j.err_ns.unwrap().abs()).collect();
+    abs.sort_unstable();
     assert!(!abs.is_empty(), "{name} {device:?} {what}: nothing aligned");
     let within = aligned
         .iter()
@@ -438,7 +454,10 @@ fn check_relock(run: &Run, device: Device, from_s: f64, what: &str) {
 /// The budgets of the "Done when" for a run whose TT-Multi-RF sends JSON and HEX.
 fn check_budgets(r: &Run) {
     check(r, Device::Bahrs, &[], 10.0, 50 * US);
-    check(r, Device::Vn200, &["binary"], 10.0, US);
+    // VN-200: its native GPS time (in a GNSS outage it is host-timed: checked there).
+    check_sel(r, Device::Vn200, "binary native_gps", US, |j| {
+        j.at_s >= 10.0 && j.class == "binary" && j.source == Some(TimeSource::NativeGps)
+    });
     check(r, Device::Watson, &[], 10.0, HOST_BUDGET_NS);
     check(r, Device::Ttmrf, &["json"], 10.0, MS);
 }
@@ -541,6 +560,17 @@ fn gnss_outage_models_relock_without_wrong_locked_times() {
         println!("gnss-outage {d:?}: locked share 62-{to} s {share:.3}");
         assert_eq!(share, 0.0);
     }
+    // The VN-200 during the outage: no valid GPS time and no TimeStartup in its output, so
+    // placed by the host clock (coasting on the references from before the outage).
+    check_sel(&r, Device::Vn200, "binary in outage", HOST_BUDGET_NS, |j| {
+        j.at_s >= 60.5 && j.at_s < 120.0
+    });
+    assert!(
+        r.joined
+            .iter()
+            .filter(|j| j.device == Device::Vn200 && j.at_s >= 60.5 && j.at_s < 120.0)
+            .all(|j| j.source == Some(TimeSource::HostClock))
+    );
     // The host-timed Watson coasts on the host clock (no VN-200 references).
     assert!(
         r.joined

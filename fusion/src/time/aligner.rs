@@ -258,7 +258,18 @@ impl Aligner {
                                 pps,
                             );
                         }
-                        time
+                        match time {
+                            // Decision: without valid GPS time and without a start-up clock
+                            // model (the default output has no TimeStartup), the message is
+                            // placed by the host clock, like an ASCII one: its attitude stays
+                            // valid through a GNSS outage (ICD Table 2.78) and the host clock
+                            // coasts on the references from before it. Without a host clock the
+                            // VN-200's own reason stands.
+                            Err(
+                                why @ (NotAligned::DeviceTimeInvalid | NotAligned::ClockUnlocked),
+                            ) => host_timed(&self.host, rx, self.vn200_link()).or(Err(why)),
+                            t => t,
+                        }
                     }
                     Vn200Message::Ascii(_) => host_timed(&self.host, rx, self.vn200_link()),
                 };

@@ -458,3 +458,30 @@ fn bahrs_pulses_fall_back_to_the_host_clock_when_the_vn200_pps_is_lost() {
     }
     assert_eq!((st.pulses_rejected, al.bahrs().clock().relocks), (0, 0));
 }
+
+#[test]
+fn vn200_without_gps_time_or_startup_clock_is_host_timed() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    // Invalid from the start: no host clock either, the VN-200's reason stands.
+    let (s, rx) = vn200_pps(G0 - S, 0x43);
+    let o = al.handle(s, rx);
+    assert_eq!(o[0].aligned.time, Err(NotAligned::DeviceTimeInvalid));
+    // 10 s valid at 40 Hz, then 5 s of GNSS outage (no TimeStartup in the output).
+    let mut out = Vec::new();
+    for k in 0..600 {
+        let g = G0 + k * 25 * MS;
+        let (s, rx) = vn200_pps(g, if k < 400 { 0b110 } else { 0x43 });
+        out.extend(al.handle(s, rx).into_iter().map(|o| (g, o)));
+    }
+    for (g, o) in &out[400..] {
+        let a = o.aligned.time.unwrap();
+        assert_eq!(a.source, TimeSource::HostClock);
+        // The synthetic VN-200 has no output delay, the 1 ms link is the envelope: exact but
+        // for rounding; the sigma carries the reference delay's 0.5 ms.
+        assert!((a.t_gps_ns - g).abs() < 10_000, "{}", a.t_gps_ns - g);
+        assert!(a.sigma_ns >= 500_000.0);
+    }
+    // The host clock coasts 2 s after its last reference.
+    let last = out.last().unwrap().1.aligned.time.unwrap();
+    assert_eq!(last.status, ClockStatus::Coasting);
+}

@@ -3,11 +3,12 @@
 //!
 //! In the installation the BAHRS synchronisation input is wired to the VN-200 PPS, and the BAHRS
 //! reports the MCU time of each pulse (message 0x06). Each pulse therefore gives one pair
-//! (device ticks, GPS time of a whole second). The caller identifies the GPS second of each pulse
-//! (from the VN-200's TimeGps - TimeGpsPps around the same host time, see [`pulse_second`]); this
-//! module fits `t_gps = a + b * ticks` over a sliding window of pulses by least squares, rejects
-//! outliers (a pulse whose residual is far outside the fit, e.g. a mis-identified second), detects
-//! device resets (time going backwards, or a run of mutually consistent outliers) and re-locks.
+//! (device ticks, GPS time of a whole second). The caller identifies the GPS time of each pulse
+//! (from the VN-200's TimeGps - TimeGpsPps around the same host time, [`PpsReferences`]; else
+//! from the host clock, [`pulse_second`]); this module fits `t_gps = a + b * ticks` over a
+//! sliding window of pulses by least squares, rejects outliers (a pulse whose residual is far
+//! outside the fit, e.g. a mis-identified second), detects device resets (time going backwards,
+//! or a run of mutually consistent outliers) and re-locks.
 //!
 //! Uncertainty of a mapped time: the least-squares prediction interval (residual scatter, with a
 //! floor of the tick quantisation and pulse jitter) plus the drift uncertainty times the time since
