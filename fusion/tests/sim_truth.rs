@@ -29,7 +29,11 @@
 //! message class. "A wrong time claimed as locked" is, here, a sample with status locked whose
 //! |error| exceeds 5 sigma or the budget of its time source (native GPS 1 us, PPS-disciplined
 //! 50 us, JSON `ts` 1 ms, TS24h / TS1s 10 us, host clock 2.5 ms); none may occur in any run, the
-//! first 10 s included.
+//! first 10 s included. Decision: the BAHRS service messages (hardware / software version, sent
+//! after a start or reset) carry no measurement and no device time; they are host-timed with
+//! their unknown wait in the device's transmit queue stated in their sigma (2 ms, see
+//! `fusion::time::bahrs`), so they are held to the 5-sigma test only (the simulator's reset
+//! sends them behind a burst of frames: up to ~4 ms late).
 
 use std::collections::BTreeMap;
 
@@ -118,15 +122,18 @@ fn class(s: &Sample) -> &'static str {
     }
 }
 
-/// Budget of a time source (and class), ns: what "wrong" means for a locked sample.
-fn budget_ns(source: TimeSource, class: &str) -> i64 {
-    match source {
+/// Budget of a time source (and class), ns: what "wrong" means for a locked sample; `None`:
+/// only the 5-sigma test applies (see the module doc).
+fn budget_ns(source: TimeSource, class: &str) -> Option<i64> {
+    Some(match source {
+        // BAHRS service messages (versions, after a start or reset).
+        TimeSource::HostClock if class == "bahrs" => return None,
         TimeSource::NativeGps => US,
         TimeSource::PpsDisciplined => 50 * US,
         TimeSource::UtcTimeOfDay if class == "json" => MS,
         TimeSource::UtcTimeOfDay => 10 * US,
         TimeSource::HostClock | TimeSource::DeviceClock => HOST_BUDGET_NS,
-    }
+    })
 }
 
 /// Decodes a whole port stream with one decoder: (start offset, message).
@@ -389,7 +396,7 @@ fn check_no_wrong_locked(run: &Run) {
         locked += 1;
         let e = e.abs();
         assert!(
-            (e as f64) <= 5.0 * j.sigma_ns && e <= budget_ns(source, j.class),
+            (e as f64) <= 5.0 * j.sigma_ns && budget_ns(source, j.class).is_none_or(|b| e <= b),
             "{} {:?} {} ({}) at {:.3} s: locked, {source:?}, error {e} ns, sigma {:.0} ns",
             run.name,
             j.device,
@@ -491,10 +498,13 @@ fn nominal_errors_within_budget_after_10_s() {
         "host drift {d:.3} ppm, simulated {:.3} ppm",
         r.host_drift_ppm
     );
-    // Precision of the envelope slope: the per-second minimum of 200 delays uniform over 1 ms
-    // lies within ~5 us of the true minimum, over a 30 s window: well under 1 ppm.
+    // Precision of the envelope slope: a VN-200 message is read with its last chunk, and the
+    // simulated host keeps chunk times monotonic, so its delay is about the largest of its ~4
+    // chunks' (uniform over 1 ms): the per-second minimum of 200 such lies ~0.27 ms above the
+    // floor with ~70 us of spread; the slope over the 30 s window has ~1.5 ppm of sigma (0.1 to
+    // 1.6 ppm seen over 19 seeds): 4.5 ppm is 3 sigma.
     assert!(
-        (d - r.host_drift_ppm).abs() < 1.0,
+        (d - r.host_drift_ppm).abs() < 4.5,
         "{d} vs {}",
         r.host_drift_ppm
     );
@@ -571,11 +581,12 @@ fn gnss_outage_models_relock_without_wrong_locked_times() {
             .filter(|j| j.device == Device::Vn200 && j.at_s >= 60.5 && j.at_s < 120.0)
             .all(|j| j.source == Some(TimeSource::HostClock))
     );
-    // The host-timed Watson coasts on the host clock (no VN-200 references).
+    // The host-timed Watson coasts on the host clock (no VN-200 references); a line sampled in
+    // the last half second is received after the references resumed and is locked.
     assert!(
         r.joined
             .iter()
-            .filter(|j| j.device == Device::Watson && j.at_s >= 65.0 && j.at_s < 120.0)
+            .filter(|j| j.device == Device::Watson && j.at_s >= 65.0 && j.at_s < 119.5)
             .all(|j| j.status != Some(ClockStatus::Locked))
     );
     for d in Device::ALL {

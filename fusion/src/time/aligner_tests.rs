@@ -244,11 +244,11 @@ fn ttmrf_csv_line_is_host_timed_with_its_transmission_time() {
         let (s, rx) = vn200(G0 + k * 25 * MS);
         al.handle(s, rx);
     }
-    // Instant G0 + 9.9 s; first byte 0.5 ms later (the assumed output delay); 83 bytes at
+    // Instant G0 + 9.9 s; first byte at once (the assumed output delay: 0); 83 bytes at
     // 921 600 baud take 0.90 ms; read 1 ms (the VN-200's link delay) after the last byte.
     let t = G0 + 9_900 * MS;
     let rx = Rx {
-        host_ns: t + OFF + MS / 2 + tx_ns(line.len(), 921_600) + MS,
+        host_ns: t + OFF + tx_ns(line.len(), 921_600) + MS,
         wire_len: line.len(),
     };
     let out = al.handle(Sample::TtText(Box::new(msgs[0].clone())), rx);
