@@ -18,8 +18,9 @@
 //!
 //! Runs:
 //! - `nominal` (TT-Multi-RF JSON plus HEX with TS24h / TS1s): every budget after the first 10 s.
-//! - `nominal` with the TT-Multi-RF on CSV and HEXd (no time stamps; a scenario variant built
-//!   here): the host-timed budget for CSV, NMEA and HEXd lines.
+//! - `nominal` with the TT-Multi-RF on CSV and HEXd (no time stamps) and BAHRS time messages 3
+//!   data messages late (a scenario variant built here): the host-timed budget for CSV, NMEA and
+//!   HEXd lines, the BAHRS budget with late time messages.
 //! - `link-errors`: every budget after 10 s; BAHRS reset at 40 s and PPS loss 50-53 s re-lock.
 //! - `gnss-outage`: GNSS and PPS lost 60-120 s; VN-200, BAHRS and host clock re-lock.
 //!
@@ -194,12 +195,15 @@ fn decode_port(device: &str, bytes: &[u8]) -> Vec<(u64, usize, Sample)> {
     }
 }
 
-/// `nominal` with the TT-Multi-RF on CSV and HEXd (no time stamps in any of its lines).
-fn nominal_csv() -> Scenario {
+/// `nominal` with the TT-Multi-RF on CSV and HEXd (no time stamps in any of its lines), and the
+/// BAHRS sending each time message (0x05 / 0x04) after the 3rd later data message of its stream
+/// (late time messages).
+fn nominal_variant() -> Scenario {
     let mut s = builtin("nominal").unwrap();
     let tt = s.devices.ttmrf.as_mut().unwrap();
     tt.protocol = "csv".into();
     tt.raw = "hexd".into();
+    s.devices.bahrs.as_mut().unwrap().time_message_lag = 3;
     s
 }
 
@@ -514,10 +518,22 @@ fn nominal_errors_within_budget_after_10_s() {
 }
 
 #[test]
-fn nominal_csv_and_hexd_are_host_timed_within_budget() {
-    let r = run(&nominal_csv(), 30, 11);
+fn nominal_csv_hexd_and_late_bahrs_time_messages_within_budget() {
+    let r = run(&nominal_variant(), 30, 11);
     check_nothing_dropped(&r);
     check_no_wrong_locked(&r);
+    // Late time messages: every data message still paired and aligned.
+    check(&r, Device::Bahrs, &[], 10.0, 50 * US);
+    assert!(locked_share(&r, Device::Bahrs, 10.0, 30.0) > 0.99);
+    // Only the last 3 data messages of each stream (at 50 and 100 Hz: within 60 ms of the end)
+    // have no time message: it was never sent before the run ended.
+    let unaligned: Vec<&Joined> = r
+        .joined
+        .iter()
+        .filter(|j| j.device == Device::Bahrs && j.at_s >= 10.0 && j.err_ns.is_none())
+        .collect();
+    assert_eq!(unaligned.len(), 6, "{unaligned:?}");
+    assert!(unaligned.iter().all(|j| j.at_s > 29.9), "{unaligned:?}");
     check(&r, Device::Ttmrf, &["csv"], 10.0, HOST_BUDGET_NS);
     check(&r, Device::Ttmrf, &["nmea"], 10.0, HOST_BUDGET_NS);
     check(&r, Device::Ttmrf, &["hex_no_ts"], 10.0, HOST_BUDGET_NS);
