@@ -303,6 +303,7 @@ fn random_inputs_never_panic_and_every_input_comes_out_once() {
                         common: Some(CommonGroup {
                             time_gps_ns: Some(gps),
                             time_startup_ns: Some(st),
+                            time_gps_pps_ns: Some(u(&mut rng, gps % S as u64)),
                             ins_status: Some(InsStatus((rng.unit() * 65536.0) as u16)),
                             ..Default::default()
                         }),

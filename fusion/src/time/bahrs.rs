@@ -208,7 +208,7 @@ impl<T: BahrsSample> BahrsAligner<T> {
                 self.observe(p.mcu_time_us, &mut out);
                 // The pulse edge precedes the 0x06's first byte; its transmission ends at host_ns,
                 // so its first byte reached the host at about host_ns - its transmission time.
-                let first_byte = host_ns - self.tx_ns(0x06);
+                let first_byte = host_ns.saturating_sub(self.tx_ns(0x06));
                 let named = match vn_pps.pulse_gps(first_byte) {
                     Some(t) => Some((t, PulseSecondSource::Vn200Pps)),
                     // The host model maps a receive time to the send time of the message's start.

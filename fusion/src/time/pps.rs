@@ -424,6 +424,8 @@ impl PpsReferences {
     pub const MAX_DISTANCE_NS: i64 = super::gps::NS_PER_S;
     /// Largest TimeGpsPps accepted, ns (a PPS within the last 1.5 s).
     pub const MAX_PPS_AGE_NS: u64 = 1_500_000_000;
+    /// Largest host or GPS time accepted, ns (2^61: 73 years).
+    pub const MAX_TIME_NS: i64 = 1 << 61;
 
     /// No references.
     pub fn new() -> Self {
@@ -434,7 +436,13 @@ impl PpsReferences {
     /// time `host_ns`, TimeGps `t_gps_ns`, TimeGpsPps `pps_age_ns`. Returns false when the
     /// reference is not taken (PPS too old, or time before the PPS epoch).
     pub fn add(&mut self, host_ns: i64, t_gps_ns: i64, pps_age_ns: u64) -> bool {
-        if pps_age_ns > Self::MAX_PPS_AGE_NS {
+        // Decision: times outside 0 ..= 2^61 ns (73 years) are garbage; refused, so every sum
+        // and difference below fits in an i64.
+        let range = 0..=Self::MAX_TIME_NS;
+        if pps_age_ns > Self::MAX_PPS_AGE_NS
+            || !range.contains(&host_ns)
+            || !range.contains(&t_gps_ns)
+        {
             return false;
         }
         // Bounded above, so the cast and the subtraction cannot overflow.
@@ -485,8 +493,8 @@ impl PpsReferences {
     pub fn pulse_gps(&self, pulse_host_ns: i64) -> Option<i64> {
         let r = self.nearest(pulse_host_ns)?;
         let s = super::gps::NS_PER_S;
-        // Both terms are bounded: host times within 2^61 (the aligner clamps them) and the
-        // distance within MAX_DISTANCE_NS.
+        // Bounded: the reference's times within 0 ..= 2^61 (`add`) and the distance within
+        // MAX_DISTANCE_NS (`nearest`).
         let estimate = r.t_gps_ns + (pulse_host_ns - r.host_ns);
         let k = (estimate - r.pps_gps_ns + s / 2).div_euclid(s);
         Some(r.pps_gps_ns + k * s)
@@ -659,6 +667,9 @@ mod tests {
         // TimeGpsPps larger than TimeGps: no PPS epoch.
         assert!(!r.add(0, 1_000, 1_000_000));
         assert_eq!(r.pulse_gps(10 * NS_PER_S), None);
+        // Garbage times are refused.
+        assert!(!r.add(i64::MIN, 10 * NS_PER_S, 0));
+        assert!(!r.add(0, i64::MAX, 0));
         // Old references age out: 3 s later only the new one is near.
         assert!(r.add(10 * NS_PER_S, 10 * NS_PER_S, 0));
         assert!(r.add(13 * NS_PER_S, 13 * NS_PER_S, 0));
