@@ -1,60 +1,71 @@
 //! Time alignment against the simulator's truth (issue 7, "Done when").
 //!
-//! The simulator runs `nominal` and `link-errors`; its BAHRS and Watson streams are decoded with
-//! the drivers (through `vigil_sim::replay::Replayer`, as `vigil replay` does) and aligned; each
-//! aligned sample is joined to its truth record by stream offset (`rx_offset`), so messages lost
-//! or damaged by link faults do not shift the join.
+//! The simulator runs its own scenarios with all four device models (BAHRS, Watson, VN-200,
+//! TT-Multi-RF); every port's received bytes are decoded with the drivers and aligned, and each
+//! aligned sample is joined to its truth record by device and stream offset (`rx_offset`), so
+//! messages lost or damaged by link faults do not shift the join (damaged ones have no truth).
 //!
-//! The simulator has no VN-200 model yet (it is being added on another branch): the VN-200 is a
-//! synthetic stream here, built with the driver's encoder: binary output at 40 Hz with TimeGps,
-//! TimeStartup (12 ppm fast) and InsStatus, sent at 921 600 baud, its last byte reaching the
-//! simulated host clock (`RunInfo::host_clock`, drift and offset) after the scenario's link latency
-//! (uniform in mean +- jitter). A GNSS outage is synthesised in `link-errors` (InsStatus without
-//! fix from 60 to 66 s). TT-Multi-RF is synthetic too (no simulator model yet): JSON `ts`
-//! truncated to the ms and HEX frames with exact TS24h / TS1s stamps on the same simulated host
-//! link, so their figures test the placement (day, leap seconds, PPS second, host reference), not
-//! a receiver's stamp accuracy.
+//! Decoding follows `vigil replay --emit aligned` (`bins/src/replay_aligned.rs`): BAHRS and Watson
+//! with their decoders, the wire length by re-encoding; VN-200 with its decoder and the TT-Multi-RF
+//! port with the text decoder (auto mode) and the HEX decoder side by side over the same bytes,
+//! merged by offset, each message's length running to the next message's start (the last to the
+//! end of the stream). Each message's [`Rx`] is the host time of the read holding its last byte
+//! ([`ChunkClock`]) and its wire length. Differences, on purpose: each port's stream is decoded
+//! whole (the decoders give the same messages for any split of the bytes: the drivers' split
+//! invariant), and the messages of all ports are handed to the aligner in order of that receive
+//! time, as a live host would see them (replay hands a message over when the next one of its
+//! port is decoded).
+//!
+//! Runs:
+//! - `nominal` (TT-Multi-RF JSON plus HEX with TS24h / TS1s): every budget after the first 10 s.
+//! - `nominal` with the TT-Multi-RF on CSV and HEXd (no time stamps) and BAHRS time messages 3
+//!   data messages late (a scenario variant built here): the host-timed budget for CSV, NMEA and
+//!   HEXd lines, the BAHRS budget with late time messages.
+//! - `link-errors`: every budget after 10 s; BAHRS reset at 40 s and PPS loss 50-53 s re-lock.
+//! - `gnss-outage`: GNSS and PPS lost 60-120 s; VN-200, BAHRS and host clock re-lock.
+//!
+//! Budgets (issue 7): BAHRS p99 |error| <= 50 us; VN-200 <= 1 us; TT-Multi-RF JSON <= 1 ms; raw
+//! frames with TS24h <= 10 us; host-timed samples p99 <= 2 ms beyond the link latency jitter
+//! (+-0.5 ms in these scenarios: 2.5 ms); at least 95 % of errors within 2 sigma per device and
+//! message class. "A wrong time claimed as locked" is, here, a sample with status locked whose
+//! |error| exceeds 5 sigma or the budget of its time source (native GPS 1 us, PPS-disciplined
+//! 50 us, JSON `ts` 1 ms, TS24h / TS1s 10 us, host clock 2.5 ms); none may occur in any run, the
+//! first 10 s included. Decision: the BAHRS service messages (hardware / software version, sent
+//! after a start or reset) carry no measurement and no device time; they are host-timed with
+//! their unknown wait in the device's transmit queue stated in their sigma (2 ms, see
+//! `fusion::time::bahrs`), so they are held to the 5-sigma test only (the simulator's reset
+//! sends them behind a burst of frames: up to ~4 ms late).
 
 use std::collections::BTreeMap;
 
-use vigil_drivers::ttmrf::json::JsonMessage;
-use vigil_drivers::ttmrf::raw::{ModeSFrame, RawFrame, RxMeta};
-use vigil_drivers::ttmrf::text::TextMessage;
-use vigil_drivers::vn200::Vn200Message;
-use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup};
-use vigil_drivers::vn200::status::InsStatus;
+use bytes::BytesMut;
+use vigil_drivers::DeviceDecoder;
+use vigil_drivers::bahrs::Decoder as BahrsDecoder;
+use vigil_drivers::ttmrf::raw::{HexDecoder, RawFrame};
+use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
+use vigil_drivers::watson::Decoder as WatsonDecoder;
 use vigil_fusion::time::aligner::{
     AlignedSample, Aligner, AlignerConfig, ClockReport, Device, Sample,
 };
-use vigil_fusion::time::host_timed::{ChunkClock, tx_ns};
+use vigil_fusion::time::host_timed::ChunkClock;
 use vigil_fusion::time::{ClockStatus, Rx, TimeSource};
-use vigil_sim::replay::{Decoded, Message, Replayer};
-use vigil_sim::scenario::builtin;
-use vigil_sim::{MemorySink, Simulator, TruthRecord};
+use vigil_sim::scenario::{Scenario, builtin};
+use vigil_sim::{Chunk, MemorySink, Simulator, TruthRecord};
 
 const S: i64 = 1_000_000_000;
+const US: i64 = 1_000;
 const MS: i64 = 1_000_000;
 
-/// InsStatus: tracking with a GNSS fix; without one and with the GNSS error bit.
-const INS_OK: u16 = 0b110;
-const INS_NO_GNSS: u16 = 0b100_0010;
-
-/// Deterministic uniform numbers for the synthetic stream.
-struct Lcg(u64);
-impl Lcg {
-    fn unit(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+/// Host-timed budget: 2 ms beyond the scenarios' link latency jitter (+-0.5 ms).
+const HOST_BUDGET_NS: i64 = 2_500_000;
 
 /// One aligned sample with its truth.
 #[derive(Debug, Clone, Copy)]
 struct Joined {
     device: Device,
+    /// Message class from the decoded sample (see [`class`]).
+    class: &'static str,
     /// Truth message type.
     kind: &'static str,
     /// Seconds since the scenario start (truth).
@@ -66,149 +77,142 @@ struct Joined {
 }
 
 struct Run {
+    name: String,
     joined: Vec<Joined>,
     /// Inputs per device and outputs per device (every input must come out once).
     inputs: BTreeMap<Device, u64>,
     outputs: BTreeMap<Device, u64>,
-    /// Clock reports at the last chunk's host time.
+    /// Clock reports at the last receive time.
     report: Vec<ClockReport>,
     /// The simulated host clock's drift against GPS, ppm (truth).
     host_drift_ppm: f64,
+    /// Pulses whose GPS second came from the VN-200's PPS time, and from the host clock.
+    pulses_vn200: u64,
+    pulses_host: u64,
 }
 
-/// Synthetic VN-200 messages: (receive, message, truth GPS time).
-fn synthetic_vn200(
-    sink: &MemorySink,
-    seconds: i64,
-    outage: Option<(i64, i64)>,
-) -> Vec<(Rx, BinaryOutput, i64)> {
-    let info = sink.info.as_ref().unwrap();
-    let host_cfg = builtin(&info.scenario).unwrap().host;
-    let start = info.start_gps_ns;
-    let mut rng = Lcg(77);
-    let mut out = Vec::new();
-    let mut k = 0;
-    loop {
-        let since = k * 25 * MS;
-        if since > seconds * S {
-            break;
+/// The class of a decoded sample: what kind of time it carries.
+fn class(s: &Sample) -> &'static str {
+    match s {
+        Sample::Bahrs(_) => "bahrs",
+        Sample::Watson(_) => "watson",
+        Sample::Vn200(m) => match &**m {
+            Vn200Message::Binary(_) => "binary",
+            Vn200Message::Ascii(_) => "ascii",
+        },
+        Sample::TtText(m) => match &**m {
+            TextMessage::Json(j) if j.ts_ms.is_some() => "json",
+            TextMessage::Json(_) => "json_no_ts",
+            TextMessage::Csv(_) => "csv",
+            TextMessage::Nmea(_) => "nmea",
+            TextMessage::At(_) => "at",
+        },
+        Sample::TtRaw(f) => {
+            let meta = match &**f {
+                RawFrame::ModeS(s) => s.meta,
+                RawFrame::ModeAc(a) => a.meta,
+                RawFrame::Uat(u) => u.meta,
+            };
+            match (meta.ts_utc_ns, meta.ts_pps_ns) {
+                (Some(_), _) => "hex_ts24h",
+                (None, Some(_)) => "hex_ts1s",
+                (None, None) => "hex_no_ts",
+            }
         }
-        let gps = start + since;
-        let in_outage = outage.is_some_and(|(a, b)| since >= a * S && since < b * S);
-        let o = BinaryOutput {
-            common: Some(CommonGroup {
-                time_startup_ns: Some(((since + 3 * S) as f64 * (1.0 + 12e-6)) as u64),
-                time_gps_ns: Some(gps as u64),
-                ins_status: Some(InsStatus(if in_outage { INS_NO_GNSS } else { INS_OK })),
-                ypr: Some(vigil_drivers::vn200::binary::Ypr {
-                    yaw_deg: 1.0,
-                    pitch_deg: 2.0,
-                    roll_deg: 3.0,
-                }),
-                ..Default::default()
-            }),
-            ..Default::default()
-        };
-        let len = o.encode().len();
-        let last_byte = gps + tx_ns(len, 921_600);
-        let lat = host_cfg.latency_ms + (2.0 * rng.unit() - 1.0) * host_cfg.latency_jitter_ms;
-        let host_ns = info.host_clock.host_ns(last_byte) as i64 + (lat * 1e6) as i64;
-        out.push((
-            Rx {
-                host_ns,
-                wire_len: len,
-            },
-            o,
-            gps,
-        ));
-        k += 1;
+        _ => "other",
     }
-    out
 }
 
-/// Synthetic TT-Multi-RF messages on the same simulated host: JSON at 1 Hz (`ts` truncated to
-/// the ms), HEX Mode S frames at 10 Hz with TS24h and at 10 Hz with TS1s only. Each is output
-/// 0.5 ms after its instant (the aligner's assumed delay), sent at 921 600 baud, read after the
-/// scenario's link latency. Returns (receive, sample, truth, kind), in receive order.
-fn synthetic_ttmrf(sink: &MemorySink, seconds: i64) -> Vec<(Rx, Sample, i64, &'static str)> {
-    let info = sink.info.as_ref().unwrap();
-    let host_cfg = builtin(&info.scenario).unwrap().host;
-    let start = info.start_gps_ns;
-    // UTC midnight before the start, in GPS ns (GPS - UTC = 18 s: Unix = GPS + epoch - 18 s).
-    let midnight_gps = start - (start + (315_964_800 - 18) * S).rem_euclid(86_400 * S);
-    let mut rng = Lcg(99);
+/// Budget of a time source (and class), ns: what "wrong" means for a locked sample; `None`:
+/// only the 5-sigma test applies (see the module doc).
+fn budget_ns(source: TimeSource, class: &str) -> Option<i64> {
+    Some(match source {
+        // BAHRS service messages (versions, after a start or reset).
+        TimeSource::HostClock if class == "bahrs" => return None,
+        TimeSource::NativeGps => US,
+        TimeSource::PpsDisciplined => 50 * US,
+        TimeSource::UtcTimeOfDay if class == "json" => MS,
+        TimeSource::UtcTimeOfDay => 10 * US,
+        TimeSource::HostClock | TimeSource::DeviceClock => HOST_BUDGET_NS,
+    })
+}
+
+/// Decodes a whole port stream with one decoder: (start offset, message).
+fn located<D: DeviceDecoder>(mut d: D, bytes: &[u8]) -> Vec<(u64, D::Message)> {
+    let mut buf = BytesMut::from(bytes);
     let mut out = Vec::new();
-    for k in 0..seconds * 20 {
-        // Instants off the whole ms (and off the PPS) by a varying fraction.
-        let t = start + k * 50 * MS + 37 * MS + (rng.unit() * 1e6) as i64;
-        let of_day = t - midnight_gps;
-        let (sample, len, kind) = if k % 20 == 0 {
-            let j = JsonMessage {
-                ts_ms: Some((of_day / MS) as u32),
-                ..Default::default()
-            };
-            (
-                Sample::TtText(Box::new(TextMessage::Json(Box::new(j)))),
-                180,
-                "json",
-            )
-        } else {
-            let ts24 = k % 2 == 0;
-            let meta = RxMeta {
-                ts_utc_ns: ts24.then_some(of_day as u64),
-                // The receiver's PPS marks whole GPS seconds.
-                ts_pps_ns: Some(t.rem_euclid(S) as u64),
-                ..Default::default()
-            };
-            let f = RawFrame::ModeS(ModeSFrame {
-                bytes: [0x8D; 14],
-                len: 14,
-                meta,
-            });
-            (
-                Sample::TtRaw(Box::new(f)),
-                60,
-                if ts24 { "hex_ts24h" } else { "hex_ts1s" },
-            )
-        };
-        let last_byte = t + 500_000 + tx_ns(len, 921_600);
-        let lat = host_cfg.latency_ms + (2.0 * rng.unit() - 1.0) * host_cfg.latency_jitter_ms;
-        let host_ns = info.host_clock.host_ns(last_byte) as i64 + (lat * 1e6) as i64;
-        out.push((
-            Rx {
-                host_ns,
-                wire_len: len,
-            },
-            sample,
-            t,
-            kind,
-        ));
+    while let Some(m) = d.decode(&mut buf) {
+        out.push((d.stats().last_frame_start, m));
     }
-    out.sort_by_key(|e| e.0.host_ns);
+    while let Some(m) = d.decode_eof(&mut buf) {
+        out.push((d.stats().last_frame_start, m));
+    }
     out
 }
 
-fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
-    let s = builtin(name).unwrap();
-    let mut sim = Simulator::new(&s, seed).unwrap();
+/// Lengths from the next message's start (the last message runs to the end of the stream).
+fn by_next_offset(mut v: Vec<(u64, Sample)>, end: u64) -> Vec<(u64, usize, Sample)> {
+    v.sort_by_key(|e| e.0);
+    let starts: Vec<u64> = v.iter().map(|e| e.0).collect();
+    v.into_iter()
+        .enumerate()
+        .map(|(i, (o, s))| {
+            let next = starts.get(i + 1).copied().unwrap_or(end);
+            (o, next.saturating_sub(o) as usize, s)
+        })
+        .collect()
+}
+
+/// Every message of one port: (start offset, wire length, sample), in offset order.
+fn decode_port(device: &str, bytes: &[u8]) -> Vec<(u64, usize, Sample)> {
+    let end = bytes.len() as u64;
+    match device {
+        "bahrs" => located(BahrsDecoder::new(), bytes)
+            .into_iter()
+            .map(|(o, m)| (o, m.to_frame().len(), Sample::Bahrs(m)))
+            .collect(),
+        "watson" => located(WatsonDecoder::new(), bytes)
+            .into_iter()
+            .map(|(o, l)| (o, l.to_bytes().len(), Sample::Watson(l)))
+            .collect(),
+        "vn200" => by_next_offset(
+            located(Vn200Decoder::new(), bytes)
+                .into_iter()
+                .map(|(o, m)| (o, Sample::Vn200(Box::new(m))))
+                .collect(),
+            end,
+        ),
+        "ttmrf" => {
+            let text = located(TextDecoder::new(TextMode::Auto), bytes)
+                .into_iter()
+                .map(|(o, m)| (o, Sample::TtText(Box::new(m))));
+            let raw = located(HexDecoder::new(), bytes)
+                .into_iter()
+                .map(|(o, f)| (o, Sample::TtRaw(Box::new(f))));
+            by_next_offset(text.chain(raw).collect(), end)
+        }
+        other => panic!("no decoder for port {other}"),
+    }
+}
+
+/// `nominal` with the TT-Multi-RF on CSV and HEXd (no time stamps in any of its lines), and the
+/// BAHRS sending each time message (0x05 / 0x04) after the 3rd later data message of its stream
+/// (late time messages).
+fn nominal_variant() -> Scenario {
+    let mut s = builtin("nominal").unwrap();
+    let tt = s.devices.ttmrf.as_mut().unwrap();
+    tt.protocol = "csv".into();
+    tt.raw = "hexd".into();
+    s.devices.bahrs.as_mut().unwrap().time_message_lag = 3;
+    s
+}
+
+fn run(scenario: &Scenario, seconds: i64, seed: u64) -> Run {
+    let mut sim = Simulator::new(scenario, seed).unwrap();
     let mut sink = MemorySink::default();
     sim.run(seconds * S, &mut sink).unwrap();
     let info = sink.info.clone().unwrap();
     let start = info.start_gps_ns;
-    let mut synthetic: Vec<(Rx, Sample, i64, &'static str)> =
-        synthetic_vn200(&sink, seconds, outage)
-            .into_iter()
-            .map(|(rx, o, g)| {
-                (
-                    rx,
-                    Sample::Vn200(Box::new(Vn200Message::Binary(o))),
-                    g,
-                    "binary",
-                )
-            })
-            .chain(synthetic_ttmrf(&sink, seconds))
-            .collect();
-    synthetic.sort_by_key(|e| e.0.host_ns);
     let truth: BTreeMap<(&str, u64), &TruthRecord> = sink
         .truth
         .iter()
@@ -216,99 +220,107 @@ fn run(name: &str, seconds: i64, seed: u64, outage: Option<(i64, i64)>) -> Run {
         .map(|r| ((r.device, r.rx_offset), r))
         .collect();
 
-    let mut aligner = Aligner::new(AlignerConfig::default());
-    let mut replayer = Replayer::new();
-    let mut clocks: BTreeMap<String, ChunkClock> = BTreeMap::new();
-    // Per (device, index): the truth GPS time of the input, when known.
-    let mut truth_of: BTreeMap<(Device, u64), (i64, &'static str)> = BTreeMap::new();
-    let mut inputs: BTreeMap<Device, u64> = BTreeMap::new();
-    let mut outs: Vec<AlignedSample> = Vec::new();
-    let mut vn_iter = synthetic.into_iter().peekable();
-
-    let mut feed = |sample: Sample,
-                    rx: Rx,
-                    truth: Option<(i64, &'static str)>,
-                    aligner: &mut Aligner,
-                    outs: &mut Vec<AlignedSample>| {
-        let d = sample.device();
-        let n = inputs.entry(d).or_default();
-        if let Some(t) = truth {
-            truth_of.insert((d, *n), t);
-        }
-        *n += 1;
-        outs.extend(aligner.handle(sample, rx));
-    };
-
-    for c in &sink.chunks {
-        let port = &info.ports[usize::from(c.port)];
-        let t = c.t_host_ns as i64;
-        while vn_iter.peek().is_some_and(|(rx, _, _, _)| rx.host_ns <= t) {
-            let (rx, sample, g, kind) = vn_iter.next().unwrap();
-            feed(sample, rx, Some((g, kind)), &mut aligner, &mut outs);
-        }
-        let clock = clocks.entry(port.device.to_string()).or_default();
-        clock.push(t, c.bytes.len());
-        let mut decoded: Vec<(Sample, u64, usize)> = Vec::new();
-        let mut f = |d: Decoded<'_>| -> Result<(), ()> {
-            let (sample, len) = match d.message {
-                Message::Bahrs(m) => (Sample::Bahrs(*m), m.to_frame().len()),
-                Message::Watson(l) => (Sample::Watson(*l), l.to_bytes().len()),
-                // This test's VN-200 and TT-Multi-RF are the synthetic streams above, written
-                // before the simulator had those devices; its own ports are left out here.
-                Message::Vn200(_) | Message::Ttmrf(_) | Message::TtmrfRaw(_) => return Ok(()),
-            };
-            decoded.push((sample, d.offset, len));
-            Ok(())
-        };
-        replayer
-            .feed(port.device, port.protocol, c.t_host_ns, &c.bytes, &mut f)
-            .unwrap();
-        for (sample, offset, len) in decoded {
+    // Per port: the stream and its chunk clock; then every message with its receive.
+    struct Input {
+        rx: Rx,
+        sample: Sample,
+        truth: Option<(i64, &'static str)>,
+    }
+    let mut inputs_all: Vec<Input> = Vec::new();
+    for (p, port) in info.ports.iter().enumerate() {
+        let chunks: Vec<&Chunk> = sink
+            .chunks
+            .iter()
+            .filter(|c| usize::from(c.port) == p)
+            .collect();
+        let stream: Vec<u8> = chunks
+            .iter()
+            .flat_map(|c| c.bytes.iter().copied())
+            .collect();
+        // The chunk clock is fed as a live port would be: a read at a time, up to the read
+        // holding the message's last byte (it keeps a bounded history).
+        let mut clock = ChunkClock::default();
+        let (mut next, mut fed) = (0, 0u64);
+        for (offset, len, sample) in decode_port(port.device, &stream) {
+            while fed < offset + len as u64
+                && let Some(c) = chunks.get(next)
+            {
+                clock.push(c.t_host_ns as i64, c.bytes.len());
+                fed += c.bytes.len() as u64;
+                next += 1;
+            }
             let rx = clock.rx(offset, len).unwrap();
-            let tr = truth
+            let truth = truth
                 .get(&(port.device, offset))
                 .map(|r| (r.t_gps_ns, r.kind));
-            feed(sample, rx, tr, &mut aligner, &mut outs);
+            inputs_all.push(Input { rx, sample, truth });
         }
     }
-    let last_host = sink.chunks.last().map_or(0, |c| c.t_host_ns as i64);
+    // In receive order (stable: a port's messages keep their stream order).
+    inputs_all.sort_by_key(|i| i.rx.host_ns);
+
+    let mut aligner = Aligner::new(AlignerConfig::default());
+    let mut truth_of: BTreeMap<(Device, u64), (i64, &'static str, &'static str)> = BTreeMap::new();
+    let mut inputs: BTreeMap<Device, u64> = BTreeMap::new();
+    let mut outs: Vec<AlignedSample> = Vec::new();
+    let mut last_host = 0;
+    for i in inputs_all {
+        let d = i.sample.device();
+        let n = inputs.entry(d).or_default();
+        if let Some((t, kind)) = i.truth {
+            truth_of.insert((d, *n), (t, kind, class(&i.sample)));
+        }
+        *n += 1;
+        last_host = i.rx.host_ns;
+        outs.extend(aligner.handle(i.sample, i.rx));
+    }
     let report = aligner.clock_report(last_host);
+    let stats = *aligner.bahrs().stats();
+    println!(
+        "{}: BAHRS pulses named by the VN-200 PPS time {}, by the host clock {}, unidentified {}",
+        scenario.name,
+        stats.pulses_from_vn200_pps,
+        stats.pulses_from_host_clock,
+        stats.pulses_unidentified
+    );
     outs.extend(aligner.flush());
     let mut outputs: BTreeMap<Device, u64> = BTreeMap::new();
     let joined = outs
         .iter()
         .filter_map(|o| {
             *outputs.entry(o.device).or_default() += 1;
-            let (truth, kind) = *truth_of.get(&(o.device, o.index))?;
+            let (truth, kind, class) = *truth_of.get(&(o.device, o.index))?;
             let at_s = (truth - start) as f64 / 1e9;
-            Some(match o.aligned.time {
-                Ok(a) => Joined {
-                    device: o.device,
-                    kind,
-                    at_s,
-                    err_ns: Some(a.t_gps_ns - truth),
-                    sigma_ns: a.sigma_ns,
-                    status: Some(a.status),
-                    source: Some(a.source),
-                },
-                Err(_) => Joined {
-                    device: o.device,
-                    kind,
-                    at_s,
-                    err_ns: None,
-                    sigma_ns: f64::INFINITY,
-                    status: None,
-                    source: None,
-                },
+            let (err_ns, sigma_ns, status, source) = match o.aligned.time {
+                Ok(a) => (
+                    Some(a.t_gps_ns - truth),
+                    a.sigma_ns,
+                    Some(a.status),
+                    Some(a.source),
+                ),
+                Err(_) => (None, f64::INFINITY, None, None),
+            };
+            Some(Joined {
+                device: o.device,
+                class,
+                kind,
+                at_s,
+                err_ns,
+                sigma_ns,
+                status,
+                source,
             })
         })
         .collect();
     Run {
+        name: scenario.name.clone(),
         joined,
-        inputs: std::mem::take(&mut inputs),
+        inputs,
         outputs,
         report,
         host_drift_ppm: info.host_clock.drift * 1e6,
+        pulses_vn200: stats.pulses_from_vn200_pps,
+        pulses_host: stats.pulses_from_host_clock,
     }
 }
 
@@ -316,29 +328,37 @@ fn percentile(sorted: &[i64], p: f64) -> i64 {
     sorted[((sorted.len() - 1) as f64 * p).round() as usize]
 }
 
-/// Checks one device after `from_s`: p99 |error| and the 2-sigma share; prints the figures.
-fn check(run: &Run, name: &str, device: Device, from_s: f64, p99_max_ns: i64) {
-    check_kind(run, name, device, None, from_s, p99_max_ns)
+/// Checks one device (and message classes, when given) after `from_s`: p99 |error| and the
+/// 2-sigma share; prints the figures.
+fn check(run: &Run, device: Device, classes: &[&str], from_s: f64, p99_max_ns: i64) {
+    let what = if classes.is_empty() {
+        "all".to_string()
+    } else {
+        classes.join("+")
+    };
+    check_sel(run, device, &what, p99_max_ns, |j| {
+        j.at_s >= from_s && (classes.is_empty() || classes.contains(&j.class))
+    })
 }
 
-/// As [`check`], for one message kind (truth `type`) of the device when given.
-fn check_kind(
+/// As [`check`], for the samples of `device` that `keep` selects (labelled `what`).
+fn check_sel(
     run: &Run,
-    name: &str,
     device: Device,
-    kind: Option<&str>,
-    from_s: f64,
+    what: &str,
     p99_max_ns: i64,
+    keep: impl Fn(&Joined) -> bool,
 ) {
+    let name = &run.name;
     let sel: Vec<&Joined> = run
         .joined
         .iter()
-        .filter(|j| j.device == device && j.at_s >= from_s && kind.is_none_or(|k| k == j.kind))
+        .filter(|j| j.device == device && keep(j))
         .collect();
     let aligned: Vec<&&Joined> = sel.iter().filter(|j| j.err_ns.is_some()).collect();
     let mut abs: Vec<i64> = aligned.iter().map(|j| j.err_ns.unwrap().abs()).collect();
     abs.sort_unstable();
-    assert!(!abs.is_empty(), "{name} {device:?}: nothing aligned");
+    assert!(!abs.is_empty(), "{name} {device:?} {what}: nothing aligned");
     let within = aligned
         .iter()
         .filter(|j| (j.err_ns.unwrap().abs() as f64) <= 2.0 * j.sigma_ns)
@@ -352,8 +372,8 @@ fn check_kind(
     let mut sigmas: Vec<f64> = aligned.iter().map(|j| j.sigma_ns).collect();
     sigmas.sort_by(f64::total_cmp);
     println!(
-        "{name} {device:?} {}: n={} aligned={} p50={p50} ns p99={p99} ns max={max} ns within 2 sigma={:.1} % median sigma={:.0} ns",
-        kind.unwrap_or("all"),
+        "{name} {device:?} {what}: n={} aligned={} p50={p50} ns p99={p99} ns max={max} ns \
+         within 2 sigma={:.1} % median sigma={:.0} ns",
         sel.len(),
         aligned.len(),
         within * 100.0,
@@ -361,26 +381,36 @@ fn check_kind(
     );
     assert!(
         p99 <= p99_max_ns,
-        "{name} {device:?}: p99 {p99} ns > {p99_max_ns} ns"
+        "{name} {device:?} {what}: p99 {p99} ns > {p99_max_ns} ns"
     );
     assert!(
         within >= 0.95,
-        "{name} {device:?}: {:.3} within 2 sigma",
-        within
+        "{name} {device:?} {what}: {within:.3} within 2 sigma"
     );
-    // No wrong time claimed as locked: a locked sample is within 5 sigma (and 5 ms).
-    for j in &aligned {
-        if j.status == Some(ClockStatus::Locked) {
-            let e = j.err_ns.unwrap().abs();
-            assert!(
-                (e as f64) < 5.0 * j.sigma_ns + 1_000.0 && e < 5 * MS,
-                "{name} {device:?} {} at {:.3} s: locked with error {e} ns, sigma {}",
-                j.kind,
-                j.at_s,
-                j.sigma_ns
-            );
-        }
+}
+
+/// No sample of the whole run is locked with a wrong time (see the module doc).
+fn check_no_wrong_locked(run: &Run) {
+    let mut locked = 0;
+    for j in &run.joined {
+        let (Some(e), Some(ClockStatus::Locked), Some(source)) = (j.err_ns, j.status, j.source)
+        else {
+            continue;
+        };
+        locked += 1;
+        let e = e.abs();
+        assert!(
+            (e as f64) <= 5.0 * j.sigma_ns && budget_ns(source, j.class).is_none_or(|b| e <= b),
+            "{} {:?} {} ({}) at {:.3} s: locked, {source:?}, error {e} ns, sigma {:.0} ns",
+            run.name,
+            j.device,
+            j.class,
+            j.kind,
+            j.at_s,
+            j.sigma_ns
+        );
     }
+    assert!(locked > 0);
 }
 
 /// Every input came out exactly once (aligned or marked).
@@ -401,25 +431,63 @@ fn locked_share(run: &Run, device: Device, from: f64, to: f64) -> f64 {
         / sel.len().max(1) as f64
 }
 
+/// Seconds from `from_s` to the first locked sample of `device` after which at least 95 % of its
+/// samples over the next 2 s are locked (a re-lock that holds), or `None`.
+fn relock_after(run: &Run, device: Device, from_s: f64) -> Option<f64> {
+    let mut sel: Vec<&Joined> = run
+        .joined
+        .iter()
+        .filter(|j| j.device == device && j.at_s >= from_s)
+        .collect();
+    sel.sort_by(|a, b| a.at_s.total_cmp(&b.at_s));
+    sel.iter()
+        .find(|j| {
+            j.status == Some(ClockStatus::Locked)
+                && locked_share(run, device, j.at_s, j.at_s + 2.0) >= 0.95
+        })
+        .map(|j| j.at_s - from_s)
+}
+
+/// Checks and prints a re-lock within 5 s of `from_s`.
+fn check_relock(run: &Run, device: Device, from_s: f64, what: &str) {
+    let r = relock_after(run, device, from_s);
+    println!(
+        "{} {device:?}: re-locked {r:?} s after {what} ({from_s} s)",
+        run.name
+    );
+    assert!(
+        r.is_some_and(|r| r <= 5.0),
+        "{} {device:?}: no re-lock within 5 s of {what}: {r:?}",
+        run.name
+    );
+}
+
+/// The budgets of the issue's "Done when" for a run whose TT-Multi-RF sends JSON and HEX.
+fn check_budgets(r: &Run) {
+    check(r, Device::Bahrs, &[], 10.0, 50 * US);
+    // VN-200: its native GPS time (in a GNSS outage it is host-timed: checked there).
+    check_sel(r, Device::Vn200, "binary native_gps", US, |j| {
+        j.at_s >= 10.0 && j.class == "binary" && j.source == Some(TimeSource::NativeGps)
+    });
+    check(r, Device::Watson, &[], 10.0, HOST_BUDGET_NS);
+    check(r, Device::Ttmrf, &["json"], 10.0, MS);
+}
+
 #[test]
 fn nominal_errors_within_budget_after_10_s() {
-    let r = run("nominal", 60, 5, None);
+    let r = run(&builtin("nominal").unwrap(), 60, 5);
     check_nothing_dropped(&r);
-    check(&r, "nominal", Device::Bahrs, 10.0, 50_000);
-    check(&r, "nominal", Device::Vn200, 10.0, 1_000);
-    // Watson: 2 ms beyond the link-latency jitter (+-0.5 ms).
-    check(&r, "nominal", Device::Watson, 10.0, 2_500_000);
-    check_kind(&r, "nominal", Device::Ttmrf, Some("json"), 10.0, 1_000_000);
-    check_kind(
-        &r,
-        "nominal",
-        Device::Ttmrf,
-        Some("hex_ts24h"),
-        10.0,
-        10_000,
-    );
-    check_kind(&r, "nominal", Device::Ttmrf, Some("hex_ts1s"), 10.0, 10_000);
+    check_no_wrong_locked(&r);
+    check_budgets(&r);
+    check(&r, Device::Ttmrf, &["hex_ts24h"], 10.0, 10 * US);
     assert!(locked_share(&r, Device::Bahrs, 10.0, 60.0) > 0.99);
+    assert!(locked_share(&r, Device::Vn200, 10.0, 60.0) > 0.99);
+    // Pulse seconds: from the VN-200's PPS time, not the host clock, once it reports one.
+    println!(
+        "nominal pulses: {} from the VN-200 PPS time, {} from the host clock",
+        r.pulses_vn200, r.pulses_host
+    );
+    assert!(r.pulses_vn200 >= 55 && r.pulses_host == 0);
     // Clock reports at the end: every model locked; the host drift is the simulated one.
     for c in &r.report {
         assert_eq!(c.status, ClockStatus::Locked, "{c:?}");
@@ -434,10 +502,13 @@ fn nominal_errors_within_budget_after_10_s() {
         "host drift {d:.3} ppm, simulated {:.3} ppm",
         r.host_drift_ppm
     );
-    // Precision of the envelope slope: the per-second minimum of 40 delays uniform over 1 ms
-    // lies within ~25 us of the true minimum, over a 30 s window: ~1 ppm.
+    // Precision of the envelope slope: a VN-200 message is read with its last chunk, and the
+    // simulated host keeps chunk times monotonic, so its delay is about the largest of its ~4
+    // chunks' (uniform over 1 ms): the per-second minimum of 200 such lies ~0.27 ms above the
+    // floor with ~70 us of spread; the slope over the 30 s window has ~1.5 ppm of sigma (0.1 to
+    // 1.6 ppm seen over 19 seeds): 4.5 ppm is 3 sigma.
     assert!(
-        (d - r.host_drift_ppm).abs() < 2.0,
+        (d - r.host_drift_ppm).abs() < 4.5,
         "{d} vs {}",
         r.host_drift_ppm
     );
@@ -447,55 +518,94 @@ fn nominal_errors_within_budget_after_10_s() {
 }
 
 #[test]
-fn link_errors_reset_pps_loss_and_gnss_outage_relock() {
-    // link-errors: bit errors, dropped bytes, BAHRS link loss 20-22 s, Watson link loss 25-26.5 s,
-    // BAHRS reset at 40 s, PPS loss 50-53 s; plus a synthetic VN-200 GNSS outage 60-66 s.
-    let r = run("link-errors", 80, 7, Some((60, 66)));
+fn nominal_csv_hexd_and_late_bahrs_time_messages_within_budget() {
+    let r = run(&nominal_variant(), 30, 11);
     check_nothing_dropped(&r);
-    check(&r, "link-errors", Device::Bahrs, 10.0, 50_000);
-    check(&r, "link-errors", Device::Vn200, 10.0, 1_000);
-    check(&r, "link-errors", Device::Watson, 10.0, 2_500_000);
-    check_kind(
-        &r,
-        "link-errors",
-        Device::Ttmrf,
-        Some("json"),
-        10.0,
-        1_000_000,
-    );
-    check_kind(
-        &r,
-        "link-errors",
-        Device::Ttmrf,
-        Some("hex_ts24h"),
-        10.0,
-        10_000,
-    );
-    check_kind(
-        &r,
-        "link-errors",
-        Device::Ttmrf,
-        Some("hex_ts1s"),
-        10.0,
-        10_000,
-    );
-    // Re-lock within 5 s of the BAHRS reset (40 s, plus a 0.3 s boot) and of the PPS return (53 s).
-    assert!(locked_share(&r, Device::Bahrs, 45.5, 50.0) > 0.95);
-    assert!(locked_share(&r, Device::Bahrs, 58.0, 60.0) > 0.95);
-    // VN-200 during the outage: its start-up clock, coasting; locked again at once after it.
-    let outage: Vec<&Joined> = r
+    check_no_wrong_locked(&r);
+    // Late time messages: every data message still paired and aligned.
+    check(&r, Device::Bahrs, &[], 10.0, 50 * US);
+    assert!(locked_share(&r, Device::Bahrs, 10.0, 30.0) > 0.99);
+    // Only the last 3 data messages of each stream (at 50 and 100 Hz: within 60 ms of the end)
+    // have no time message: it was never sent before the run ended.
+    let unaligned: Vec<&Joined> = r
         .joined
         .iter()
-        .filter(|j| j.device == Device::Vn200 && j.at_s >= 60.0 && j.at_s < 66.0)
+        .filter(|j| j.device == Device::Bahrs && j.at_s >= 10.0 && j.err_ns.is_none())
         .collect();
-    assert!(!outage.is_empty());
+    assert_eq!(unaligned.len(), 6, "{unaligned:?}");
+    assert!(unaligned.iter().all(|j| j.at_s > 29.9), "{unaligned:?}");
+    check(&r, Device::Ttmrf, &["csv"], 10.0, HOST_BUDGET_NS);
+    check(&r, Device::Ttmrf, &["nmea"], 10.0, HOST_BUDGET_NS);
+    check(&r, Device::Ttmrf, &["hex_no_ts"], 10.0, HOST_BUDGET_NS);
+    check(&r, Device::Watson, &[], 10.0, HOST_BUDGET_NS);
+    // Nothing of the TT-Multi-RF carries a time stamp here: all of it is host-timed.
     assert!(
-        outage
+        r.joined
             .iter()
-            .all(|j| j.source == Some(TimeSource::DeviceClock)
-                && j.status == Some(ClockStatus::Coasting))
+            .filter(|j| j.device == Device::Ttmrf && j.at_s >= 10.0)
+            .all(|j| j.source == Some(TimeSource::HostClock))
     );
-    assert!(locked_share(&r, Device::Vn200, 66.0, 80.0) > 0.99);
-    // Watson keeps its time through the outage (host clock coasting, then locked again).
-    assert!(locked_share(&r, Device::Watson, 71.0, 80.0) > 0.95);
+}
+
+#[test]
+fn link_errors_budgets_and_relock_after_reset_and_pps_loss() {
+    // link-errors: bit errors, dropped bytes, BAHRS link loss 20-22 s, Watson link loss
+    // 25-26.5 s, TT-Multi-RF link loss 30-31.5 s, BAHRS reset at 40 s, TT-Multi-RF power cycle at
+    // 45 s, PPS loss 50-53 s.
+    let r = run(&builtin("link-errors").unwrap(), 70, 7);
+    check_nothing_dropped(&r);
+    check_no_wrong_locked(&r);
+    check_budgets(&r);
+    // The BAHRS reset: output again 0.3 s later, first pulse at 41 s.
+    check_relock(&r, Device::Bahrs, 40.0, "BAHRS reset");
+    // The PPS loss: the MCU clock coasts (never locked with a wrong time, checked above) and
+    // re-locks on the first pulse after it.
+    check_relock(&r, Device::Bahrs, 53.0, "PPS loss end");
+    let coasting = r
+        .joined
+        .iter()
+        .filter(|j| j.device == Device::Bahrs && j.at_s >= 52.0 && j.at_s < 53.0)
+        .filter(|j| j.status == Some(ClockStatus::Coasting))
+        .count();
+    assert!(coasting > 0, "BAHRS coasts during the PPS loss");
+    assert!(locked_share(&r, Device::Vn200, 10.0, 70.0) > 0.99);
+}
+
+#[test]
+fn gnss_outage_models_relock_without_wrong_locked_times() {
+    // GNSS and PPS lost from 60 to 120 s.
+    let r = run(&builtin("gnss-outage").unwrap(), 130, 3);
+    check_nothing_dropped(&r);
+    check_no_wrong_locked(&r);
+    check_budgets(&r);
+    // During the outage nothing of the VN-200 or the BAHRS is claimed locked, except the BAHRS
+    // samples of the last 2 s: they wait (`clock_wait_s`) for the first pulse after the outage
+    // and are interpolated between it and the pulses before (their errors are checked above).
+    for (d, to) in [(Device::Vn200, 120.0), (Device::Bahrs, 118.0)] {
+        let share = locked_share(&r, d, 62.0, to);
+        println!("gnss-outage {d:?}: locked share 62-{to} s {share:.3}");
+        assert_eq!(share, 0.0);
+    }
+    // The VN-200 during the outage: no valid GPS time and no TimeStartup in its output, so
+    // placed by the host clock (coasting on the references from before the outage).
+    check_sel(&r, Device::Vn200, "binary in outage", HOST_BUDGET_NS, |j| {
+        j.at_s >= 60.5 && j.at_s < 120.0
+    });
+    assert!(
+        r.joined
+            .iter()
+            .filter(|j| j.device == Device::Vn200 && j.at_s >= 60.5 && j.at_s < 120.0)
+            .all(|j| j.source == Some(TimeSource::HostClock))
+    );
+    // The host-timed Watson coasts on the host clock (no VN-200 references); a line sampled in
+    // the last half second is received after the references resumed and is locked.
+    assert!(
+        r.joined
+            .iter()
+            .filter(|j| j.device == Device::Watson && j.at_s >= 65.0 && j.at_s < 119.5)
+            .all(|j| j.status != Some(ClockStatus::Locked))
+    );
+    for d in Device::ALL {
+        check_relock(&r, d, 120.0, "GNSS outage end");
+    }
 }

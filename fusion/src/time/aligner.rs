@@ -26,9 +26,10 @@ use vigil_drivers::{bahrs, watson};
 use super::bahrs::{BahrsAligner, BahrsAlignerConfig};
 use super::host::{HostClock, HostClockConfig};
 use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
+use super::pps::PpsReferences;
 use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
-use super::vn200::{Vn200Aligner, Vn200AlignerConfig};
-use super::{Aligned, AlignedTime, ClockStatus, NotAligned, Rx};
+use super::vn200::{Vn200Aligner, Vn200AlignerConfig, Vn200Times};
+use super::{Aligned, AlignedTime, ClockStatus, NotAligned, Rx, TimeSource};
 
 /// The devices of the installation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -175,6 +176,8 @@ pub struct Aligner {
     host: HostClock,
     bahrs: BahrsAligner<(u64, bahrs::Message)>,
     vn200: Vn200Aligner,
+    /// The VN-200's recent PPS times, naming the BAHRS sync pulses.
+    vn_pps: PpsReferences,
     held: VecDeque<Held>,
     next_index: [u64; 4],
     last_host_ns: i64,
@@ -189,6 +192,7 @@ impl Aligner {
             host: HostClock::new(cfg.host),
             bahrs: BahrsAligner::new(cfg.bahrs),
             vn200: Vn200Aligner::new(cfg.vn200),
+            vn_pps: PpsReferences::new(),
             held: VecDeque::new(),
             next_index: [0; 4],
             last_host_ns: i64::MIN,
@@ -211,6 +215,11 @@ impl Aligner {
         &self.vn200
     }
 
+    /// The VN-200's recent PPS times (what names the BAHRS sync pulses).
+    pub fn vn200_pps(&self) -> &PpsReferences {
+        &self.vn_pps
+    }
+
     /// Takes one decoded message, received as `rx`; returns every sample that became final.
     pub fn handle(&mut self, sample: Sample, rx: Rx) -> Vec<AlignedSample> {
         // Decision: a host monotonic time counts from boot; one outside 0 ..= 2^61 ns (73 years)
@@ -229,12 +238,39 @@ impl Aligner {
                 if let Some(t) = bahrs_ticks(&m) {
                     self.last_bahrs_ticks = Some(t);
                 }
-                let done = self.bahrs.handle((index, m), rx.host_ns, &self.host);
+                let done = self
+                    .bahrs
+                    .handle((index, m), rx.host_ns, &self.host, &self.vn_pps);
                 out.extend(done.into_iter().map(bahrs_out));
             }
             Sample::Vn200(m) => {
                 let time = match &*m {
-                    Vn200Message::Binary(o) => self.vn200.handle(o, rx, &mut self.host),
+                    Vn200Message::Binary(o) => {
+                        let times = Vn200Times::of(o);
+                        let time = self.vn200.handle_times(&times, rx, &mut self.host);
+                        // Its PPS time names the BAHRS pulses, when its GPS time is valid.
+                        if let (Ok(a), Some(pps)) = (&time, times.time_gps_pps_ns)
+                            && a.source == TimeSource::NativeGps
+                        {
+                            self.vn_pps.add(
+                                first_byte_host_ns(rx, self.cfg.vn200.baud),
+                                a.t_gps_ns,
+                                pps,
+                            );
+                        }
+                        match time {
+                            // Decision: without valid GPS time and without a start-up clock
+                            // model (the default output has no TimeStartup), the message is
+                            // placed by the host clock, like an ASCII one: its attitude stays
+                            // valid through a GNSS outage (ICD Table 2.78) and the host clock
+                            // coasts on the references from before it. Without a host clock the
+                            // VN-200's own reason stands.
+                            Err(
+                                why @ (NotAligned::DeviceTimeInvalid | NotAligned::ClockUnlocked),
+                            ) => host_timed(&self.host, rx, self.vn200_link()).or(Err(why)),
+                            t => t,
+                        }
+                    }
                     Vn200Message::Ascii(_) => host_timed(&self.host, rx, self.vn200_link()),
                 };
                 out.push(AlignedSample {

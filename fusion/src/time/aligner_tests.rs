@@ -244,11 +244,11 @@ fn ttmrf_csv_line_is_host_timed_with_its_transmission_time() {
         let (s, rx) = vn200(G0 + k * 25 * MS);
         al.handle(s, rx);
     }
-    // Instant G0 + 9.9 s; first byte 0.5 ms later (the assumed output delay); 83 bytes at
+    // Instant G0 + 9.9 s; first byte at once (the assumed output delay: 0); 83 bytes at
     // 921 600 baud take 0.90 ms; read 1 ms (the VN-200's link delay) after the last byte.
     let t = G0 + 9_900 * MS;
     let rx = Rx {
-        host_ns: t + OFF + MS / 2 + tx_ns(line.len(), 921_600) + MS,
+        host_ns: t + OFF + tx_ns(line.len(), 921_600) + MS,
         wire_len: line.len(),
     };
     let out = al.handle(Sample::TtText(Box::new(msgs[0].clone())), rx);
@@ -303,6 +303,7 @@ fn random_inputs_never_panic_and_every_input_comes_out_once() {
                         common: Some(CommonGroup {
                             time_gps_ns: Some(gps),
                             time_startup_ns: Some(st),
+                            time_gps_pps_ns: Some(u(&mut rng, gps % S as u64)),
                             ins_status: Some(InsStatus((rng.unit() * 65536.0) as u16)),
                             ..Default::default()
                         }),
@@ -355,4 +356,133 @@ fn random_inputs_never_panic_and_every_input_comes_out_once() {
         }
         let _ = al.clock_report(host);
     }
+}
+
+/// A VN-200 message sampled at `gps` with TimeGps, TimeGpsPps (PPS on whole GPS seconds) and
+/// InsStatus `ins`.
+fn vn200_pps(gps: i64, ins: u16) -> (Sample, Rx) {
+    let o = BinaryOutput {
+        common: Some(CommonGroup {
+            time_gps_ns: Some(gps as u64),
+            time_gps_pps_ns: Some(gps.rem_euclid(S) as u64),
+            ins_status: Some(InsStatus(ins)),
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let len = o.encode().len();
+    let rx = Rx {
+        host_ns: gps + OFF + tx_ns(len, 921_600) + MS,
+        wire_len: len,
+    };
+    (Sample::Vn200(Box::new(Vn200Message::Binary(o))), rx)
+}
+
+/// Runs 20 s of a VN-200 at 40 Hz sampled 1 ms before each whole second (its message nearest to
+/// each pulse reports the previous PPS) and a BAHRS reporting each PPS edge (0x06, MCU clock
+/// 20 ppm fast); from `pps_lost_at` the VN-200 reports "GNSS error" (no valid PPS) while the
+/// pulses go on. Returns the aligner and (pulse number, aligned 0x06).
+fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSample)>) {
+    use vigil_drivers::bahrs::SyncPulseTime;
+    let mut al = Aligner::new(AlignerConfig::default());
+    let ticks = |gps: i64| 3_000_000 + ((gps - G0) as f64 * (1.0 + 20e-6) / 1000.0) as u64;
+    let mut inputs: Vec<(Sample, Rx)> = Vec::new();
+    for k in 0..800 {
+        let g = G0 + k * 25 * MS - MS;
+        let lost = pps_lost_at.is_some_and(|l| g >= G0 + l * S);
+        inputs.push(vn200_pps(g, if lost { 0x43 } else { 0b110 }));
+    }
+    for n in 0..20 {
+        let pulse = G0 + n * S;
+        let p = Sample::Bahrs(bahrs::Message::SyncPulseTime(SyncPulseTime {
+            seq: n as u8,
+            mcu_time_us: ticks(pulse),
+        }));
+        // Ready 0.5 ms after the edge, 12 bytes at 115 200 baud, 1 ms link.
+        let rx = Rx {
+            host_ns: pulse + OFF + MS / 2 + tx_ns(12, 115_200) + MS,
+            wire_len: 12,
+        };
+        inputs.push((p, rx));
+    }
+    inputs.sort_by_key(|(_, rx)| rx.host_ns);
+    let mut out = Vec::new();
+    for (s, rx) in inputs {
+        out.extend(al.handle(s, rx));
+    }
+    out.extend(al.flush());
+    let pulses = out
+        .into_iter()
+        .filter(|o| o.device == Device::Bahrs)
+        .map(|o| (o.index as i64, o))
+        .collect();
+    (al, pulses)
+}
+
+#[test]
+fn bahrs_pulses_named_by_the_vn200_pps_time_across_the_second_boundary() {
+    let (al, pulses) = pulses_near_vn200(None);
+    // The nearest VN-200 message to each pulse was sampled 1 ms before it (TimeGpsPps 999 ms,
+    // its last PPS the previous second); the pulse is still named by its own second.
+    let st = al.bahrs().stats();
+    assert_eq!(st.pulses_from_vn200_pps, 20, "{st:?}");
+    assert_eq!(st.pulses_from_host_clock, 0);
+    assert_eq!(
+        al.bahrs().last_pulse_source(),
+        Some(crate::time::pps::PulseSecondSource::Vn200Pps)
+    );
+    assert_eq!(pulses.len(), 20);
+    for (n, o) in &pulses {
+        // Each 0x06 is placed at its edge, exactly (whole us, MCU time of the edge).
+        let a = o.aligned.time.unwrap();
+        assert!((a.t_gps_ns - (G0 + n * S)).abs() <= 2_000, "{n}: {a:?}");
+    }
+    assert_eq!(al.bahrs().clock().relocks, 0);
+}
+
+#[test]
+fn bahrs_pulses_fall_back_to_the_host_clock_when_the_vn200_pps_is_lost() {
+    // From 10 s the VN-200 reports no valid PPS: its PPS times are not used; after the last one
+    // is more than 1 s away the host clock (coasting on the VN-200 references before 10 s) names
+    // the pulses, still the right seconds.
+    let (al, pulses) = pulses_near_vn200(Some(10));
+    let st = al.bahrs().stats();
+    assert_eq!(st.pulses_from_vn200_pps, 11, "{st:?}");
+    assert_eq!(st.pulses_from_host_clock, 9, "{st:?}");
+    assert_eq!(
+        al.bahrs().last_pulse_source(),
+        Some(crate::time::pps::PulseSecondSource::HostClock)
+    );
+    for (n, o) in &pulses {
+        let a = o.aligned.time.unwrap();
+        assert!((a.t_gps_ns - (G0 + n * S)).abs() <= 2_000, "{n}: {a:?}");
+    }
+    assert_eq!((st.pulses_rejected, al.bahrs().clock().relocks), (0, 0));
+}
+
+#[test]
+fn vn200_without_gps_time_or_startup_clock_is_host_timed() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    // Invalid from the start: no host clock either, the VN-200's reason stands.
+    let (s, rx) = vn200_pps(G0 - S, 0x43);
+    let o = al.handle(s, rx);
+    assert_eq!(o[0].aligned.time, Err(NotAligned::DeviceTimeInvalid));
+    // 10 s valid at 40 Hz, then 5 s of GNSS outage (no TimeStartup in the output).
+    let mut out = Vec::new();
+    for k in 0..600 {
+        let g = G0 + k * 25 * MS;
+        let (s, rx) = vn200_pps(g, if k < 400 { 0b110 } else { 0x43 });
+        out.extend(al.handle(s, rx).into_iter().map(|o| (g, o)));
+    }
+    for (g, o) in &out[400..] {
+        let a = o.aligned.time.unwrap();
+        assert_eq!(a.source, TimeSource::HostClock);
+        // The synthetic VN-200 has no output delay, the 1 ms link is the envelope: exact but
+        // for rounding; the sigma carries the reference delay's 0.5 ms.
+        assert!((a.t_gps_ns - g).abs() < 10_000, "{}", a.t_gps_ns - g);
+        assert!(a.sigma_ns >= 500_000.0);
+    }
+    // The host clock coasts 2 s after its last reference.
+    let last = out.last().unwrap().1.aligned.time.unwrap();
+    assert_eq!(last.status, ClockStatus::Coasting);
 }

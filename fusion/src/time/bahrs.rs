@@ -1,9 +1,13 @@
 //! BAHRS samples on GPS time.
 //!
 //! - 0x06 (time of the latest synchronisation pulse) gives the MCU time of a PPS edge. The GPS
-//!   second of that edge is identified from the host clock model (learned from the VN-200): the
-//!   host receive time of the 0x06, minus its transmission time, mapped to GPS, rounded to the
-//!   nearest second (it arrives milliseconds after the edge, far inside +-0.5 s).
+//!   time of that edge is taken from the VN-200's own PPS time (TimeGps - TimeGpsPps) of the
+//!   VN-200 message nearest in host time to the 0x06 ([`PpsReferences`]: the sync input is wired
+//!   to the VN-200 PPS). Without such a message (no VN-200, its time invalid, its PPS lost or
+//!   stale) it falls back to the host clock model (learned from the VN-200): the host receive
+//!   time of the 0x06, minus its transmission time, mapped to GPS, rounded to the nearest second
+//!   (it arrives milliseconds after the edge, far inside +-0.5 s). The counters say which was
+//!   used for how many pulses, and [`BahrsAligner::last_pulse_source`] for the latest.
 //! - Those pairs feed a [`PpsClock`] (MCU microseconds -> GPS ns with drift).
 //! - 0x06 itself is placed through the clock (its sample instant is the pulse); so are 0x04/0x05
 //!   (their data's instant), an invalid one (zero sequence and time) comes out "device time
@@ -21,7 +25,7 @@ use std::collections::VecDeque;
 use vigil_drivers::bahrs::{Message, frame::layout};
 
 use super::host::HostClock;
-use super::pps::{PpsClock, PpsClockConfig, pulse_second};
+use super::pps::{PpsClock, PpsClockConfig, PpsReferences, PulseSecondSource, pulse_second};
 use super::seq::SeqMatcher;
 use super::{Aligned, AlignedTime, ClockStatus, NotAligned, TimeSource};
 
@@ -55,8 +59,13 @@ impl Default for BahrsAlignerConfig {
 pub struct BahrsAlignerStats {
     /// Pulses accepted into the clock model.
     pub pulses_used: u64,
-    /// Pulses whose GPS second could not be identified (host clock not established).
+    /// Pulses whose GPS second could not be identified (no VN-200 PPS time near them and the
+    /// host clock not established).
     pub pulses_unidentified: u64,
+    /// Pulses whose GPS time came from the VN-200's PPS time (TimeGps - TimeGpsPps).
+    pub pulses_from_vn200_pps: u64,
+    /// Pulses whose GPS second came from the host clock (no VN-200 PPS time near them).
+    pub pulses_from_host_clock: u64,
     /// Pulses rejected as outliers.
     pub pulses_rejected: u64,
     /// Time messages flagged invalid by the device (zero sequence and zero time).
@@ -109,6 +118,7 @@ pub struct BahrsAligner<T = Message> {
     navigation: SeqMatcher<T>,
     waiting: VecDeque<Waiting<T>>,
     stats: BahrsAlignerStats,
+    last_pulse_source: Option<PulseSecondSource>,
 }
 
 impl<T: BahrsSample> BahrsAligner<T> {
@@ -122,7 +132,13 @@ impl<T: BahrsSample> BahrsAligner<T> {
             navigation: SeqMatcher::new(hold, 256),
             waiting: VecDeque::with_capacity(WAIT_CAPACITY),
             stats: BahrsAlignerStats::default(),
+            last_pulse_source: None,
         }
+    }
+
+    /// Where the GPS time of the latest identified pulse came from.
+    pub fn last_pulse_source(&self) -> Option<PulseSecondSource> {
+        self.last_pulse_source
     }
 
     /// Counters.
@@ -142,9 +158,16 @@ impl<T: BahrsSample> BahrsAligner<T> {
         len * 10 * 1_000_000_000 / i64::from(self.cfg.baud.max(1))
     }
 
-    /// Takes one decoded message, received (first byte) at host time `host_ns`; returns every
-    /// sample that became final.
-    pub fn handle(&mut self, msg: T, host_ns: i64, host: &HostClock) -> Vec<Aligned<T>> {
+    /// Takes one decoded message, received (last byte) at host time `host_ns`; returns every
+    /// sample that became final. `host` is the host clock model, `vn_pps` the VN-200's recent PPS
+    /// times (empty without a VN-200).
+    pub fn handle(
+        &mut self,
+        msg: T,
+        host_ns: i64,
+        host: &HostClock,
+        vn_pps: &PpsReferences,
+    ) -> Vec<Aligned<T>> {
         let mut out = Vec::new();
         match *msg.bahrs() {
             Message::Inertial(m) => {
@@ -183,12 +206,26 @@ impl<T: BahrsSample> BahrsAligner<T> {
             }
             Message::SyncPulseTime(p) => {
                 self.observe(p.mcu_time_us, &mut out);
-                // The pulse edge precedes the 0x06's first byte; its transmission ends at host_ns
-                // plus its length, so the first byte left the device at about host_ns - latency.
-                // The host model maps a receive time to the send time of the message's start.
-                match host.to_gps(host_ns) {
-                    Some((gps_sent, _)) => {
-                        let second = pulse_second(gps_sent - self.tx_ns(0x06));
+                // The pulse edge precedes the 0x06's first byte; its transmission ends at host_ns,
+                // so its first byte reached the host at about host_ns - its transmission time.
+                let first_byte = host_ns.saturating_sub(self.tx_ns(0x06));
+                let named = match vn_pps.pulse_gps(first_byte) {
+                    Some(t) => Some((t, PulseSecondSource::Vn200Pps)),
+                    // The host model maps a receive time to the send time of the message's start.
+                    None => host.to_gps(host_ns).map(|(gps_sent, _)| {
+                        (
+                            pulse_second(gps_sent - self.tx_ns(0x06)),
+                            PulseSecondSource::HostClock,
+                        )
+                    }),
+                };
+                match named {
+                    Some((second, source)) => {
+                        match source {
+                            PulseSecondSource::Vn200Pps => self.stats.pulses_from_vn200_pps += 1,
+                            PulseSecondSource::HostClock => self.stats.pulses_from_host_clock += 1,
+                        }
+                        self.last_pulse_source = Some(source);
                         match self.clock.add_pulse(p.mcu_time_us, second) {
                             super::pps::PulseOutcome::Outlier => self.stats.pulses_rejected += 1,
                             _ => self.stats.pulses_used += 1,
@@ -386,20 +423,47 @@ mod tests {
         }
     }
 
-    /// Runs `seconds` of a BAHRS at 100 Hz inertial with PPS, a VN-200-fed host clock, and returns
-    /// (aligned samples, truth GPS time per sample index).
-    fn run(mcu: &Mcu, seconds: i64, seq_restart_at: Option<i64>) -> Vec<(i64, Aligned<Message>)> {
+    /// What the VN-200 gives the BAHRS aligner: references to the host clock, and its PPS
+    /// times (TimeGps - TimeGpsPps).
+    #[derive(Clone, Copy)]
+    struct Vn {
+        host_clock: bool,
+        pps_times: bool,
+    }
+
+    /// A VN-200 feeding only the host clock (the pulse seconds come from it).
+    const HOST_ONLY: Vn = Vn {
+        host_clock: true,
+        pps_times: false,
+    };
+
+    /// Runs `seconds` of a BAHRS at 100 Hz inertial with PPS and a VN-200 at 100 Hz (as `vn`
+    /// says), and returns (aligned samples, truth GPS time per sample index) and the aligner's
+    /// counters.
+    fn run_with(
+        mcu: &Mcu,
+        seconds: i64,
+        seq_restart_at: Option<i64>,
+        vn: Vn,
+    ) -> (Vec<(i64, Aligned<Message>)>, BahrsAlignerStats) {
         let host_offset = 777 * S;
         let mut rng = Lcg(3);
         let mut host = HostClock::new(HostClockConfig::default());
+        let mut refs = PpsReferences::new();
         let mut al = BahrsAligner::new(BahrsAlignerConfig::default());
         let mut out = Vec::new();
         let lat = |rng: &mut Lcg| MS / 2 + (rng.unit() * MS as f64) as i64;
         let mut seq: u32 = 0;
         for k in 0..seconds * 100 {
             let gps = G0 + k * 10 * MS;
-            // VN-200 references at 100 Hz into the host clock.
-            host.add(gps + host_offset + lat(&mut rng), gps);
+            // VN-200 references at 100 Hz into the host clock and the PPS times.
+            let vn_host = gps + host_offset + lat(&mut rng);
+            if vn.host_clock {
+                host.add(vn_host, gps);
+            }
+            if vn.pps_times {
+                refs.add(vn_host, gps, gps.rem_euclid(S) as u64);
+            }
             if seq_restart_at == Some(gps) {
                 seq = 0;
             }
@@ -413,7 +477,7 @@ mod tests {
                 health: InertialHealth(0),
             });
             let rx = gps + host_offset + 2 * MS + lat(&mut rng);
-            for a in al.handle(data, rx, &host) {
+            for a in al.handle(data, rx, &host, &refs) {
                 out.push(a);
             }
             let time = Message::InertialTime(DataTime {
@@ -421,25 +485,109 @@ mod tests {
                 data_seq: s,
                 mcu_time_us: ticks,
             });
-            out.extend(al.handle(time, rx + MS, &host));
+            out.extend(al.handle(time, rx + MS, &host, &refs));
             if k % 100 == 0 {
                 let pulse = Message::SyncPulseTime(SyncPulseTime {
                     seq: 0,
                     mcu_time_us: ticks,
                 });
-                out.extend(al.handle(pulse, gps + host_offset + 3 * MS + lat(&mut rng), &host));
+                let rx = gps + host_offset + 3 * MS + lat(&mut rng);
+                out.extend(al.handle(pulse, rx, &host, &refs));
             }
             out.extend(al.expire(rx));
         }
         out.extend(al.flush());
-        out.into_iter()
+        let samples = out
+            .into_iter()
             .filter_map(|a| match a.message {
                 Message::Inertial(i) => {
                     Some((G0 + i64::from(i.specific_force_raw[0]) * 10 * MS, a))
                 }
                 _ => None,
             })
-            .collect()
+            .collect();
+        (samples, *al.stats())
+    }
+
+    /// [`run_with`] with the pulse seconds from the host clock (no VN-200 PPS times).
+    fn run(mcu: &Mcu, seconds: i64, seq_restart_at: Option<i64>) -> Vec<(i64, Aligned<Message>)> {
+        run_with(mcu, seconds, seq_restart_at, HOST_ONLY).0
+    }
+
+    /// p99 |error| after the first 10 s, and the share within 2 sigma; every sample aligned,
+    /// PPS-disciplined and locked.
+    fn figures(samples: &[(i64, Aligned<Message>)]) -> (i64, f64) {
+        let mut errors = Vec::new();
+        let mut within_2s = 0usize;
+        for (truth, a) in samples {
+            if *truth < G0 + 10 * S {
+                continue;
+            }
+            let t = a.time.as_ref().expect("aligned after the first 10 s");
+            assert_eq!(t.source, TimeSource::PpsDisciplined);
+            assert_eq!(t.status, ClockStatus::Locked);
+            let e = (t.t_gps_ns - truth).abs();
+            errors.push(e);
+            if (e as f64) <= 2.0 * t.sigma_ns {
+                within_2s += 1;
+            }
+        }
+        errors.sort_unstable();
+        (
+            errors[errors.len() * 99 / 100],
+            within_2s as f64 / errors.len() as f64,
+        )
+    }
+
+    #[test]
+    fn pulses_are_named_by_the_vn200_pps_time_without_a_host_clock() {
+        // The VN-200 gives its PPS times but the host clock never learns (e.g. just started):
+        // every pulse is named by the VN-200, and the BAHRS aligns from the first pulse on.
+        let mcu = Mcu {
+            offset_us: 42_000_000,
+            ppm: -33.0,
+            reset_at: None,
+        };
+        let vn = Vn {
+            host_clock: false,
+            pps_times: true,
+        };
+        let (samples, stats) = run_with(&mcu, 20, None, vn);
+        assert_eq!(stats.pulses_from_vn200_pps, 20);
+        assert_eq!(
+            (stats.pulses_from_host_clock, stats.pulses_unidentified),
+            (0, 0)
+        );
+        let (p99, within) = figures(&samples);
+        assert!(p99 <= 50_000 && within >= 0.95, "{p99} ns, {within}");
+        // Every sample from the first pulse on (MCU time of sample 0 is the first pulse).
+        assert!(samples.iter().all(|(_, a)| a.time.is_ok()));
+    }
+
+    #[test]
+    fn pulses_fall_back_to_the_host_clock_without_a_vn200_pps_time() {
+        // VN-200 absent as a PPS time source: the host clock names every identified pulse.
+        let mcu = Mcu {
+            offset_us: 1_000,
+            ppm: 12.0,
+            reset_at: None,
+        };
+        let (samples, stats) = run_with(&mcu, 15, None, HOST_ONLY);
+        assert_eq!(stats.pulses_from_vn200_pps, 0);
+        // The host model needs two 1 s buckets: the first pulses are unidentified.
+        assert_eq!(stats.pulses_from_host_clock + stats.pulses_unidentified, 15);
+        assert!(stats.pulses_from_host_clock >= 12, "{stats:?}");
+        let (p99, within) = figures(&samples);
+        assert!(p99 <= 50_000 && within >= 0.95, "{p99} ns, {within}");
+        // Neither source: nothing identified, nothing aligned, nothing dropped.
+        let none = Vn {
+            host_clock: false,
+            pps_times: false,
+        };
+        let (samples, stats) = run_with(&mcu, 5, None, none);
+        assert_eq!(stats.pulses_unidentified, 5);
+        assert_eq!(samples.len(), 500);
+        assert!(samples.iter().all(|(_, a)| a.time.is_err()));
     }
 
     #[test]

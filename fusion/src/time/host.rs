@@ -29,8 +29,13 @@ pub struct HostClockConfig {
     pub coast_after_ns: i64,
     /// Host time without references after which the model gives no time, ns.
     pub coast_limit_ns: i64,
-    /// 1-sigma of the host/GPS rate wander while coasting, ppm.
+    /// 1-sigma of the rate wander of the host clock against GPS while coasting, ppm.
     pub rate_sigma_ppm: f64,
+    /// 1-sigma of the reference device's unknown output delay (sample instant to first byte),
+    /// ns. The envelope takes the references' delay for link delay, and maps every other port
+    /// with it, so an error in the assumed output delay of the reference (the VN-200) shifts
+    /// every host-timed sample: its uncertainty is part of every mapped time's sigma.
+    pub reference_delay_sigma_ns: f64,
 }
 
 impl Default for HostClockConfig {
@@ -42,6 +47,10 @@ impl Default for HostClockConfig {
             coast_after_ns: 2_000_000_000,
             coast_limit_ns: 120_000_000_000,
             rate_sigma_ppm: 1.0,
+            // Decision: the VN-200 ICD states no delay from a sample to its output;
+            // `Vn200AlignerConfig::output_delay_ns` assumes 0 and the simulator's model sends
+            // 0.5 ms after the sample: 0.5 ms (1 sigma) covers an unknown delay up to ~1 ms.
+            reference_delay_sigma_ns: 500_000.0,
         }
     }
 }
@@ -215,7 +224,11 @@ impl HostClock {
         let d = c0 + slope * host_ns.saturating_sub(h0) as f64;
         let since = host_ns.saturating_sub(self.last_host_ns?).max(0) as f64;
         let drift = self.cfg.rate_sigma_ppm * 1e-6 * since;
-        let sigma = (self.excess_sigma_ns.powi(2) + scatter.powi(2) + drift.powi(2)).sqrt();
+        let sigma = (self.excess_sigma_ns.powi(2)
+            + scatter.powi(2)
+            + drift.powi(2)
+            + self.cfg.reference_delay_sigma_ns.powi(2))
+        .sqrt();
         Some((
             host_ns.saturating_sub((d + self.excess_mean_ns).round() as i64),
             sigma,
@@ -277,7 +290,9 @@ mod tests {
         let host = offset + gps + ((gps - 1_000 * S) as f64 * 30e-6) as i64 + MS;
         let (est, sigma) = c.to_gps(host).unwrap();
         assert!((est - gps).abs() < 50_000, "error {} ns", est - gps);
-        assert!((sigma - 288_675.0).abs() < 30_000.0, "sigma {sigma}");
+        // sigma: the delay spread 0.289 ms and the reference's output delay 0.5 ms (default),
+        // in quadrature: sqrt(0.289^2 + 0.5^2) = 0.577 ms.
+        assert!((sigma - 577_350.0).abs() < 20_000.0, "sigma {sigma}");
         assert_eq!(c.status(host), ClockStatus::Locked);
     }
 
@@ -286,7 +301,11 @@ mod tests {
         // Regression: a host clock counting from boot (1e12 ns) against GPS time (1.4e18 ns)
         // gives d = -1.4e18 ns; squared sums of raw d lost the spread to rounding (sigma of
         // seconds). Uniform [0.5, 1.5] ms: sigma 1 ms / sqrt(12) = 0.289 ms.
-        let mut c = HostClock::new(HostClockConfig::default());
+        // Only the delay spread in the sigma.
+        let mut c = HostClock::new(HostClockConfig {
+            reference_delay_sigma_ns: 0.0,
+            ..HostClockConfig::default()
+        });
         let mut rng = Lcg(4);
         let g0 = 1_400_000_000 * S;
         for k in 0..4_000 {

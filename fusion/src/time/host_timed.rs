@@ -176,8 +176,9 @@ mod tests {
         );
         assert_eq!(a.source, TimeSource::HostClock);
         assert_eq!(a.status, ClockStatus::Locked);
-        // sigma: link spread 0.29 ms and output delay 0.5 ms: about 0.58 ms.
-        assert!((a.sigma_ns - 577_000.0).abs() < 40_000.0, "{}", a.sigma_ns);
+        // sigma: link spread 0.29 ms, the Watson's output delay 0.5 ms and the VN-200's (the
+        // host clock's reference) 0.5 ms: sqrt(0.289^2 + 0.5^2 + 0.5^2) = 0.764 ms.
+        assert!((a.sigma_ns - 764_000.0).abs() < 40_000.0, "{}", a.sigma_ns);
         // No host model: not aligned, with the reason.
         let empty = HostClock::new(HostClockConfig::default());
         assert_eq!(

@@ -4,7 +4,8 @@
 //! Building blocks and the per-device aligners built from them (issue 7):
 //! - [`gps`]: GPS time, UTC, the leap-second table with its validity date, and placing a UTC time
 //!   of day (TT-Multi-RF `ts`, TS24h) on the right day;
-//! - [`pps`]: a device clock disciplined by PPS pulses (the BAHRS MCU clock through 0x06);
+//! - [`pps`]: a device clock disciplined by PPS pulses (the BAHRS MCU clock through 0x06), and
+//!   the VN-200's PPS times that name each pulse's GPS second;
 //! - [`host`]: the host clock model (lower envelope of receive time minus GPS time);
 //! - [`bahrs`]: the BAHRS aligner built from them;
 //! - [`seq`]: pairing data messages with their time messages by wrapping sequence counters;

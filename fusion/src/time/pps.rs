@@ -3,11 +3,12 @@
 //!
 //! In the installation the BAHRS synchronisation input is wired to the VN-200 PPS, and the BAHRS
 //! reports the MCU time of each pulse (message 0x06). Each pulse therefore gives one pair
-//! (device ticks, GPS time of a whole second). The caller identifies the GPS second of each pulse
-//! (from the VN-200's TimeGps - TimeGpsPps around the same host time, see [`pulse_second`]); this
-//! module fits `t_gps = a + b * ticks` over a sliding window of pulses by least squares, rejects
-//! outliers (a pulse whose residual is far outside the fit, e.g. a mis-identified second), detects
-//! device resets (time going backwards, or a run of mutually consistent outliers) and re-locks.
+//! (device ticks, GPS time of a whole second). The caller identifies the GPS time of each pulse
+//! (from the VN-200's TimeGps - TimeGpsPps around the same host time, [`PpsReferences`]; else
+//! from the host clock, [`pulse_second`]); this module fits `t_gps = a + b * ticks` over a
+//! sliding window of pulses by least squares, rejects outliers (a pulse whose residual is far
+//! outside the fit, e.g. a mis-identified second), detects device resets (time going backwards,
+//! or a run of mutually consistent outliers) and re-locks.
 //!
 //! Uncertainty of a mapped time: the least-squares prediction interval (residual scatter, with a
 //! floor of the tick quantisation and pulse jitter) plus the drift uncertainty times the time since
@@ -374,6 +375,132 @@ pub fn pulse_second(estimate_gps_ns: i64) -> i64 {
     (estimate_gps_ns + s / 2).div_euclid(s) * s
 }
 
+/// Where the GPS time of a synchronisation pulse came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PulseSecondSource {
+    /// The VN-200's own PPS time (TimeGps - TimeGpsPps) of a message received near the pulse.
+    Vn200Pps,
+    /// The host clock model: the pulse's receive time mapped to GPS time, rounded to the nearest
+    /// whole second (used when no VN-200 PPS time is available).
+    HostClock,
+}
+
+/// One VN-200 PPS time: a message with valid GPS time and its TimeGpsPps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PpsReference {
+    /// Host time at which the message's first byte left the VN-200 (arrival minus its
+    /// transmission time), ns.
+    pub host_ns: i64,
+    /// TimeGps of the message, ns since the GPS epoch.
+    pub t_gps_ns: i64,
+    /// TimeGps - TimeGpsPps: GPS time of the last PPS before the message, ns.
+    pub pps_gps_ns: i64,
+}
+
+/// Recent VN-200 PPS times by host time, to name the GPS time of each BAHRS synchronisation pulse
+/// (issue 7: "Identify the GPS second of each pulse from the VN-200's TimeGps - TimeGpsPps around
+/// the same host time"). The BAHRS sync input is wired to the VN-200 PPS, so the pulse the BAHRS
+/// reports is one of the VN-200's PPS edges: the reference nearest in host time names the edge
+/// it counts from, and the host-time distance (far below +-0.5 s) tells whether the pulse is that
+/// edge or a later one.
+///
+/// Decisions: a reference is taken only when the VN-200 says its GPS time is valid (the caller's
+/// check: TimeStatus / InsStatus, whose "GNSS error" bit also means "no valid PPS") and its
+/// TimeGpsPps is below [`PpsReferences::MAX_PPS_AGE_NS`] (an older last PPS means the VN-200's PPS
+/// stopped: its time would name an edge the BAHRS never saw). References more than
+/// [`PpsReferences::MAX_DISTANCE_NS`] of host time from the pulse are not used.
+#[derive(Debug, Clone, Default)]
+pub struct PpsReferences {
+    refs: VecDeque<PpsReference>,
+}
+
+impl PpsReferences {
+    /// Host time kept behind the newest reference, ns.
+    pub const SPAN_NS: i64 = 2 * super::gps::NS_PER_S;
+    /// Most references kept (2 s at the VN-200's 400 Hz maximum output rate is 800).
+    pub const CAPACITY: usize = 1024;
+    /// Largest host-time distance between a pulse and the reference that names it, ns.
+    pub const MAX_DISTANCE_NS: i64 = super::gps::NS_PER_S;
+    /// Largest TimeGpsPps accepted, ns (a PPS within the last 1.5 s).
+    pub const MAX_PPS_AGE_NS: u64 = 1_500_000_000;
+    /// Largest host or GPS time accepted, ns (2^61: 73 years).
+    pub const MAX_TIME_NS: i64 = 1 << 61;
+
+    /// No references.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds the PPS time of a VN-200 message whose GPS time is valid: first byte left at host
+    /// time `host_ns`, TimeGps `t_gps_ns`, TimeGpsPps `pps_age_ns`. Returns false when the
+    /// reference is not taken (PPS too old, or time before the PPS epoch).
+    pub fn add(&mut self, host_ns: i64, t_gps_ns: i64, pps_age_ns: u64) -> bool {
+        // Decision: times outside 0 ..= 2^61 ns (73 years) are garbage; refused, so every sum
+        // and difference below fits in an i64.
+        let range = 0..=Self::MAX_TIME_NS;
+        if pps_age_ns > Self::MAX_PPS_AGE_NS
+            || !range.contains(&host_ns)
+            || !range.contains(&t_gps_ns)
+        {
+            return false;
+        }
+        // Bounded above, so the cast and the subtraction cannot overflow.
+        let Some(pps_gps_ns) = t_gps_ns.checked_sub(pps_age_ns as i64).filter(|p| *p >= 0) else {
+            return false;
+        };
+        if self
+            .refs
+            .back()
+            .is_some_and(|b| host_ns < b.host_ns - Self::SPAN_NS)
+        {
+            // Host time went backwards by more than the span: not the same clock any more.
+            self.refs.clear();
+        }
+        if self.refs.len() == Self::CAPACITY {
+            self.refs.pop_front();
+        }
+        self.refs.push_back(PpsReference {
+            host_ns,
+            t_gps_ns,
+            pps_gps_ns,
+        });
+        let newest = host_ns;
+        while self
+            .refs
+            .front()
+            .is_some_and(|f| f.host_ns < newest.saturating_sub(Self::SPAN_NS))
+        {
+            self.refs.pop_front();
+        }
+        true
+    }
+
+    /// The reference nearest in host time to `host_ns`, within [`Self::MAX_DISTANCE_NS`].
+    pub fn nearest(&self, host_ns: i64) -> Option<&PpsReference> {
+        self.refs
+            .iter()
+            .min_by_key(|r| r.host_ns.abs_diff(host_ns))
+            .filter(|r| r.host_ns.abs_diff(host_ns) <= Self::MAX_DISTANCE_NS as u64)
+    }
+
+    /// GPS time (ns) of the PPS edge that left the device at about host time `pulse_host_ns`
+    /// (the first byte of its 0x06, less the device's reporting latency, which cancels against
+    /// the VN-200's output latency to well under a millisecond), or `None` without a reference
+    /// near it. The reference's PPS edge plus the whole number of seconds nearest to the pulse's
+    /// distance from it: the reference may be a message sampled just before the pulse, whose
+    /// last PPS is the previous one.
+    pub fn pulse_gps(&self, pulse_host_ns: i64) -> Option<i64> {
+        let r = self.nearest(pulse_host_ns)?;
+        let s = super::gps::NS_PER_S;
+        // Bounded: the reference's times within 0 ..= 2^61 (`add`) and the distance within
+        // MAX_DISTANCE_NS (`nearest`).
+        let estimate = r.t_gps_ns + (pulse_host_ns - r.host_ns);
+        let k = (estimate - r.pps_gps_ns + s / 2).div_euclid(s);
+        Some(r.pps_gps_ns + k * s)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -498,6 +625,56 @@ mod tests {
         let (_, s_far) = c.to_gps(4_000_000 + 20_000_000).unwrap();
         assert!(s_far > s_near);
         assert_eq!(c.to_gps(4_000_000 + 31_000_000), Err(MapError::PulsesLost));
+    }
+
+    #[test]
+    fn pulse_named_by_the_vn200_pps_near_a_second_boundary() {
+        const MS: i64 = 1_000_000;
+        // Host clock 7 s ahead of GPS; VN-200 first bytes 2 ms after their sample.
+        let off = 7 * NS_PER_S;
+        let mut r = PpsReferences::new();
+        assert_eq!(r.pulse_gps(100 * NS_PER_S), None);
+        // A message sampled 2 ms before the pulse at 100 s: its last PPS was 99 s (TimeGpsPps
+        // 998 ms). The pulse's 0x06 leaves about 3 ms after that message: 100 s, not 99 s.
+        let t = 100 * NS_PER_S - 2 * MS;
+        assert!(r.add(t + off + 2 * MS, t, 998 * MS as u64));
+        assert_eq!(r.pulse_gps(100 * NS_PER_S + off + MS), Some(100 * NS_PER_S));
+        // A message 1 ms after the pulse (TimeGpsPps 1 ms) names the same edge.
+        let t = 100 * NS_PER_S + MS;
+        assert!(r.add(t + off + 2 * MS, t, MS as u64));
+        assert_eq!(
+            r.pulse_gps(100 * NS_PER_S + off + 2 * MS),
+            Some(100 * NS_PER_S)
+        );
+        // Far from every reference: no answer (the caller falls back to the host clock).
+        assert_eq!(r.pulse_gps(100 * NS_PER_S + off + 2 * NS_PER_S), None);
+        // A PPS edge off the whole second (0.25 s phase) is named as the VN-200 reports it:
+        // message at 200.3 s, last PPS 200.25 s; pulse about 1 s later.
+        let mut r = PpsReferences::new();
+        let t = 200 * NS_PER_S + 300 * MS;
+        assert!(r.add(t + off, t, 50 * MS as u64));
+        assert_eq!(
+            r.pulse_gps(201 * NS_PER_S + 250 * MS + off + MS),
+            Some(201 * NS_PER_S + 250 * MS)
+        );
+    }
+
+    #[test]
+    fn stale_pps_times_are_not_references() {
+        let mut r = PpsReferences::new();
+        // TimeGpsPps of 2 s: the VN-200's PPS stopped.
+        assert!(!r.add(10 * NS_PER_S, 10 * NS_PER_S, 2_000_000_000));
+        // TimeGpsPps larger than TimeGps: no PPS epoch.
+        assert!(!r.add(0, 1_000, 1_000_000));
+        assert_eq!(r.pulse_gps(10 * NS_PER_S), None);
+        // Garbage times are refused.
+        assert!(!r.add(i64::MIN, 10 * NS_PER_S, 0));
+        assert!(!r.add(0, i64::MAX, 0));
+        // Old references age out: 3 s later only the new one is near.
+        assert!(r.add(10 * NS_PER_S, 10 * NS_PER_S, 0));
+        assert!(r.add(13 * NS_PER_S, 13 * NS_PER_S, 0));
+        assert_eq!(r.nearest(10 * NS_PER_S), None);
+        assert_eq!(r.pulse_gps(13 * NS_PER_S + 1_000), Some(13 * NS_PER_S));
     }
 
     #[test]

@@ -73,6 +73,8 @@ pub struct Vn200Times {
     pub time_gps_ns: Option<i64>,
     /// TimeStartup, ns.
     pub time_startup_ns: Option<u64>,
+    /// TimeGpsPps: time since the last GNSS PPS, ns (ICD 2.2 Common group, 2.3 Time group).
+    pub time_gps_pps_ns: Option<u64>,
     /// TimeStatus.
     pub time_status: Option<TimeStatus>,
     /// InsStatus.
@@ -90,6 +92,7 @@ impl Vn200Times {
         if let Some(c) = &o.common {
             t.time_gps_ns = c.time_gps_ns.map(|v| v as i64);
             t.time_startup_ns = c.time_startup_ns;
+            t.time_gps_pps_ns = c.time_gps_pps_ns;
             t.ins_status = c.ins_status;
         }
         if let Some(g) = &o.time {
@@ -100,6 +103,7 @@ impl Vn200Times {
                 t.time_gps_ns = Some(gps::gps_ns_from_week_tow(w, 0.0) + tow as i64);
             }
             t.time_startup_ns = t.time_startup_ns.or(g.time_startup_ns);
+            t.time_gps_pps_ns = t.time_gps_pps_ns.or(g.time_gps_pps_ns);
             t.time_status = g.time_status;
         }
         if let Some(i) = &o.ins {
@@ -196,10 +200,12 @@ impl Vn200Aligner {
     }
 
     /// State of the clock at host time `now_ns`: locked while valid GPS time arrives, coasting on
-    /// TimeStartup after it stopped, unlocked without a model.
+    /// TimeStartup after it stopped, unlocked without a TimeStartup model. Decision: a VN-200
+    /// whose output carries no TimeStartup (the default Register 75 output) is locked while valid
+    /// TimeGps arrives, although it has no start-up clock model to coast on.
     pub fn status(&self, now_ns: i64) -> ClockStatus {
         match (self.last_valid_host_ns, self.anchor) {
-            (Some(h), Some(_)) if now_ns - h <= 2 * self.cfg.status_hold_ns => ClockStatus::Locked,
+            (Some(h), _) if now_ns - h <= 2 * self.cfg.status_hold_ns => ClockStatus::Locked,
             (Some(h), Some(_)) if now_ns - h <= self.cfg.coast_limit_ns => ClockStatus::Coasting,
             _ => ClockStatus::Unlocked,
         }
