@@ -101,7 +101,7 @@ impl Projector {
         self.attitude_count += 1;
         let changed = self.last_key.as_deref() != Some(key.as_str());
         self.last_key = Some(key);
-        if !changed && n % ATTITUDE_EVERY != 0 {
+        if !changed && !n.is_multiple_of(ATTITUDE_EVERY) {
             return None;
         }
         let diffs = |pr: &PairRecord| {
