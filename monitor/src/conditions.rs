@@ -186,7 +186,8 @@ pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
     let vn = &p.units[usize::from(UNIT_VN200)];
     if vn.fault_flags & FAULT_INVALID != 0 {
         let reason = format!(
-            "VN-200 INS not tracking: no valid attitude (fault flags 0x{:02X})",
+            "VN-200 INS not tracking: attitude invalid (INS mode or error bits; fault flags \
+             0x{:02X})",
             vn.fault_flags
         );
         let id = Rule::InsNotTracking.alert_id(0);
