@@ -556,3 +556,159 @@ fn time_never_runs_backwards() {
     let (t, a) = only(&rig.run(1000), 0x0600_0000, STATE_RAISED, SEVERITY_ADVISORY);
     assert_eq!((t, a.raised_gps_ns), (1000, T0 + 1000 * MS));
 }
+
+/// A small deterministic generator for the random-input test.
+struct XorShift(u64);
+
+impl XorShift {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn one_in(&mut self, n: u64) -> bool {
+        self.next().is_multiple_of(n)
+    }
+    fn byte(&mut self) -> u8 {
+        self.next() as u8
+    }
+    /// A float that is often special: NaN, infinities, huge, negative, or ordinary.
+    fn float(&mut self) -> f64 {
+        match self.next() % 6 {
+            0 => f64::NAN,
+            1 => f64::INFINITY,
+            2 => -1e300,
+            3 => f64::from_bits(self.next()),
+            _ => (self.next() % 10_000) as f64 / 100.0,
+        }
+    }
+    /// A small code, mostly valid, sometimes anything.
+    fn code(&mut self, valid: u8) -> u8 {
+        if self.one_in(8) {
+            self.byte()
+        } else {
+            self.byte() % valid
+        }
+    }
+}
+
+#[test]
+fn random_payloads_never_panic_and_transitions_stay_consistent() {
+    let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
+    let mut m = Monitor::new(MonitorParams {
+        decode_window_s: 0.5,
+        ..MonitorParams::default()
+    });
+    let mut params_latch = MonitorParams::default();
+    params_latch.timing_mut(Rule::UnitIsolated).latch = true;
+    let mut latching = Monitor::new(params_latch);
+    let mut traffic = Box::<TrafficPayload>::default();
+    // Per monitor: raised (or latched) ids, last seq, last time.
+    let mut state: [(std::collections::BTreeSet<u32>, u64, i64); 2] = Default::default();
+    let mut t = T0;
+    for step in 0..2_000 {
+        // Mostly forward in time, sometimes backwards or a big jump.
+        t = match rng.next() % 50 {
+            0 => t - 5_000 * MS,
+            1 => t + 60_000 * MS,
+            _ => t + 50 * MS,
+        };
+        let mut att = AttitudePayload::default();
+        for u in &mut att.units {
+            u.roll_rad = rng.float();
+            u.valid = rng.code(2);
+            u.fault_flags = rng.byte() & 0x1F;
+        }
+        for row in &mut att.pair_verdicts {
+            for v in row {
+                *v = rng.code(3);
+            }
+        }
+        att.isolation = rng.code(4);
+        att.isolated_unit = rng.code(3);
+        att.valid = rng.code(2);
+        let own = OwnshipPayload {
+            source: rng.code(4),
+            valid: rng.code(2),
+            sigma_horizontal_m: rng.float(),
+            ..OwnshipPayload::default()
+        };
+        let mut integ = IntegrityPayload {
+            device_count: if rng.one_in(10) { u32::MAX } else { 4 },
+            clock_status: rng.code(4),
+            clock_offset_s: rng.float(),
+            ..IntegrityPayload::default()
+        };
+        for d in &mut integ.devices {
+            d.device = rng.code(4);
+            d.link_state = rng.code(4);
+            d.last_message_age_s = rng.float();
+            d.messages = rng.next() % 1000 + step * 10;
+            d.checksum_failures = rng.next() % 100;
+            d.malformed = if rng.one_in(20) { u64::MAX } else { 0 };
+            d.name = [rng.byte(); 16];
+        }
+        let n = (rng.next() % 40) as usize;
+        let targets: Vec<Target> = (0..n)
+            .map(|_| Target {
+                address: rng.next() as u32,
+                address_type: rng.code(6),
+                alert_level: rng.code(4),
+                plausibility_flags: rng.byte(),
+                callsign: [rng.byte(); 8],
+                horizontal_distance_m: rng.float(),
+                ..Target::EMPTY
+            })
+            .collect();
+        traffic.set_targets(&targets);
+        if rng.one_in(7) {
+            traffic.count = rng.next() as u32;
+        }
+        for (k, mon) in [&mut m, &mut latching].into_iter().enumerate() {
+            if !rng.one_in(3) {
+                mon.attitude(&att);
+            }
+            if !rng.one_in(3) {
+                mon.ownship(&own);
+            }
+            if rng.one_in(5) {
+                mon.traffic(&traffic);
+            }
+            if rng.one_in(5) {
+                mon.integrity(&integ);
+            }
+            if rng.one_in(50) {
+                let ids: Vec<u32> = mon.active().map(|(id, _)| id).collect();
+                for id in ids {
+                    mon.acknowledge(id);
+                }
+            }
+            let (active, seq, last_t) = &mut state[k];
+            for a in mon.poll(t) {
+                assert!(Rule::of_alert(a.alert_id).is_some(), "{:08X}", a.alert_id);
+                assert_eq!(a.header.seq, *seq + 1, "consecutive sequence numbers");
+                *seq = a.header.seq;
+                assert!(a.header.gps_time_ns >= *last_t, "time never runs backwards");
+                *last_t = a.header.gps_time_ns;
+                assert!(a.raised_gps_ns <= a.header.gps_time_ns);
+                assert!(a.severity <= SEVERITY_WARNING);
+                match a.state {
+                    STATE_RAISED => {
+                        active.insert(a.alert_id);
+                    }
+                    STATE_LATCHED => assert!(active.contains(&a.alert_id), "latched unraised"),
+                    STATE_CLEARED => assert!(active.remove(&a.alert_id), "cleared unraised"),
+                    s => panic!("state {s}"),
+                }
+            }
+            // What the monitor reports active is what its transitions said.
+            let now: std::collections::BTreeSet<u32> = mon.active().map(|(id, _)| id).collect();
+            assert_eq!(&now, active);
+        }
+    }
+    assert!(
+        state[0].1 > 100,
+        "the random input raised and cleared alerts"
+    );
+}
