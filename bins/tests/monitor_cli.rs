@@ -117,6 +117,25 @@ fn monitor_raises_and_clears_the_bahrs_integrity_risk_alert() {
     assert!(cleared.header.gps_time_ns - raised.raised_gps_ns >= 200_000_000);
     assert!(cleared.header.seq > raised.header.seq);
 
+    // Publishing stops: the monitor's clock goes on with host time, so the attitude feed is
+    // reported silent (rule feed_silent 0x0A, subject attitude 0) after the 2 s limit.
+    let stopped = Instant::now();
+    let silent = loop {
+        let r = alerts
+            .receive_timeout(Duration::from_secs(10))
+            .unwrap()
+            .expect("no feed-silent alert within 10 s");
+        if r.alert_id == 0x0A00_0000 && r.state == STATE_RAISED {
+            break *r.payload();
+        }
+    };
+    assert!(stopped.elapsed() >= Duration::from_millis(1900));
+    assert!(
+        silent.reason().starts_with("no attitude payload for 2."),
+        "{}",
+        silent.reason()
+    );
+
     // SIGTERM ends it cleanly, with its summary line.
     let pid = guard.0.id().to_string();
     assert!(
