@@ -308,6 +308,81 @@ impl MonitorParams {
     }
 }
 
+/// One-line meaning of each rule, for the commented example.
+fn rule_doc(rule: Rule) -> &'static str {
+    match rule {
+        Rule::AttitudeMiscompare => "A pair of attitude units disagrees on an axis",
+        Rule::UnitIsolated => "The cross-check isolated a unit",
+        Rule::UnitHealth => "A unit reports a health problem (BAHRS: integrity risk)",
+        Rule::AttitudeInvalid => "No usable voted attitude",
+        Rule::InsNotTracking => "The VN-200 INS gives no valid attitude",
+        Rule::GnssLost => "Ownship position not from the VN-200 INS",
+        Rule::ClockNotLocked => "GPS-time clock not locked or holding over",
+        Rule::DeviceSilent => "A device sends nothing valid",
+        Rule::DecodeErrors => "Too many rejected frames from a device",
+        Rule::FeedSilent => "A bus topic is not received",
+        Rule::TrafficAlert => "A traffic target's DAA alert level",
+        Rule::SuspectedSpoofing => "A traffic target fails plausibility tests",
+    }
+}
+
+impl MonitorParams {
+    /// A commented `[monitor]` section with every key at its default value (for `vigil config
+    /// --example`); it parses back to [`MonitorParams::default`].
+    pub fn example_toml() -> String {
+        use core::fmt::Write as _;
+        let d = Self::default();
+        let mut s = String::from(
+            "[monitor]\n\
+             # Integrity monitor thresholds (every key optional; defaults shown).\n",
+        );
+        let _ = write!(
+            s,
+            "# A device whose last valid message is older is silent, s.\n\
+             device_silent_s = {:?}\n\
+             # A bus topic not received for longer is silent, s.\n\
+             feed_silent_s = {:?}\n\
+             # Window of the decode error count, s.\n\
+             decode_window_s = {:?}\n\
+             # Largest fraction of rejected frames (checksum + malformed) in a window, 0..1.\n\
+             decode_error_ratio_max = {:?}\n\
+             # Fewest frames for a window to be judged.\n\
+             decode_min_frames = {}\n\
+             # Raise an advisory when the clock has GPS time but no PPS lock.\n\
+             clock_require_pps = {}\n\
+             # PLAUSIBILITY_* bits that make a target suspect of spoofing (0x1F: all five).\n\
+             spoofing_flags = {}\n",
+            d.device_silent_s,
+            d.feed_silent_s,
+            d.decode_window_s,
+            d.decode_error_ratio_max,
+            d.decode_min_frames,
+            d.clock_require_pps,
+            d.spoofing_flags,
+        );
+        s.push_str(
+            "# Per rule: enabled, raise_delay_s (condition must hold this long), \
+             clear_hysteresis_s\n\
+             # (must stay absent this long), latch (stay LATCHED until acknowledged).\n",
+        );
+        for rule in Rule::ALL {
+            let t = d.timing(rule);
+            let _ = write!(
+                s,
+                "\n[monitor.{}]\n# {}.\nenabled = {}\nraise_delay_s = {:?}\n\
+                 clear_hysteresis_s = {:?}\nlatch = {}\n",
+                rule.name(),
+                rule_doc(rule),
+                t.enabled,
+                t.raise_delay_s,
+                t.clear_hysteresis_s,
+                t.latch
+            );
+        }
+        s
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -376,6 +451,23 @@ mod tests {
             ..MonitorParams::default()
         };
         assert_eq!(p.validate().unwrap_err().key, "decode_window_s");
+    }
+
+    #[test]
+    fn the_commented_example_parses_back_to_the_defaults() {
+        let text = MonitorParams::example_toml();
+        let mut doc: toml::Table = toml::from_str(&text).unwrap();
+        let section = doc.remove("monitor").expect("a [monitor] section");
+        assert!(doc.is_empty());
+        let p: MonitorParams = section.try_into().unwrap();
+        assert_eq!(p, MonitorParams::default());
+        // Every rule has its table, named as in the rule table.
+        for rule in Rule::ALL {
+            assert!(
+                text.contains(&format!("[monitor.{}]", rule.name())),
+                "{rule:?}"
+            );
+        }
     }
 
     #[test]
