@@ -154,7 +154,11 @@ impl Devices {
             let silent = if d.link_state == LINK_DISCONNECTED {
                 Some(format!("{who} disconnected (reconnects {})", d.reconnects))
             } else if d.link_state == LINK_SILENT {
-                Some(format!("{who} link silent: last message {age:.1} s ago"))
+                Some(if age.is_nan() {
+                    format!("{who} link silent: no message yet")
+                } else {
+                    format!("{who} link silent: last message {age:.1} s ago")
+                })
             } else if age.is_finite() && age > limit_s {
                 Some(format!(
                     "{who} silent: last message {age:.1} s ago (limit {limit_s:.1} s)"

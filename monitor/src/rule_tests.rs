@@ -13,6 +13,7 @@ use vigil_bus::payload::attitude::{
 use vigil_bus::payload::integrity::{
     CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, DEVICE_BAHRS, DEVICE_TTMRF,
     DEVICE_VN200, DEVICE_WATSON, DeviceIntegrity, IntegrityPayload, LINK_DISCONNECTED, LINK_OK,
+    LINK_SILENT,
 };
 use vigil_bus::payload::ownship::{
     OwnshipPayload, SOURCE_NONE, SOURCE_TTMRF_GNSS, SOURCE_VN200_INS,
@@ -335,6 +336,23 @@ fn device_silent_by_age_by_link_and_never_heard() {
     rig.integ.devices[1].last_message_age_s = 0.01;
     rig.integ.devices[1].link_state = LINK_DISCONNECTED;
     assert!(rig.run(1000).is_empty(), "still silent: no change");
+    // Each link state alone raises it too, with its own reason.
+    let mut other = Rig::new(MonitorParams::default());
+    other.integ.devices[1].link_state = LINK_DISCONNECTED;
+    other.integ.devices[1].reconnects = 3;
+    let (_, a) = only(&other.run(100), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "device vn200 (VN-200) disconnected (reconnects 3)"
+    );
+    let mut other = Rig::new(MonitorParams::default());
+    other.integ.devices[1].link_state = LINK_SILENT;
+    other.integ.devices[1].last_message_age_s = f64::NAN;
+    let (_, a) = only(&other.run(100), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "device vn200 (VN-200) link silent: no message yet"
+    );
     rig.integ.devices[1].link_state = LINK_OK;
     let (t, _) = only(&rig.run(2000), id, STATE_CLEARED, SEVERITY_CAUTION);
     assert_eq!(t, 4000, "link OK again at 3.0 s, hysteresis 1 s");
