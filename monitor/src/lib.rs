@@ -13,6 +13,22 @@
 //! stopped keeps its last value (an alert does not clear because its evidence stopped arriving;
 //! the feed-silent rule says that the evidence stopped).
 //!
+//! ```
+//! use vigil_bus::payload::alerts::{SEVERITY_CAUTION, STATE_RAISED};
+//! use vigil_bus::payload::attitude::{AttitudePayload, FAULT_HEALTH, UNIT_BAHRS};
+//! use vigil_monitor::{Monitor, MonitorParams, Rule};
+//!
+//! let mut monitor = Monitor::new(MonitorParams::default());
+//! let mut att = AttitudePayload { valid: 1, ..AttitudePayload::default() };
+//! att.units[usize::from(UNIT_BAHRS)].fault_flags = FAULT_HEALTH; // BAHRS health "integrity risk"
+//! monitor.attitude(&att);
+//! let alerts = monitor.poll(1_000_000_000);
+//! assert_eq!(alerts.len(), 1);
+//! assert_eq!(alerts[0].alert_id, Rule::UnitHealth.alert_id(u32::from(UNIT_BAHRS)));
+//! assert_eq!((alerts[0].state, alerts[0].severity), (STATE_RAISED, SEVERITY_CAUTION));
+//! assert!(alerts[0].reason().starts_with("BAHRS health integrity risk"));
+//! ```
+//!
 //! # Rules
 //!
 //! Alert ids, codes and subjects are in [`rules`]. Fields read from the payloads:
