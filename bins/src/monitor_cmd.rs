@@ -17,8 +17,10 @@
 //!   drained at each wake-up, so they wait at most that long).
 //! - No silent loss of alerts: the alerts topic never overwrites an unread alert (see
 //!   `vigil_bus::policy`). An alert the publisher cannot send (no sample to loan) stays queued and
-//!   is retried at each wake-up; deliveries that failed because a subscriber's buffer was full
-//!   are counted by the publisher and reported on stderr as they happen and at exit.
+//!   is retried at each wake-up (at most [`MAX_QUEUED`] are kept: beyond that the oldest are
+//!   dropped, counted and reported, so a publisher that never recovers cannot exhaust memory);
+//!   deliveries that failed because a subscriber's buffer was full are counted by the publisher
+//!   and reported on stderr as they happen and at exit.
 //! - SIGINT/SIGTERM end it cleanly (iceoryx2's signal handling, [`Bus::termination_requested`]),
 //!   after one last attempt to send what is queued. A summary line goes to stderr at exit.
 
@@ -93,18 +95,40 @@ impl GpsClock {
     }
 }
 
+/// Most alerts kept waiting for the publisher.
+pub const MAX_QUEUED: usize = 4096;
+
+/// Appends `alerts` to `queue`, keeping at most `max`: the oldest beyond that are dropped.
+/// Returns how many were dropped.
+fn enqueue(queue: &mut VecDeque<AlertPayload>, alerts: Vec<AlertPayload>, max: usize) -> u64 {
+    queue.extend(alerts);
+    let excess = queue.len().saturating_sub(max);
+    queue.drain(..excess);
+    excess as u64
+}
+
 /// The monitor, its clock and the alerts waiting to be published.
 struct Runner {
     monitor: Monitor,
     clock: GpsClock,
     queue: VecDeque<AlertPayload>,
+    /// Alerts dropped from a full queue.
+    dropped: u64,
 }
 
 impl Runner {
     /// Evaluates at the clock's current time, if it has one, and queues the changes.
     fn poll(&mut self) {
         if let Some(t) = self.clock.now(monotonic_ns()) {
-            self.queue.extend(self.monitor.poll(t));
+            let dropped = enqueue(&mut self.queue, self.monitor.poll(t), MAX_QUEUED);
+            if dropped > 0 {
+                self.dropped += dropped;
+                eprintln!(
+                    "vigil monitor: {dropped} unpublished alerts dropped from a full queue \
+                     ({} in all)",
+                    self.dropped
+                );
+            }
         }
     }
 
@@ -212,6 +236,7 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
         monitor: Monitor::new(params),
         clock: GpsClock::default(),
         queue: VecDeque::new(),
+        dropped: 0,
     };
     let (mut sent, mut failed_seen, mut received) = (0u64, 0u64, 0usize);
     loop {
@@ -248,9 +273,10 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
     runner.publish(&mut publ, &mut sent);
     eprintln!(
         "vigil monitor: stopped; {received} payloads received ({} missed), {sent} alerts \
-         published, {} unsent, {} failed deliveries, {} alerts active",
+         published, {} unsent, {} dropped unsent, {} failed deliveries, {} alerts active",
         attitude.missed() + ownship.missed() + traffic.missed() + integrity.missed(),
         runner.queue.len(),
+        runner.dropped,
         publ.failed_deliveries(),
         runner.monitor.active().count()
     );
@@ -281,6 +307,19 @@ mod tests {
         assert_eq!(c.now(500), Some(2_000));
         // A host time before the stamp (never expected) does not move it back either.
         assert_eq!(c.now(0), Some(2_000));
+    }
+
+    #[test]
+    fn the_queue_keeps_the_newest_and_counts_what_it_drops() {
+        let alert = |id| AlertPayload {
+            alert_id: id,
+            ..AlertPayload::default()
+        };
+        let mut q = VecDeque::new();
+        assert_eq!(enqueue(&mut q, vec![alert(1), alert(2)], 3), 0);
+        assert_eq!(enqueue(&mut q, vec![alert(3), alert(4), alert(5)], 3), 2);
+        let ids: Vec<u32> = q.iter().map(|a| a.alert_id).collect();
+        assert_eq!(ids, [3, 4, 5]);
     }
 
     #[test]
