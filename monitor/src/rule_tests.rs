@@ -730,3 +730,46 @@ fn random_payloads_never_panic_and_transitions_stay_consistent() {
         "the random input raised and cleared alerts"
     );
 }
+
+/// The timeline `vigil run` gives for the `bahrs-attitude-fault` scenario, payloads by hand: the
+/// BAHRS roll error crosses 6 deg at 72 s and the cross-check isolates the BAHRS about 1 s later
+/// (73 s); from 90 s the BAHRS flags its roll "integrity risk", so its roll is no longer compared
+/// and the isolation ends. The alerts: miscompare and isolation raised at 73 s, integrity risk
+/// raised at 90 s, miscompare cleared at 91 s (1 s hysteresis), isolation at 92 s (2 s).
+#[test]
+fn regression_10_bahrs_attitude_fault_timeline() {
+    use vigil_bus::payload::attitude::VERDICT_NOT_COMPARED;
+    let mut rig = Rig::new(MonitorParams::default());
+    assert!(rig.run(73_000).is_empty());
+    rig.att.units[0] = unit(3.0 + 0.5 * 13.0);
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_ROLL] = VERDICT_FAIL;
+    rig.att.pair_verdicts[PAIR_BAHRS_WATSON][AXIS_ROLL] = VERDICT_FAIL;
+    rig.att.isolation = ISOLATION_ISOLATED;
+    rig.att.isolated_unit = UNIT_BAHRS;
+    let mut log: Vec<(i64, u32, u8)> = rig
+        .run(17_000)
+        .into_iter()
+        .map(|(t, a)| (t, a.alert_id, a.state))
+        .collect();
+    rig.att.units[0].fault_flags = FAULT_HEALTH;
+    rig.att.units[0].valid = 0;
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_ROLL] = VERDICT_NOT_COMPARED;
+    rig.att.pair_verdicts[PAIR_BAHRS_WATSON][AXIS_ROLL] = VERDICT_NOT_COMPARED;
+    rig.att.isolation = ISOLATION_NO_FAULT;
+    rig.att.isolated_unit = UNIT_NONE;
+    log.extend(
+        rig.run(10_000)
+            .into_iter()
+            .map(|(t, a)| (t, a.alert_id, a.state)),
+    );
+    assert_eq!(
+        log,
+        [
+            (73_000, 0x0100_0000, STATE_RAISED),
+            (73_000, 0x0200_0000, STATE_RAISED),
+            (90_000, 0x0300_0000, STATE_RAISED),
+            (91_000, 0x0100_0000, STATE_CLEARED),
+            (92_000, 0x0200_0000, STATE_CLEARED),
+        ]
+    );
+}
