@@ -214,6 +214,11 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
         ..BusConfig::default()
     })
     .context("connecting to the bus")?;
+    // iceoryx2 installs its SIGINT/SIGTERM handlers at the first question about them: ask now, so
+    // a signal from here on ends the loop cleanly instead of killing the process.
+    if bus.termination_requested() {
+        return Ok(());
+    }
     let mut attitude = bus
         .subscriber::<AttitudePayload>()
         .context("subscribing to attitude")?;
@@ -229,6 +234,13 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
     let mut publ = bus
         .publisher::<AlertPayload>()
         .context("creating the alerts publisher")?;
+    eprintln!(
+        "vigil monitor: running: {} -> {}",
+        ["attitude", "ownship", "traffic", "integrity"]
+            .map(|t| vigil_bus::service_name(&args.prefix, t))
+            .join(", "),
+        vigil_bus::Topic::Alerts.service_name(&args.prefix)
+    );
     let deadline = args
         .duration
         .map(|s| Instant::now() + Duration::from_secs_f64(s));

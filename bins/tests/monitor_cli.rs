@@ -3,6 +3,7 @@
 
 mod common;
 
+use std::io::{BufRead, BufReader, Read};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -157,7 +158,13 @@ fn monitor_raises_and_clears_the_bahrs_integrity_risk_alert() {
         std::thread::sleep(Duration::from_millis(20));
     };
     let mut stderr = String::new();
-    std::io::Read::read_to_string(guard.0.stderr.as_mut().unwrap(), &mut stderr).unwrap();
+    guard
+        .0
+        .stderr
+        .as_mut()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
     assert!(status.success(), "{status:?}\n{stderr}");
     assert!(stderr.contains("vigil monitor: stopped;"), "{stderr}");
     assert!(stderr.contains("raised 0x03000000 caution"), "{stderr}");
@@ -177,4 +184,53 @@ fn a_bad_monitor_key_is_named() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("raise_delay"), "{err}");
+}
+
+#[test]
+fn sigint_ends_it_cleanly() {
+    let prefix = format!("vigil-test-{}-monitor-int", std::process::id());
+    let child = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["monitor", "--prefix", &prefix])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut guard = Guard(child);
+    // Signals are handled once it says it runs.
+    let mut err = BufReader::new(guard.0.stderr.take().unwrap());
+    let mut first = String::new();
+    err.read_line(&mut first).unwrap();
+    assert_eq!(
+        first.trim_end(),
+        format!(
+            "vigil monitor: running: {p}/vigil/attitude, {p}/vigil/ownship, {p}/vigil/traffic, \
+             {p}/vigil/integrity -> {p}/vigil/alerts",
+            p = prefix
+        )
+    );
+    assert!(
+        Command::new("kill")
+            .args(["-INT", &guard.0.id().to_string()])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = guard.0.try_wait().unwrap() {
+            break s;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "no exit after SIGINT"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut stderr = String::new();
+    err.read_to_string(&mut stderr).unwrap();
+    assert!(status.success(), "{status:?}\n{stderr}");
+    // Nothing was published, so it never had a GPS time and raised nothing.
+    assert!(
+        stderr.contains("0 payloads received (0 missed), 0 alerts published"),
+        "{stderr}"
+    );
 }
