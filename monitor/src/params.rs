@@ -471,6 +471,15 @@ mod tests {
     }
 
     #[test]
+    fn serialises_to_toml_that_parses_back() {
+        let mut p = MonitorParams::default();
+        p.gnss_lost.latch = true;
+        p.feed_silent_s = 3.5;
+        let text = toml::to_string(&p).unwrap();
+        assert_eq!(parse(&text).unwrap(), p);
+    }
+
+    #[test]
     fn seconds_convert_to_ns() {
         assert_eq!(secs_to_ns(1.5), 1_500_000_000);
         assert_eq!(secs_to_ns(-2.0), 0);
