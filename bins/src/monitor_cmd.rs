@@ -31,9 +31,13 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use vigil_bus::clock::monotonic_ns;
+use vigil_bus::payload::alerts::{
+    SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_WARNING, STATE_CLEARED, STATE_LATCHED,
+    STATE_RAISED,
+};
 use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
-    Publisher, Subscriber, TrafficPayload,
+    Publisher, Subscriber, Topic, TrafficPayload,
 };
 use vigil_monitor::{Monitor, MonitorParams};
 
@@ -180,18 +184,18 @@ impl Runner {
 
 fn state_name(state: u8) -> &'static str {
     match state {
-        vigil_bus::payload::alerts::STATE_RAISED => "raised",
-        vigil_bus::payload::alerts::STATE_CLEARED => "cleared",
-        vigil_bus::payload::alerts::STATE_LATCHED => "latched",
+        STATE_RAISED => "raised",
+        STATE_CLEARED => "cleared",
+        STATE_LATCHED => "latched",
         _ => "state?",
     }
 }
 
 fn severity_name(severity: u8) -> &'static str {
     match severity {
-        vigil_bus::payload::alerts::SEVERITY_ADVISORY => "advisory",
-        vigil_bus::payload::alerts::SEVERITY_CAUTION => "caution",
-        vigil_bus::payload::alerts::SEVERITY_WARNING => "warning",
+        SEVERITY_ADVISORY => "advisory",
+        SEVERITY_CAUTION => "caution",
+        SEVERITY_WARNING => "warning",
         _ => "severity?",
     }
 }
@@ -239,7 +243,7 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
         ["attitude", "ownship", "traffic", "integrity"]
             .map(|t| vigil_bus::service_name(&args.prefix, t))
             .join(", "),
-        vigil_bus::Topic::Alerts.service_name(&args.prefix)
+        Topic::Alerts.service_name(&args.prefix)
     );
     let deadline = args
         .duration
