@@ -5,6 +5,7 @@ mod decode;
 mod geometry;
 mod golden;
 mod listen;
+mod monitor_cmd;
 mod record_cmd;
 mod replay;
 mod replay_aligned;
@@ -39,6 +40,8 @@ enum Command {
     Replay(replay::ReplayArgs),
     /// Print what a vigil iceoryx2 service publishes, as JSON Lines (or latency statistics).
     Listen(listen::ListenArgs),
+    /// The integrity monitor as a separate process: subscribes to the fused topics, publishes alerts.
+    Monitor(monitor_cmd::MonitorArgs),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +53,7 @@ fn main() -> ExitCode {
         Command::Record(args) => record_cmd::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Listen(args) => listen::run(&args),
+        Command::Monitor(args) => monitor_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

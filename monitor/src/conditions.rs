@@ -1,0 +1,360 @@
+//! The rules' conditions over the latest payloads: pure functions that push `(alert_id,
+//! Condition)` for every alert whose condition holds now. Timing (raise delay, hysteresis, latch)
+//! is applied afterwards by [`crate::lifecycle`].
+
+use core::fmt::Write as _;
+
+use vigil_bus::payload::alerts::{SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_WARNING};
+use vigil_bus::payload::attitude::{
+    AXIS_HEADING, AXIS_PITCH, AXIS_ROLL, AttitudePayload, FAULT_HEALTH, FAULT_INVALID,
+    ISOLATION_DETECTED_NOT_ISOLATED, ISOLATION_ISOLATED, UNIT_BAHRS, UNIT_COUNT, UNIT_VN200,
+    UnitAttitude, VERDICT_FAIL,
+};
+use vigil_bus::payload::integrity::{
+    CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, IntegrityPayload,
+};
+use vigil_bus::payload::ownship::{
+    OwnshipPayload, SOURCE_EXTERNAL, SOURCE_NONE, SOURCE_TTMRF_GNSS, SOURCE_VN200_INS,
+};
+use vigil_bus::payload::read_text;
+use vigil_bus::payload::traffic::{
+    ALERT_CORRECTIVE, ALERT_NONE, ALERT_PREVENTIVE, CALLSIGN_LEN, PLAUSIBILITY_ALTITUDE_JUMP,
+    PLAUSIBILITY_IMPOSSIBLE_SPEED, PLAUSIBILITY_INCONSISTENT_SOURCES, PLAUSIBILITY_POSITION_JUMP,
+    PLAUSIBILITY_RANGE_VS_SIGNAL, Target,
+};
+
+use crate::lifecycle::Condition;
+use crate::params::MonitorParams;
+use crate::rules::{Rule, target_alert_id};
+
+/// Conditions holding at one evaluation, `(alert_id, condition)`.
+pub(crate) type Active = Vec<(u32, Condition)>;
+
+fn push(
+    out: &mut Active,
+    params: &MonitorParams,
+    rule: Rule,
+    id: u32,
+    severity: u8,
+    reason: String,
+) {
+    if params.timing(rule).enabled {
+        out.push((id, Condition { severity, reason }));
+    }
+}
+
+/// Display name of a `UNIT_*` index.
+pub fn unit_name(unit: usize) -> &'static str {
+    match unit {
+        0 => "BAHRS",
+        1 => "VN-200",
+        2 => "Watson",
+        _ => "unknown unit",
+    }
+}
+
+const PAIR_NAMES: [&str; 3] = ["BAHRS/VN-200", "BAHRS/Watson", "VN-200/Watson"];
+const AXIS_NAMES: [&str; 3] = ["roll", "pitch", "heading"];
+
+fn axis_deg(u: &UnitAttitude, axis: usize) -> f64 {
+    match axis {
+        AXIS_ROLL => u.roll_rad,
+        AXIS_PITCH => u.pitch_rad,
+        _ => u.heading_rad,
+    }
+    .to_degrees()
+}
+
+/// "BAHRS 12.3, VN-200 3.1, Watson - deg" (a unit without a valid sample shows "-").
+fn unit_values(p: &AttitudePayload, axis: usize) -> String {
+    let mut s = String::new();
+    for (i, u) in p.units.iter().enumerate() {
+        if i > 0 {
+            s.push_str(", ");
+        }
+        if u.valid != 0 {
+            let _ = write!(s, "{} {:.1}", unit_name(i), axis_deg(u, axis));
+        } else {
+            let _ = write!(s, "{} -", unit_name(i));
+        }
+    }
+    s.push_str(" deg");
+    s
+}
+
+/// Attitude rules: miscompare per axis, unit isolated, unit health, voted attitude invalid, INS
+/// not tracking.
+pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
+    for axis in [AXIS_ROLL, AXIS_PITCH, AXIS_HEADING] {
+        let failed: Vec<&str> = (0..3)
+            .filter(|&pair| p.pair_verdicts[pair][axis] == VERDICT_FAIL)
+            .map(|pair| PAIR_NAMES[pair])
+            .collect();
+        if failed.is_empty() {
+            continue;
+        }
+        let not_isolated = if p.isolation == ISOLATION_DETECTED_NOT_ISOLATED {
+            ", not isolated"
+        } else {
+            ""
+        };
+        let reason = format!(
+            "{} miscompare ({} fail{not_isolated}): {}",
+            AXIS_NAMES[axis],
+            failed.join(", "),
+            unit_values(p, axis)
+        );
+        let id = Rule::AttitudeMiscompare.alert_id(axis as u32);
+        push(
+            out,
+            params,
+            Rule::AttitudeMiscompare,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
+    if p.isolation == ISOLATION_ISOLATED {
+        let u = usize::from(p.isolated_unit);
+        let values = p
+            .units
+            .get(u)
+            .map(|v| {
+                format!(
+                    " (roll {:.1}, pitch {:.1}, heading {:.1} deg; voted {:.1}, {:.1}, {:.1} deg)",
+                    v.roll_rad.to_degrees(),
+                    v.pitch_rad.to_degrees(),
+                    v.heading_rad.to_degrees(),
+                    p.roll_rad.to_degrees(),
+                    p.pitch_rad.to_degrees(),
+                    p.heading_rad.to_degrees()
+                )
+            })
+            .unwrap_or_default();
+        let reason = if u < UNIT_COUNT {
+            format!("{} isolated by the cross-check{values}", unit_name(u))
+        } else {
+            format!("unit code {u} isolated by the cross-check")
+        };
+        let id = Rule::UnitIsolated.alert_id(u as u32);
+        push(
+            out,
+            params,
+            Rule::UnitIsolated,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
+    for (i, u) in p.units.iter().enumerate() {
+        if u.fault_flags & FAULT_HEALTH == 0 {
+            continue;
+        }
+        let reason = if i == usize::from(UNIT_BAHRS) {
+            format!(
+                "BAHRS health integrity risk: the unit declares its output possibly misleading \
+                 (roll {:.1}, pitch {:.1}, heading {:.1} deg)",
+                u.roll_rad.to_degrees(),
+                u.pitch_rad.to_degrees(),
+                u.heading_rad.to_degrees()
+            )
+        } else {
+            format!(
+                "{} reports a health problem (fault flags 0x{:02X})",
+                unit_name(i),
+                u.fault_flags
+            )
+        };
+        let id = Rule::UnitHealth.alert_id(i as u32);
+        push(out, params, Rule::UnitHealth, id, SEVERITY_CAUTION, reason);
+    }
+    if p.valid == 0 {
+        let mut reason = String::from("voted attitude unusable; unit fault flags");
+        for (i, u) in p.units.iter().enumerate() {
+            let _ = write!(reason, " {} 0x{:02X}", unit_name(i), u.fault_flags);
+        }
+        let id = Rule::AttitudeInvalid.alert_id(0);
+        push(
+            out,
+            params,
+            Rule::AttitudeInvalid,
+            id,
+            SEVERITY_WARNING,
+            reason,
+        );
+    }
+    let vn = &p.units[usize::from(UNIT_VN200)];
+    if vn.fault_flags & FAULT_INVALID != 0 {
+        let reason = format!(
+            "VN-200 INS not tracking: attitude invalid (INS mode or error bits; fault flags \
+             0x{:02X})",
+            vn.fault_flags
+        );
+        let id = Rule::InsNotTracking.alert_id(0);
+        push(
+            out,
+            params,
+            Rule::InsNotTracking,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
+}
+
+/// Ownship rule: GNSS lost (position not from the VN-200 INS).
+pub(crate) fn ownship(p: &OwnshipPayload, params: &MonitorParams, out: &mut Active) {
+    let id = Rule::GnssLost.alert_id(0);
+    let (severity, reason) = if p.valid == 0 || p.source == SOURCE_NONE {
+        (
+            SEVERITY_CAUTION,
+            format!(
+                "no valid ownship position (source code {}, valid {})",
+                p.source, p.valid
+            ),
+        )
+    } else if p.source == SOURCE_TTMRF_GNSS {
+        (
+            SEVERITY_ADVISORY,
+            format!(
+                "INS GNSS lost: ownship position from the TT-Multi-RF GNSS fallback \
+                 (sigma_h {:.1} m)",
+                p.sigma_horizontal_m
+            ),
+        )
+    } else if p.source == SOURCE_VN200_INS || p.source == SOURCE_EXTERNAL {
+        return;
+    } else {
+        (
+            SEVERITY_ADVISORY,
+            format!("ownship position from unknown source code {}", p.source),
+        )
+    };
+    push(out, params, Rule::GnssLost, id, severity, reason);
+}
+
+/// Clock rule from the integrity payload.
+pub(crate) fn clock(p: &IntegrityPayload, params: &MonitorParams, out: &mut Active) {
+    let values = format!(
+        "offset {:.6} s, sigma {:.6} s",
+        p.clock_offset_s, p.clock_sigma_s
+    );
+    let (severity, reason) = match p.clock_status {
+        CLOCK_PPS_LOCKED => return,
+        CLOCK_GPS_TIME if !params.clock_require_pps => return,
+        CLOCK_GPS_TIME => (
+            SEVERITY_ADVISORY,
+            format!("clock has GPS time but no PPS lock ({values})"),
+        ),
+        CLOCK_HOLDOVER => (
+            SEVERITY_ADVISORY,
+            format!("clock holding over after losing lock ({values})"),
+        ),
+        CLOCK_NOT_LOCKED => (
+            SEVERITY_CAUTION,
+            format!("clock not locked: host clock only ({values})"),
+        ),
+        code => (
+            SEVERITY_CAUTION,
+            format!("clock status unknown (code {code}): taken as not locked"),
+        ),
+    };
+    let id = Rule::ClockNotLocked.alert_id(0);
+    push(out, params, Rule::ClockNotLocked, id, severity, reason);
+}
+
+/// What the monitor keeps of a traffic target that has an alert level or a plausibility flag.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TargetSummary {
+    pub address: u32,
+    pub address_type: u8,
+    pub alert_level: u8,
+    pub plausibility_flags: u8,
+    pub callsign: [u8; CALLSIGN_LEN],
+    pub horizontal_distance_m: f64,
+    pub vertical_separation_m: f64,
+    pub time_to_lowc_s: f64,
+}
+
+impl TargetSummary {
+    /// The summary of `t` when it matters to a rule, else `None`.
+    pub fn of(t: &Target, params: &MonitorParams) -> Option<Self> {
+        (t.alert_level != ALERT_NONE || t.plausibility_flags & params.spoofing_flags != 0)
+            .then_some(Self {
+                address: t.address & 0x00FF_FFFF,
+                address_type: t.address_type,
+                alert_level: t.alert_level,
+                plausibility_flags: t.plausibility_flags,
+                callsign: t.callsign,
+                horizontal_distance_m: t.horizontal_distance_m,
+                vertical_separation_m: t.vertical_separation_m,
+                time_to_lowc_s: t.time_to_lowc_s,
+            })
+    }
+
+    /// "ABCDEF (N123AB)".
+    fn name(&self) -> String {
+        let cs = read_text(&self.callsign).trim();
+        if cs.is_empty() {
+            format!("{:06X}", self.address)
+        } else {
+            format!("{:06X} ({cs})", self.address)
+        }
+    }
+}
+
+/// Names of the plausibility flags set in `flags`.
+pub fn plausibility_names(flags: u8) -> Vec<&'static str> {
+    [
+        (PLAUSIBILITY_IMPOSSIBLE_SPEED, "impossible speed"),
+        (PLAUSIBILITY_POSITION_JUMP, "position jump"),
+        (PLAUSIBILITY_ALTITUDE_JUMP, "altitude jump"),
+        (PLAUSIBILITY_RANGE_VS_SIGNAL, "signal too strong for range"),
+        (PLAUSIBILITY_INCONSISTENT_SOURCES, "inconsistent sources"),
+    ]
+    .into_iter()
+    .filter(|(bit, _)| flags & bit != 0)
+    .map(|(_, name)| name)
+    .collect()
+}
+
+/// Traffic rules: per-target alert level and suspected spoofing.
+pub(crate) fn traffic(targets: &[TargetSummary], params: &MonitorParams, out: &mut Active) {
+    for t in targets {
+        if t.alert_level != ALERT_NONE {
+            // A level code above the known ones (a newer publisher) is taken as a warning.
+            let (severity, level) = match t.alert_level {
+                ALERT_PREVENTIVE => (SEVERITY_ADVISORY, "preventive"),
+                ALERT_CORRECTIVE => (SEVERITY_CAUTION, "corrective"),
+                _ => (SEVERITY_WARNING, "warning"),
+            };
+            let reason = format!(
+                "traffic {} {level}: range {:.0} m, vertical {:+.0} m, time to LoWC {:.1} s",
+                t.name(),
+                t.horizontal_distance_m,
+                t.vertical_separation_m,
+                t.time_to_lowc_s
+            );
+            let id = target_alert_id(Rule::TrafficAlert, t.address, t.address_type);
+            push(out, params, Rule::TrafficAlert, id, severity, reason);
+        }
+        let flags = t.plausibility_flags & params.spoofing_flags;
+        if flags != 0 {
+            let reason = format!(
+                "traffic {} suspected spoofing: {} (flags 0x{flags:02X}), range {:.0} m",
+                t.name(),
+                plausibility_names(flags).join(", "),
+                t.horizontal_distance_m
+            );
+            let id = target_alert_id(Rule::SuspectedSpoofing, t.address, t.address_type);
+            push(
+                out,
+                params,
+                Rule::SuspectedSpoofing,
+                id,
+                SEVERITY_CAUTION,
+                reason,
+            );
+        }
+    }
+}

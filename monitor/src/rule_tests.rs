@@ -1,0 +1,775 @@
+//! Per-rule tests: hand-built payloads fed to a [`Monitor`] on a 100 ms grid, checking which
+//! alert rises or clears, when, with which id, severity and reason.
+
+use vigil_bus::payload::alerts::{
+    AlertPayload, SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_WARNING, STATE_CLEARED,
+    STATE_LATCHED, STATE_RAISED,
+};
+use vigil_bus::payload::attitude::{
+    AXIS_PITCH, AXIS_ROLL, AttitudePayload, FAULT_HEALTH, FAULT_INVALID, ISOLATION_ISOLATED,
+    ISOLATION_NO_FAULT, PAIR_BAHRS_VN200, PAIR_BAHRS_WATSON, UNIT_BAHRS, UNIT_NONE, UNIT_VN200,
+    UnitAttitude, VERDICT_FAIL, VERDICT_PASS,
+};
+use vigil_bus::payload::integrity::{
+    CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, DEVICE_BAHRS, DEVICE_TTMRF,
+    DEVICE_VN200, DEVICE_WATSON, DeviceIntegrity, IntegrityPayload, LINK_DISCONNECTED, LINK_OK,
+    LINK_SILENT,
+};
+use vigil_bus::payload::ownship::{
+    OwnshipPayload, SOURCE_NONE, SOURCE_TTMRF_GNSS, SOURCE_VN200_INS,
+};
+use vigil_bus::payload::traffic::{
+    ADDRESS_ICAO, ADDRESS_NON_ICAO, ALERT_CORRECTIVE, ALERT_PREVENTIVE, ALERT_WARNING,
+    PLAUSIBILITY_IMPOSSIBLE_SPEED, PLAUSIBILITY_POSITION_JUMP, Target, TrafficPayload,
+};
+use vigil_bus::payload::write_text;
+
+use crate::{Monitor, MonitorParams, Phase, Rule};
+
+const MS: i64 = 1_000_000;
+/// A GPS time far from 0, so that nothing depends on starting at 0 (ns).
+const T0: i64 = 1_400_000_000 * 1_000_000_000;
+
+/// Nominal payloads of every topic and a monitor fed with them every 100 ms.
+struct Rig {
+    m: Monitor,
+    att: AttitudePayload,
+    own: OwnshipPayload,
+    traffic: Box<TrafficPayload>,
+    integ: IntegrityPayload,
+    /// Time of the next step, ms after [`T0`].
+    t_ms: i64,
+    /// Feed the ownship payload (false: that topic falls silent).
+    feed_ownship: bool,
+    /// Per-step increments of device slot 0's messages and checksum failures.
+    counting: (u64, u64),
+}
+
+fn unit(roll_deg: f64) -> UnitAttitude {
+    UnitAttitude {
+        roll_rad: roll_deg.to_radians(),
+        pitch_rad: 2f64.to_radians(),
+        heading_rad: 90f64.to_radians(),
+        valid: 1,
+        ..UnitAttitude::default()
+    }
+}
+
+fn device(name: &str, kind: u8) -> DeviceIntegrity {
+    let mut d = DeviceIntegrity {
+        device: kind,
+        link_state: LINK_OK,
+        last_message_age_s: 0.01,
+        ..DeviceIntegrity::default()
+    };
+    write_text(&mut d.name, name);
+    d
+}
+
+impl Rig {
+    fn new(params: MonitorParams) -> Self {
+        let att = AttitudePayload {
+            valid: 1,
+            units: [unit(3.0), unit(3.0), unit(3.0)],
+            pair_verdicts: [[VERDICT_PASS; 3]; 3],
+            isolation: ISOLATION_NO_FAULT,
+            isolated_unit: UNIT_NONE,
+            ..AttitudePayload::default()
+        };
+        let own = OwnshipPayload {
+            source: SOURCE_VN200_INS,
+            valid: 1,
+            sigma_horizontal_m: 2.5,
+            ..OwnshipPayload::default()
+        };
+        let mut integ = IntegrityPayload {
+            clock_status: CLOCK_PPS_LOCKED,
+            device_count: 4,
+            clock_offset_s: 0.0,
+            clock_sigma_s: 1e-6,
+            ..IntegrityPayload::default()
+        };
+        integ.devices[0] = device("bahrs", DEVICE_BAHRS);
+        integ.devices[1] = device("vn200", DEVICE_VN200);
+        integ.devices[2] = device("watson", DEVICE_WATSON);
+        integ.devices[3] = device("ttmrf", DEVICE_TTMRF);
+        Self {
+            m: Monitor::new(params),
+            att,
+            own,
+            traffic: Box::default(),
+            integ,
+            t_ms: 0,
+            feed_ownship: true,
+            counting: (10, 0),
+        }
+    }
+
+    /// One step: feed every topic, poll at the step's time, advance 100 ms. Returns
+    /// (time ms, alerts).
+    fn step(&mut self) -> (i64, Vec<AlertPayload>) {
+        let t = T0 + self.t_ms * MS;
+        self.integ.devices[0].messages += self.counting.0;
+        self.integ.devices[0].checksum_failures += self.counting.1;
+        self.att.header.gps_time_ns = t;
+        self.m.attitude(&self.att);
+        if self.feed_ownship {
+            self.m.ownship(&self.own);
+        }
+        self.m.traffic(&self.traffic);
+        self.m.integrity(&self.integ);
+        let alerts = self.m.poll(t);
+        let now = self.t_ms;
+        self.t_ms += 100;
+        (now, alerts)
+    }
+
+    /// Steps for `ms` milliseconds; returns every alert with the time (ms) it was published.
+    fn run(&mut self, ms: i64) -> Vec<(i64, AlertPayload)> {
+        let end = self.t_ms + ms;
+        let mut out = Vec::new();
+        while self.t_ms < end {
+            let (t, alerts) = self.step();
+            out.extend(alerts.into_iter().map(|a| (t, a)));
+        }
+        out
+    }
+}
+
+/// The single alert in `alerts`, checked for id, state and severity.
+fn only(alerts: &[(i64, AlertPayload)], id: u32, state: u8, severity: u8) -> (i64, AlertPayload) {
+    assert_eq!(alerts.len(), 1, "{alerts:#?}");
+    let (t, a) = alerts[0];
+    assert_eq!(
+        (a.alert_id, a.state, a.severity),
+        (id, state, severity),
+        "{}",
+        a.reason()
+    );
+    assert_eq!(
+        a.header.gps_time_ns,
+        T0 + t * MS,
+        "published at the poll time"
+    );
+    (t, a)
+}
+
+#[test]
+fn nominal_payloads_raise_nothing() {
+    let mut rig = Rig::new(MonitorParams::default());
+    let alerts = rig.run(60_000);
+    assert!(alerts.is_empty(), "{alerts:#?}");
+}
+
+#[test]
+fn roll_miscompare_raises_at_once_and_clears_after_one_second() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(1000);
+    rig.att.units[0] = unit(12.0);
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_ROLL] = VERDICT_FAIL;
+    rig.att.pair_verdicts[PAIR_BAHRS_WATSON][AXIS_ROLL] = VERDICT_FAIL;
+    let id = Rule::AttitudeMiscompare.alert_id(AXIS_ROLL as u32);
+    assert_eq!(id, 0x0100_0000);
+    let (t, a) = only(&rig.run(3000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 1000);
+    assert_eq!(
+        a.reason(),
+        "roll miscompare (BAHRS/VN-200, BAHRS/Watson fail): BAHRS 12.0, VN-200 3.0, Watson 3.0 deg"
+    );
+    // Passing again from t = 4.0 s: hysteresis 1 s, cleared at 5.0 s.
+    rig.att.pair_verdicts = [[VERDICT_PASS; 3]; 3];
+    let (t, a) = only(&rig.run(3000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 5000);
+    assert_eq!(a.raised_gps_ns, T0 + 1000 * MS);
+    assert!(
+        a.reason().starts_with("cleared: roll miscompare"),
+        "{}",
+        a.reason()
+    );
+}
+
+#[test]
+fn miscompares_on_two_axes_come_out_in_id_order() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_PITCH] = VERDICT_FAIL;
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_ROLL] = VERDICT_FAIL;
+    let (_, alerts) = rig.step();
+    let ids: Vec<u32> = alerts.iter().map(|a| a.alert_id).collect();
+    assert_eq!(ids, [0x0100_0000, 0x0100_0001]);
+    // The monitor numbers its transitions 1, 2, ...
+    let seqs: Vec<u64> = alerts.iter().map(|a| a.header.seq).collect();
+    assert_eq!(seqs, [1, 2]);
+    assert!(alerts.iter().all(|a| a.header.schema_version == 1));
+}
+
+#[test]
+fn isolated_unit_names_the_unit() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.att.isolation = ISOLATION_ISOLATED;
+    rig.att.isolated_unit = UNIT_VN200;
+    rig.att.units[1] = unit(-7.5);
+    let (t, a) = only(&rig.run(500), 0x0200_0001, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 0);
+    assert!(
+        a.reason().starts_with(
+            "VN-200 isolated by the cross-check (roll -7.5, pitch 2.0, heading 90.0 deg"
+        ),
+        "{}",
+        a.reason()
+    );
+    // Hysteresis 2 s.
+    rig.att.isolation = ISOLATION_NO_FAULT;
+    rig.att.isolated_unit = UNIT_NONE;
+    let (t, _) = only(&rig.run(5000), 0x0200_0001, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 2500);
+}
+
+#[test]
+fn bahrs_integrity_risk_raises_at_the_first_sample() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(700);
+    rig.att.units[usize::from(UNIT_BAHRS)].fault_flags = FAULT_HEALTH;
+    let (t, a) = only(&rig.run(1000), 0x0300_0000, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 700, "the first sample with the flag");
+    assert!(
+        a.reason().starts_with("BAHRS health integrity risk"),
+        "{}",
+        a.reason()
+    );
+}
+
+#[test]
+fn voted_attitude_invalid_is_a_warning_after_one_second() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.att.valid = 0;
+    rig.att.units[0].fault_flags = FAULT_INVALID;
+    let (t, a) = only(&rig.run(3000), 0x0400_0000, STATE_RAISED, SEVERITY_WARNING);
+    assert_eq!(t, 1000);
+    assert_eq!(
+        a.reason(),
+        "voted attitude unusable; unit fault flags BAHRS 0x01 VN-200 0x00 Watson 0x00"
+    );
+}
+
+#[test]
+fn ins_not_tracking_after_one_second() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(200);
+    rig.att.units[usize::from(UNIT_VN200)].fault_flags = FAULT_INVALID;
+    rig.att.units[usize::from(UNIT_VN200)].valid = 0;
+    let (t, a) = only(&rig.run(3000), 0x0500_0000, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 1200);
+    assert_eq!(
+        a.reason(),
+        "VN-200 INS not tracking: attitude invalid (INS mode or error bits; fault flags 0x01)"
+    );
+}
+
+#[test]
+fn gnss_lost_escalates_with_the_position_source() {
+    let mut rig = Rig::new(MonitorParams::default());
+    let id = 0x0600_0000;
+    // TT-Multi-RF fallback from 0: advisory after 1 s.
+    rig.own.source = SOURCE_TTMRF_GNSS;
+    rig.own.sigma_horizontal_m = 7.0;
+    let (t, a) = only(&rig.run(2000), id, STATE_RAISED, SEVERITY_ADVISORY);
+    assert_eq!(t, 1000);
+    assert_eq!(
+        a.reason(),
+        "INS GNSS lost: ownship position from the TT-Multi-RF GNSS fallback (sigma_h 7.0 m)"
+    );
+    // No position at all at 2.0 s: caution at once (a severity change of a raised alert).
+    rig.own.source = SOURCE_NONE;
+    rig.own.valid = 0;
+    let (t, a) = only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 2000);
+    assert_eq!(a.raised_gps_ns, T0 + 1000 * MS, "first raise time kept");
+    // Back on the INS at 3.0 s: cleared after 2 s.
+    rig.own.source = SOURCE_VN200_INS;
+    rig.own.valid = 1;
+    let (t, _) = only(&rig.run(4000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 5000);
+}
+
+#[test]
+fn clock_states_and_their_severities() {
+    let id = 0x0700_0000;
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.integ.clock_status = CLOCK_NOT_LOCKED;
+    let (t, a) = only(&rig.run(3000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 2000);
+    assert!(a.reason().starts_with("clock not locked"), "{}", a.reason());
+    rig.integ.clock_status = CLOCK_HOLDOVER;
+    only(&rig.run(1000), id, STATE_RAISED, SEVERITY_ADVISORY);
+    rig.integ.clock_status = 9;
+    let (_, a) = only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert!(a.reason().contains("code 9"), "{}", a.reason());
+
+    // GPS time without PPS: fine unless PPS is required.
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.integ.clock_status = CLOCK_GPS_TIME;
+    assert!(rig.run(5000).is_empty());
+    let mut rig = Rig::new(MonitorParams {
+        clock_require_pps: true,
+        ..MonitorParams::default()
+    });
+    rig.integ.clock_status = CLOCK_GPS_TIME;
+    only(&rig.run(5000), id, STATE_RAISED, SEVERITY_ADVISORY);
+}
+
+#[test]
+fn device_silent_by_age_by_link_and_never_heard() {
+    // VN-200 in slot 1: subject (DEVICE_VN200 << 8) | 1 = 0x101.
+    let id = 0x0800_0101;
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.integ.devices[1].last_message_age_s = 2.0;
+    assert!(
+        rig.run(1000).is_empty(),
+        "2.0 s is not over the 2.0 s limit"
+    );
+    rig.integ.devices[1].last_message_age_s = 2.5;
+    let (_, a) = only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "device vn200 (VN-200) silent: last message 2.5 s ago (limit 2.0 s)"
+    );
+    rig.integ.devices[1].last_message_age_s = 0.01;
+    rig.integ.devices[1].link_state = LINK_DISCONNECTED;
+    assert!(rig.run(1000).is_empty(), "still silent: no change");
+    // Each link state alone raises it too, with its own reason.
+    let mut other = Rig::new(MonitorParams::default());
+    other.integ.devices[1].link_state = LINK_DISCONNECTED;
+    other.integ.devices[1].reconnects = 3;
+    let (_, a) = only(&other.run(100), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "device vn200 (VN-200) disconnected (reconnects 3)"
+    );
+    let mut other = Rig::new(MonitorParams::default());
+    other.integ.devices[1].link_state = LINK_SILENT;
+    other.integ.devices[1].last_message_age_s = f64::NAN;
+    let (_, a) = only(&other.run(100), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "device vn200 (VN-200) link silent: no message yet"
+    );
+    rig.integ.devices[1].link_state = LINK_OK;
+    let (t, _) = only(&rig.run(2000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 4000, "link OK again at 3.0 s, hysteresis 1 s");
+
+    // A device never heard from (age NaN): silent once it has existed for more than 2 s.
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.integ.devices[3].last_message_age_s = f64::NAN;
+    let (t, a) = only(&rig.run(3000), 0x0800_0303, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 2100);
+    assert!(a.reason().contains("no message in 2.1 s"), "{}", a.reason());
+}
+
+#[test]
+fn decode_error_rate_is_judged_per_window() {
+    // Slot 0 (BAHRS): 10 messages and 1 checksum failure per 100 ms step. The baseline is the
+    // first payload (t = 0, counters after the first step); the window is judged at t = 10.0 s:
+    // 100 steps later, 1000 messages and 100 failures: 100 / 1100 = 9.1 % > 5 %.
+    let id = 0x0900_0000;
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.counting = (10, 1);
+    let (t, a) = only(&rig.run(15_000), id, STATE_RAISED, SEVERITY_ADVISORY);
+    assert_eq!(t, 10_000);
+    assert_eq!(
+        a.reason(),
+        "device bahrs (BAHRS) decode errors: 100 of 1100 frames rejected in 10.0 s (9.1 %, limit 5.0 %)"
+    );
+    // Failures stop at 15 s: the window judged at 20 s still has 50 of 1050 (4.8 %): cleared.
+    rig.counting = (10, 0);
+    let (t, _) = only(&rig.run(10_000), id, STATE_CLEARED, SEVERITY_ADVISORY);
+    assert_eq!(t, 20_000);
+
+    // 4 % is under the limit.
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.counting = (24, 1);
+    assert!(rig.run(30_000).is_empty());
+    // Too few frames to judge: 2 frames per second, half of them bad.
+    let mut rig = Rig::new(MonitorParams {
+        decode_window_s: 5.0,
+        ..MonitorParams::default()
+    });
+    rig.counting = (0, 0);
+    for _ in 0..50 {
+        rig.integ.devices[0].messages += u64::from(rig.t_ms % 1000 == 0);
+        rig.integ.devices[0].checksum_failures += u64::from(rig.t_ms % 1000 == 500);
+        assert!(rig.step().1.is_empty());
+    }
+}
+
+#[test]
+fn a_counter_reset_starts_a_new_baseline() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.integ.devices[0].messages = 1_000_000;
+    rig.run(5000);
+    // The publisher restarted: counters from 0. Without a new baseline the difference would
+    // wrap; with it, 10 messages per step and no failures raise nothing.
+    rig.integ.devices[0].messages = 0;
+    assert!(rig.run(30_000).is_empty());
+}
+
+#[test]
+fn a_silent_topic_raises_feed_silent_and_its_return_clears_it() {
+    let id = 0x0A00_0001;
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(1000);
+    // Last ownship at 0.9 s; silent for more than 2 s first at 3.0 s (2.1 s).
+    rig.feed_ownship = false;
+    let (t, a) = only(&rig.run(4000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 3000);
+    assert_eq!(a.reason(), "no ownship payload for 2.1 s (limit 2.0 s)");
+    rig.feed_ownship = true;
+    let (t, _) = only(&rig.run(1000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 5000);
+}
+
+#[test]
+fn a_topic_never_received_is_silent_from_the_first_poll() {
+    let mut m = Monitor::new(MonitorParams::default());
+    let att = AttitudePayload {
+        valid: 1,
+        ..AttitudePayload::default()
+    };
+    let mut raised = Vec::new();
+    for i in 0..30 {
+        m.attitude(&att);
+        for a in m.poll(T0 + i * 100 * MS) {
+            raised.push((i * 100, a.alert_id));
+        }
+    }
+    // Ownship, traffic, integrity (subjects 1, 2, 3) at 2.1 s; attitude fed, so not subject 0.
+    assert_eq!(
+        raised,
+        [
+            (2100, 0x0A00_0001),
+            (2100, 0x0A00_0002),
+            (2100, 0x0A00_0003)
+        ]
+    );
+}
+
+fn target(address: u32, address_type: u8, level: u8, flags: u8) -> Target {
+    let mut t = Target {
+        address,
+        address_type,
+        alert_level: level,
+        plausibility_flags: flags,
+        horizontal_distance_m: 1234.4,
+        vertical_separation_m: 150.0,
+        time_to_lowc_s: 23.45,
+        ..Target::EMPTY
+    };
+    write_text(&mut t.callsign, "N123AB");
+    t
+}
+
+#[test]
+fn traffic_levels_map_to_severities_per_target() {
+    let mut rig = Rig::new(MonitorParams::default());
+    let id = 0x20AB_CDEF;
+    rig.traffic
+        .set_targets(&[target(0xABCDEF, ADDRESS_ICAO, ALERT_PREVENTIVE, 0)]);
+    let (t, a) = only(&rig.run(500), id, STATE_RAISED, SEVERITY_ADVISORY);
+    assert_eq!(t, 0);
+    assert_eq!(
+        a.reason(),
+        "traffic ABCDEF (N123AB) preventive: range 1234 m, vertical +150 m, time to LoWC 23.4 s"
+    );
+    rig.traffic
+        .set_targets(&[target(0xABCDEF, ADDRESS_ICAO, ALERT_CORRECTIVE, 0)]);
+    only(&rig.run(500), id, STATE_RAISED, SEVERITY_CAUTION);
+    // A second aircraft with the same 24 bits but a non-ICAO address: its own alert.
+    rig.traffic.set_targets(&[
+        target(0xABCDEF, ADDRESS_NON_ICAO, ALERT_WARNING, 0),
+        target(0xABCDEF, ADDRESS_ICAO, ALERT_CORRECTIVE, 0),
+    ]);
+    only(&rig.run(500), 0x21AB_CDEF, STATE_RAISED, SEVERITY_WARNING);
+    // Both gone from the picture: both cleared (hysteresis 0), in id order.
+    rig.traffic.set_targets(&[]);
+    let alerts = rig.run(500);
+    let got: Vec<(u32, u8)> = alerts.iter().map(|(_, a)| (a.alert_id, a.state)).collect();
+    assert_eq!(got, [(id, STATE_CLEARED), (0x21AB_CDEF, STATE_CLEARED)]);
+}
+
+#[test]
+fn implausible_targets_raise_suspected_spoofing() {
+    let id = 0x30AB_CDEF;
+    let mut rig = Rig::new(MonitorParams::default());
+    let flags = PLAUSIBILITY_IMPOSSIBLE_SPEED | PLAUSIBILITY_POSITION_JUMP;
+    rig.traffic
+        .set_targets(&[target(0xABCDEF, ADDRESS_ICAO, 0, flags)]);
+    let (_, a) = only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "traffic ABCDEF (N123AB) suspected spoofing: impossible speed, position jump (flags 0x03), range 1234 m"
+    );
+    // Plausible again at 1.0 s: cleared after the 5 s hysteresis.
+    rig.traffic
+        .set_targets(&[target(0xABCDEF, ADDRESS_ICAO, 0, 0)]);
+    let (t, _) = only(&rig.run(7000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 6000);
+
+    // Flags outside `spoofing_flags` are not suspect.
+    let mut rig = Rig::new(MonitorParams {
+        spoofing_flags: PLAUSIBILITY_POSITION_JUMP,
+        ..MonitorParams::default()
+    });
+    rig.traffic.set_targets(&[target(
+        0xABCDEF,
+        ADDRESS_ICAO,
+        0,
+        PLAUSIBILITY_IMPOSSIBLE_SPEED,
+    )]);
+    assert!(rig.run(2000).is_empty());
+}
+
+#[test]
+fn a_latched_alert_waits_for_acknowledgement() {
+    let mut params = MonitorParams::default();
+    params.timing_mut(Rule::UnitIsolated).latch = true;
+    let id = 0x0200_0000;
+    let mut rig = Rig::new(params);
+    rig.att.isolation = ISOLATION_ISOLATED;
+    rig.att.isolated_unit = UNIT_BAHRS;
+    only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
+    rig.att.isolation = ISOLATION_NO_FAULT;
+    rig.att.isolated_unit = UNIT_NONE;
+    let (t, a) = only(&rig.run(60_000), id, STATE_LATCHED, SEVERITY_CAUTION);
+    assert_eq!(t, 3000, "hysteresis 2 s after 1.0 s");
+    assert_eq!(a.header.seq, 2);
+    assert!(matches!(
+        rig.m.active().collect::<Vec<_>>()[..],
+        [(0x0200_0000, Phase::Latched { .. })]
+    ));
+    assert!(!rig.m.acknowledge(0x0300_0000), "not latched");
+    assert!(rig.m.acknowledge(id));
+    let (t, a) = only(&rig.run(1000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 61_000, "the next poll");
+    assert_eq!(a.header.seq, 3);
+    assert_eq!(a.raised_gps_ns, T0);
+    assert_eq!(rig.m.active().count(), 0);
+}
+
+#[test]
+fn a_disabled_rule_raises_nothing() {
+    let mut params = MonitorParams::default();
+    params.timing_mut(Rule::UnitHealth).enabled = false;
+    let mut rig = Rig::new(params);
+    rig.att.units[0].fault_flags = FAULT_HEALTH;
+    assert!(rig.run(5000).is_empty());
+}
+
+#[test]
+fn time_never_runs_backwards() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.own.source = SOURCE_TTMRF_GNSS;
+    rig.run(500);
+    // A poll 10 s in the past is taken as the last poll time (0.4 s): the 1 s delay has not
+    // passed and nothing is raised, and the alert's time is never before a previous poll.
+    assert!(rig.m.poll(T0 - 10_000 * MS).is_empty());
+    let (t, a) = only(&rig.run(1000), 0x0600_0000, STATE_RAISED, SEVERITY_ADVISORY);
+    assert_eq!((t, a.raised_gps_ns), (1000, T0 + 1000 * MS));
+}
+
+/// A small deterministic generator for the random-input test.
+struct XorShift(u64);
+
+impl XorShift {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn one_in(&mut self, n: u64) -> bool {
+        self.next().is_multiple_of(n)
+    }
+    fn byte(&mut self) -> u8 {
+        self.next() as u8
+    }
+    /// A float that is often special: NaN, infinities, huge, negative, or ordinary.
+    fn float(&mut self) -> f64 {
+        match self.next() % 6 {
+            0 => f64::NAN,
+            1 => f64::INFINITY,
+            2 => -1e300,
+            3 => f64::from_bits(self.next()),
+            _ => (self.next() % 10_000) as f64 / 100.0,
+        }
+    }
+    /// A small code, mostly valid, sometimes anything.
+    fn code(&mut self, valid: u8) -> u8 {
+        if self.one_in(8) {
+            self.byte()
+        } else {
+            self.byte() % valid
+        }
+    }
+}
+
+#[test]
+fn random_payloads_never_panic_and_transitions_stay_consistent() {
+    let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
+    let mut m = Monitor::new(MonitorParams {
+        decode_window_s: 0.5,
+        ..MonitorParams::default()
+    });
+    let mut params_latch = MonitorParams::default();
+    params_latch.timing_mut(Rule::UnitIsolated).latch = true;
+    let mut latching = Monitor::new(params_latch);
+    let mut traffic = Box::<TrafficPayload>::default();
+    // Per monitor: raised (or latched) ids, last seq, last time.
+    let mut state: [(std::collections::BTreeSet<u32>, u64, i64); 2] = Default::default();
+    let mut t = T0;
+    for step in 0..2_000 {
+        // Mostly forward in time, sometimes backwards or a big jump.
+        t = match rng.next() % 50 {
+            0 => t - 5_000 * MS,
+            1 => t + 60_000 * MS,
+            _ => t + 50 * MS,
+        };
+        let mut att = AttitudePayload::default();
+        for u in &mut att.units {
+            u.roll_rad = rng.float();
+            u.valid = rng.code(2);
+            u.fault_flags = rng.byte() & 0x1F;
+        }
+        for row in &mut att.pair_verdicts {
+            for v in row {
+                *v = rng.code(3);
+            }
+        }
+        att.isolation = rng.code(4);
+        att.isolated_unit = rng.code(3);
+        att.valid = rng.code(2);
+        let own = OwnshipPayload {
+            source: rng.code(4),
+            valid: rng.code(2),
+            sigma_horizontal_m: rng.float(),
+            ..OwnshipPayload::default()
+        };
+        let mut integ = IntegrityPayload {
+            device_count: if rng.one_in(10) { u32::MAX } else { 4 },
+            clock_status: rng.code(4),
+            clock_offset_s: rng.float(),
+            ..IntegrityPayload::default()
+        };
+        for d in &mut integ.devices {
+            d.device = rng.code(4);
+            d.link_state = rng.code(4);
+            d.last_message_age_s = rng.float();
+            d.messages = rng.next() % 1000 + step * 10;
+            d.checksum_failures = rng.next() % 100;
+            d.malformed = if rng.one_in(20) { u64::MAX } else { 0 };
+            d.name = [rng.byte(); 16];
+        }
+        let n = (rng.next() % 40) as usize;
+        let targets: Vec<Target> = (0..n)
+            .map(|_| Target {
+                address: rng.next() as u32,
+                address_type: rng.code(6),
+                alert_level: rng.code(4),
+                plausibility_flags: rng.byte(),
+                callsign: [rng.byte(); 8],
+                horizontal_distance_m: rng.float(),
+                ..Target::EMPTY
+            })
+            .collect();
+        traffic.set_targets(&targets);
+        if rng.one_in(7) {
+            traffic.count = rng.next() as u32;
+        }
+        for (k, mon) in [&mut m, &mut latching].into_iter().enumerate() {
+            if !rng.one_in(3) {
+                mon.attitude(&att);
+            }
+            if !rng.one_in(3) {
+                mon.ownship(&own);
+            }
+            if rng.one_in(5) {
+                mon.traffic(&traffic);
+            }
+            if rng.one_in(5) {
+                mon.integrity(&integ);
+            }
+            if rng.one_in(50) {
+                let ids: Vec<u32> = mon.active().map(|(id, _)| id).collect();
+                for id in ids {
+                    mon.acknowledge(id);
+                }
+            }
+            let (active, seq, last_t) = &mut state[k];
+            for a in mon.poll(t) {
+                assert!(Rule::of_alert(a.alert_id).is_some(), "{:08X}", a.alert_id);
+                assert_eq!(a.header.seq, *seq + 1, "consecutive sequence numbers");
+                *seq = a.header.seq;
+                assert!(a.header.gps_time_ns >= *last_t, "time never runs backwards");
+                *last_t = a.header.gps_time_ns;
+                assert!(a.raised_gps_ns <= a.header.gps_time_ns);
+                assert!(a.severity <= SEVERITY_WARNING);
+                match a.state {
+                    STATE_RAISED => {
+                        active.insert(a.alert_id);
+                    }
+                    STATE_LATCHED => assert!(active.contains(&a.alert_id), "latched unraised"),
+                    STATE_CLEARED => assert!(active.remove(&a.alert_id), "cleared unraised"),
+                    s => panic!("state {s}"),
+                }
+            }
+            // What the monitor reports active is what its transitions said.
+            let now: std::collections::BTreeSet<u32> = mon.active().map(|(id, _)| id).collect();
+            assert_eq!(&now, active);
+        }
+    }
+    assert!(
+        state[0].1 > 100,
+        "the random input raised and cleared alerts"
+    );
+}
+
+/// The timeline `vigil run` gives for the `bahrs-attitude-fault` scenario, payloads by hand: the
+/// BAHRS roll error crosses 6 deg at 72 s and the cross-check isolates the BAHRS about 1 s later
+/// (73 s); from 90 s the BAHRS flags its roll "integrity risk", so its roll is no longer compared
+/// and the isolation ends. The alerts: miscompare and isolation raised at 73 s, integrity risk
+/// raised at 90 s, miscompare cleared at 91 s (1 s hysteresis), isolation at 92 s (2 s).
+#[test]
+fn regression_10_bahrs_attitude_fault_timeline() {
+    use vigil_bus::payload::attitude::VERDICT_NOT_COMPARED;
+    let mut rig = Rig::new(MonitorParams::default());
+    assert!(rig.run(73_000).is_empty());
+    rig.att.units[0] = unit(3.0 + 0.5 * 13.0);
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_ROLL] = VERDICT_FAIL;
+    rig.att.pair_verdicts[PAIR_BAHRS_WATSON][AXIS_ROLL] = VERDICT_FAIL;
+    rig.att.isolation = ISOLATION_ISOLATED;
+    rig.att.isolated_unit = UNIT_BAHRS;
+    let mut log: Vec<(i64, u32, u8)> = rig
+        .run(17_000)
+        .into_iter()
+        .map(|(t, a)| (t, a.alert_id, a.state))
+        .collect();
+    rig.att.units[0].fault_flags = FAULT_HEALTH;
+    rig.att.units[0].valid = 0;
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_ROLL] = VERDICT_NOT_COMPARED;
+    rig.att.pair_verdicts[PAIR_BAHRS_WATSON][AXIS_ROLL] = VERDICT_NOT_COMPARED;
+    rig.att.isolation = ISOLATION_NO_FAULT;
+    rig.att.isolated_unit = UNIT_NONE;
+    log.extend(
+        rig.run(10_000)
+            .into_iter()
+            .map(|(t, a)| (t, a.alert_id, a.state)),
+    );
+    assert_eq!(
+        log,
+        [
+            (73_000, 0x0100_0000, STATE_RAISED),
+            (73_000, 0x0200_0000, STATE_RAISED),
+            (90_000, 0x0300_0000, STATE_RAISED),
+            (91_000, 0x0100_0000, STATE_CLEARED),
+            (92_000, 0x0200_0000, STATE_CLEARED),
+        ]
+    );
+}
