@@ -132,6 +132,12 @@ impl Bus {
             last_cleanup: Instant::now(),
         };
         bus.cleanup_dead_nodes();
+        if config.handle_signals {
+            // iceoryx2 installs its SIGINT/SIGTERM handlers on the first wait, not when the node
+            // is created: wait once now, so a signal right after start is caught (and reported by
+            // `termination_requested`) instead of killing the process.
+            let _ = bus.node.wait(Duration::ZERO);
+        }
         Ok(bus)
     }
 
