@@ -2,6 +2,8 @@
 //! and listen as their issues land).
 
 mod decode;
+#[cfg(target_os = "linux")]
+mod demo;
 mod geometry;
 mod golden;
 mod listen;
@@ -28,6 +30,9 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// The whole system on one machine: simulator on pseudo-terminals, `vigil run`, live view.
+    #[cfg(target_os = "linux")]
+    Demo(demo::DemoArgs),
     /// Decode a raw byte stream from one device into JSON Lines (one object per message).
     Decode(decode::DecodeArgs),
     /// DO-365 well-clear geometry of ownship/intruder pairs (JSON Lines in and out).
@@ -47,6 +52,8 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        #[cfg(target_os = "linux")]
+        Command::Demo(args) => demo::run(&args),
         Command::Decode(args) => decode::run(&args),
         Command::Geometry(args) => geometry::run(&args),
         Command::Sim(args) => sim_cmd::run(&args),

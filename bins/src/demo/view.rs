@@ -154,15 +154,14 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
                 deg(a.heading_rad),
                 if a.valid != 0 { "ok" } else { "INVALID" }
             );
-            let pv = |p: usize| -> String { a.pair_verdicts[p].iter().map(|&x| verdict(x)).collect() };
+            let pv =
+                |p: usize| -> String { a.pair_verdicts[p].iter().map(|&x| verdict(x)).collect() };
             let iso = match a.isolation {
                 ISOLATION_NO_FAULT => "no fault".to_string(),
                 ISOLATION_DETECTED_NOT_ISOLATED => "FAULT DETECTED, not isolated".to_string(),
                 ISOLATION_ISOLATED => format!(
                     "FAULT: {} isolated",
-                    UNIT_NAMES
-                        .get(usize::from(a.isolated_unit))
-                        .unwrap_or(&"?")
+                    UNIT_NAMES.get(usize::from(a.isolated_unit)).unwrap_or(&"?")
                 ),
                 _ => "not compared".to_string(),
             };
@@ -282,8 +281,14 @@ mod tests {
         v.alert(al);
         let text = render(&v, 10_000_000_000);
         // 600 m = 1968.5 ft; 51.4444 m/s = 100.0 kt; 2.54 m/s = +500 fpm; t = 12 - 10 s.
-        assert!(text.contains("t      2.0 s  47.40000 8.50000  alt   1969 ft"), "{text}");
-        assert!(text.contains("gs 100.0 kt  vs  +500 fpm  [VN-200 INS"), "{text}");
+        assert!(
+            text.contains("t      2.0 s  47.40000 8.50000  alt   1969 ft"),
+            "{text}"
+        );
+        assert!(
+            text.contains("gs 100.0 kt  vs  +500 fpm  [VN-200 INS"),
+            "{text}"
+        );
         assert!(text.contains("BAHRS/VN-200 X..") && text.contains("FAULT: BAHRS isolated"));
         assert!(text.contains("BAHRS      ") && text.contains("ISOLATED"));
         // 3704 m = 2.00 NM, -30.48 m = -100 ft.
@@ -298,7 +303,12 @@ mod tests {
     fn empty_view_says_what_is_missing_and_history_is_bounded() {
         let mut v = View::default();
         let text = render(&v, 0);
-        for want in ["no position", "no attitude yet", "no traffic", "ALERTS\n  none"] {
+        for want in [
+            "no position",
+            "no attitude yet",
+            "no traffic",
+            "ALERTS\n  none",
+        ] {
             assert!(text.contains(want), "{want}: {text}");
         }
         for k in 0..20 {

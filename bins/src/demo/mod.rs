@@ -1,0 +1,299 @@
+//! `vigil demo [--duration S] [--scenario NAME]`: everything on one machine with no hardware and
+//! no root. It starts the simulator on Linux pseudo-terminals (`vigil sim --pty-dir`), `vigil run`
+//! on those ports (decode, align, fuse, publish over iceoryx2, monitor), and shows what a consumer
+//! receives on the bus as a live terminal view ([`view`]): the ownship, the three attitude units
+//! with the cross-check verdicts, the traffic table and the alerts as they rise and clear.
+//!
+//! The two programs are child processes of the demo (the same executable), so the demo exercises
+//! the real serial path and the real inter-process bus; a unique bus prefix keeps it apart from any
+//! other vigil on the host. On a terminal the view is redrawn twice a second; otherwise (a pipe, CI)
+//! a one-line status is printed every 2 s and every alert transition as it arrives. The demo ends
+//! after `--duration` seconds or on Ctrl-C, stopping both children with SIGTERM (so `vigil run`
+//! shuts down cleanly) and removing its temporary directory.
+
+pub mod view;
+
+use std::fmt::Write as _;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use vigil_bus::payload::alerts::AlertPayload;
+use vigil_bus::payload::attitude::AttitudePayload;
+use vigil_bus::payload::ownship::OwnshipPayload;
+use vigil_bus::payload::traffic::TrafficPayload;
+use vigil_bus::{Bus, BusConfig};
+
+use view::View;
+
+/// Arguments of `vigil demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// How long to run, s.
+    #[arg(long, default_value_t = 60.0)]
+    pub duration: f64,
+    /// Built-in scenario (or a scenario TOML file) to simulate.
+    #[arg(long, default_value = "nominal")]
+    pub scenario: String,
+    /// Seed of the simulation.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// Devices the simulator may serve, in the order of `vigil run`'s ports.
+const DEVICES: [&str; 4] = ["bahrs", "vn200", "watson", "ttmrf"];
+
+/// A child process that is stopped (SIGTERM, then SIGKILL after a grace period) when dropped.
+struct Guard {
+    name: &'static str,
+    child: Child,
+}
+
+impl Guard {
+    fn running(&mut self) -> bool {
+        matches!(self.child.try_wait(), Ok(None))
+    }
+
+    /// SIGTERM, wait up to `grace`, then SIGKILL; returns whether it exited on its own.
+    fn stop(&mut self, grace: Duration) -> bool {
+        if !self.running() {
+            return true;
+        }
+        let pid = rustix::process::Pid::from_child(&self.child);
+        let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
+        let until = Instant::now() + grace;
+        while Instant::now() < until {
+            if let Ok(Some(status)) = self.child.try_wait() {
+                return status.success();
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        false
+    }
+}
+
+impl Drop for Guard {
+    fn drop(&mut self) {
+        self.stop(Duration::from_secs(3));
+    }
+}
+
+/// The `vigil run` configuration for the simulator's terminals.
+fn run_config(prefix: &str, ports: &[(&str, PathBuf)]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# Written by `vigil demo`.\n[bus]\nprefix = \"{prefix}\"\n"
+    );
+    for (device, path) in ports {
+        let _ = writeln!(
+            s,
+            "[[ports]]\ndevice = \"{device}\"\npath = \"{}\"\n",
+            path.display()
+        );
+    }
+    s
+}
+
+fn spawn(name: &'static str, args: &[&str], log: &Path) -> Result<Guard> {
+    let exe = std::env::current_exe().context("locating the vigil executable")?;
+    let log_file =
+        std::fs::File::create(log).with_context(|| format!("cannot create {}", log.display()))?;
+    let child = Command::new(exe)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(log_file)
+        .spawn()
+        .with_context(|| format!("starting vigil {name}"))?;
+    Ok(Guard { name, child })
+}
+
+fn tail(path: &Path, lines: usize) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let v: Vec<&str> = text.lines().collect();
+    v[v.len().saturating_sub(lines)..].join("\n")
+}
+
+/// Runs `vigil demo`.
+pub fn run(args: &DemoArgs) -> Result<()> {
+    if !(args.duration.is_finite() && args.duration > 0.0) {
+        bail!("--duration must be a positive number of seconds");
+    }
+    let pid = std::process::id();
+    let dir = std::env::temp_dir().join(format!("vigil-demo-{pid}"));
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let result = demo(args, &dir, &format!("demo{pid}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    result
+}
+
+fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
+    let pty_dir = dir.join("ports");
+    // The simulation runs a little longer than the demo, so the ports stay open to the end.
+    let sim_secs = format!("{}", args.duration.ceil() + 10.0);
+    let seed = args.seed.to_string();
+    let mut sim = spawn(
+        "sim",
+        &[
+            "sim",
+            "--scenario",
+            &args.scenario,
+            "--duration",
+            &sim_secs,
+            "--seed",
+            &seed,
+            "--pty-dir",
+            pty_dir.to_str().context("temporary directory path")?,
+        ],
+        &dir.join("sim.log"),
+    )?;
+    // The simulator creates one link per device it models.
+    let until = Instant::now() + Duration::from_secs(10);
+    let ports: Vec<(&str, PathBuf)> = loop {
+        let found: Vec<(&str, PathBuf)> = DEVICES
+            .iter()
+            .map(|d| (*d, pty_dir.join(d)))
+            .filter(|(_, p)| p.exists())
+            .collect();
+        if !sim.running() {
+            bail!("the simulator stopped:\n{}", tail(&dir.join("sim.log"), 10));
+        }
+        // Give it a moment after the first link to create the others.
+        if !found.is_empty() && std::fs::read_dir(&pty_dir)?.count() == found.len() {
+            std::thread::sleep(Duration::from_millis(200));
+            let again = std::fs::read_dir(&pty_dir)?.count();
+            if again == found.len() {
+                break found;
+            }
+        }
+        if Instant::now() > until {
+            bail!("the simulator created no ports in {}", pty_dir.display());
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let config = dir.join("vigil.toml");
+    std::fs::write(&config, run_config(prefix, &ports))?;
+    let mut run = spawn(
+        "run",
+        &["run", "--config", config.to_str().context("config path")?],
+        &dir.join("run.log"),
+    )?;
+    let outcome = view_loop(
+        args,
+        prefix,
+        &mut [&mut sim, &mut run],
+        &dir.join("run.log"),
+    );
+    let clean = run.stop(Duration::from_secs(5));
+    sim.stop(Duration::from_secs(2));
+    outcome?;
+    if !clean {
+        bail!(
+            "vigil run did not shut down cleanly:\n{}",
+            tail(&dir.join("run.log"), 10)
+        );
+    }
+    Ok(())
+}
+
+fn view_loop(
+    args: &DemoArgs,
+    prefix: &str,
+    children: &mut [&mut Guard],
+    run_log: &Path,
+) -> Result<()> {
+    let bus = Bus::new(&BusConfig {
+        prefix: prefix.to_string(),
+        node_name: "vigil-demo".to_string(),
+        handle_signals: true,
+        ..BusConfig::default()
+    })
+    .context("connecting to the bus")?;
+    let mut att = bus.subscriber::<AttitudePayload>()?;
+    let mut own = bus.subscriber::<OwnshipPayload>()?;
+    let mut traffic = bus.subscriber::<TrafficPayload>()?;
+    let mut alerts = bus.subscriber::<AlertPayload>()?;
+    let tty = std::io::stdout().is_terminal();
+    let mut out = std::io::stdout().lock();
+    let start = Instant::now();
+    let end = start + Duration::from_secs_f64(args.duration);
+    let mut v = View::default();
+    let mut t0: Option<i64> = None;
+    let mut next_draw = start;
+    let period = if tty {
+        Duration::from_millis(500)
+    } else {
+        Duration::from_secs(2)
+    };
+    while Instant::now() < end && !bus.termination_requested() {
+        for c in children.iter_mut() {
+            if !c.running() {
+                bail!("vigil {} stopped early:\n{}", c.name, tail(run_log, 10));
+            }
+        }
+        while let Some(r) = att.try_receive()? {
+            t0.get_or_insert(r.payload().header.gps_time_ns);
+            v.attitude = Some(*r.payload());
+            v.received[0] += 1;
+        }
+        while let Some(r) = own.try_receive()? {
+            v.ownship = Some(*r.payload());
+            v.received[1] += 1;
+        }
+        while let Some(r) = traffic.try_receive()? {
+            v.traffic = Some(Box::new(*r.payload()));
+            v.received[2] += 1;
+        }
+        while let Some(r) = alerts.try_receive()? {
+            let a = *r.payload();
+            if !tty {
+                let rel = (a.header.gps_time_ns - t0.unwrap_or(a.header.gps_time_ns)) as f64 * 1e-9;
+                writeln!(out, "alert {rel:.1} s: {}", a.reason())?;
+            }
+            v.alert(a);
+        }
+        if Instant::now() >= next_draw {
+            next_draw += period;
+            if tty {
+                write!(out, "\x1b[H\x1b[2J{}", view::render(&v, t0.unwrap_or(0)))?;
+            } else {
+                writeln!(
+                    out,
+                    "{:5.1} s: attitude {} ownship {} traffic {} alerts {}",
+                    start.elapsed().as_secs_f64(),
+                    v.received[0],
+                    v.received[1],
+                    v.received[2],
+                    v.received[3]
+                )?;
+            }
+            out.flush()?;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    if !tty {
+        write!(out, "{}", view::render(&v, t0.unwrap_or(0)))?;
+    }
+    writeln!(
+        out,
+        "vigil demo: {:.0} s, received attitude {}, ownship {}, traffic {}, alerts {}",
+        start.elapsed().as_secs_f64(),
+        v.received[0],
+        v.received[1],
+        v.received[2],
+        v.received[3]
+    )?;
+    if v.received[0] == 0 {
+        bail!(
+            "no attitude reached the bus; vigil run's log:\n{}",
+            tail(run_log, 10)
+        );
+    }
+    Ok(())
+}
