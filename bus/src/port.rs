@@ -64,6 +64,13 @@ pub struct BusConfig {
     pub handle_signals: bool,
     /// Period of [`Bus::cleanup_if_due`], s.
     pub cleanup_period_s: f64,
+    /// Regression-test mode (`vigil replay --publish --speed max`): `Some(wait_s)` makes every
+    /// topic lossless: no safe overflow, and a publisher whose subscriber's buffer is full waits
+    /// for it to read, up to `wait_s` per sample, before discarding and counting (so a dead
+    /// subscriber cannot hang the replay). Publisher and subscribers of a prefix must all use the
+    /// same mode (iceoryx2 refuses to open a service with a different overflow setting). Never
+    /// for flight: there a slow consumer must not slow the publisher.
+    pub lossless_wait_s: Option<f64>,
 }
 
 impl Default for BusConfig {
@@ -73,6 +80,7 @@ impl Default for BusConfig {
             node_name: "vigil".to_string(),
             handle_signals: false,
             cleanup_period_s: 1.0,
+            lossless_wait_s: None,
         }
     }
 }
@@ -102,6 +110,7 @@ pub struct Bus {
     prefix: String,
     cleanup_period: Duration,
     last_cleanup: Instant,
+    lossless_wait_ns: Option<u64>,
 }
 
 impl Bus {
@@ -130,6 +139,9 @@ impl Bus {
             prefix: config.prefix.clone(),
             cleanup_period: Duration::from_secs_f64(config.cleanup_period_s.max(0.0)),
             last_cleanup: Instant::now(),
+            lossless_wait_ns: config
+                .lossless_wait_s
+                .map(|s| (s.clamp(0.0, 3600.0) * 1e9) as u64),
         };
         bus.cleanup_dead_nodes();
         if config.handle_signals {
@@ -182,7 +194,9 @@ impl Bus {
             .node
             .service_builder(&sname)
             .publish_subscribe::<T>()
-            .enable_safe_overflow(policy.overflow == Overflow::LatestWins)
+            .enable_safe_overflow(
+                policy.overflow == Overflow::LatestWins && self.lossless_wait_ns.is_none(),
+            )
             .subscriber_max_buffer_size(policy.buffer_size)
             .history_size(policy.history_size)
             .subscriber_max_borrowed_samples(policy.max_borrowed)
@@ -214,12 +228,22 @@ impl Bus {
         let (pubsub, event) = self.services::<T>()?;
         let failed = Arc::new(AtomicU64::new(0));
         let counter = Arc::clone(&failed);
-        // Never wait for a subscriber: a full buffer (alerts only; state topics overflow) makes
-        // the delivery to that subscriber fail at once, counted here.
+        let send_started = Arc::new(AtomicU64::new(0));
+        let started = Arc::clone(&send_started);
+        let wait_ns = self.lossless_wait_ns;
+        // In flight, never wait for a subscriber: a full buffer (alerts only; state topics
+        // overflow) makes the delivery to that subscriber fail at once, counted here. In the
+        // lossless regression mode, wait for the subscriber (bounded), then the same.
         let inner = pubsub
             .publisher_builder()
             .backpressure_strategy(BackpressureStrategy::DiscardData)
             .set_backpressure_handler(move |_info: &iceoryx2::port::BackpressureInfo| {
+                if let Some(wait) = wait_ns
+                    && monotonic_ns().saturating_sub(started.load(Ordering::Relaxed)) < wait
+                {
+                    std::thread::sleep(Duration::from_micros(50));
+                    return BackpressureAction::Retry;
+                }
                 counter.fetch_add(1, Ordering::Relaxed);
                 BackpressureAction::DiscardData
             })
@@ -236,6 +260,7 @@ impl Bus {
             _event: event,
             next_seq: 1,
             failed,
+            send_started,
             notify_failures: 0,
         })
     }
@@ -274,6 +299,8 @@ pub struct Publisher<T: Payload> {
     _event: EventFactory<ipc::Service>,
     next_seq: u64,
     failed: Arc<AtomicU64>,
+    /// Host monotonic time the current send started, ns (for the lossless wait).
+    send_started: Arc<AtomicU64>,
     notify_failures: u64,
 }
 
@@ -298,6 +325,7 @@ impl<T: Payload> Publisher<T> {
         h.seq = self.next_seq;
         h.send_mono_ns = monotonic_ns();
         self.next_seq += 1;
+        self.send_started.store(h.send_mono_ns, Ordering::Relaxed);
         let delivered = sample.send().map_err(iox("send", service))?;
         // A failed wake-up (e.g. a listener that died) must not fail the publication: the sample
         // is in the subscribers' buffers and they find it at their next wait timeout.

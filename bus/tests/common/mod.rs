@@ -36,6 +36,18 @@ pub fn bus(prefix: &str, node: &str) -> Bus {
         node_name: node.to_string(),
         handle_signals: false,
         cleanup_period_s: 0.0,
+        lossless_wait_s: None,
+    })
+    .expect("bus")
+}
+
+/// A bus in the lossless regression mode (see `BusConfig::lossless_wait_s`).
+pub fn lossless_bus(prefix: &str, node: &str, wait_s: f64) -> Bus {
+    Bus::new(&BusConfig {
+        prefix: prefix.to_string(),
+        node_name: node.to_string(),
+        lossless_wait_s: Some(wait_s),
+        ..BusConfig::default()
     })
     .expect("bus")
 }
