@@ -6,18 +6,18 @@
 //! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`), else by the device name. `index` counts decoded
 //! messages per device (it equals the truth's `index` while nothing of that device was lost or
 //! damaged); `offset` equals the truth's `rx_offset` for every intact message. The TT-Multi-RF
-//! port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read by the
-//! text decoder (auto mode) and the HEX decoder side by side over the same bytes, their messages
-//! merged in offset order (a message is released once both decoders have consumed past its
-//! first byte). Ports of unknown protocols are counted, not decoded.
+//! text port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read
+//! by the drivers' [`MixedDecoder`], which yields both in stream order. Ports of unknown protocols
+//! are counted, not decoded.
 
 use std::collections::{BTreeMap, VecDeque};
 
 use bytes::BytesMut;
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 use tokio_util::codec::Decoder as _;
-use vigil_drivers::ttmrf::raw::{HexDecoder, RawFrame, RxMeta, encode_hex_string};
-use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
+use vigil_drivers::ttmrf::raw::{RawFrame, RxMeta, encode_hex_string};
+use vigil_drivers::ttmrf::text::TextMessage;
 use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
 use vigil_drivers::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
 
@@ -33,8 +33,13 @@ pub enum Message<'a> {
     Vn200(&'a Vn200Message),
     /// TT-Multi-RF text message (CSV, JSON, NMEA, AT).
     Ttmrf(&'a TextMessage),
-    /// TT-Multi-RF raw frame (HEX line).
-    TtmrfRaw(&'a RawLine),
+    /// TT-Multi-RF raw frame (HEX line), written as a [`RawLine`].
+    #[serde(serialize_with = "raw_line")]
+    TtmrfRaw(&'a RawFrame),
+}
+
+fn raw_line<S: Serializer>(f: &&RawFrame, s: S) -> Result<S::Ok, S::Error> {
+    RawLine::of(f).serialize(s)
 }
 
 /// A raw frame of the TT-Multi-RF port as replay writes it: the frame's bytes in hex and the
@@ -50,7 +55,8 @@ pub struct RawLine {
 }
 
 impl RawLine {
-    fn of(f: &RawFrame) -> Self {
+    /// The output form of a raw frame.
+    pub fn of(f: &RawFrame) -> Self {
         let (raw, bytes, meta) = match f {
             RawFrame::ModeS(m) => ("mode_s", m.data().to_vec(), m.meta),
             RawFrame::ModeAc(m) => ("mode_ac", m.code.0.to_be_bytes().to_vec(), m.meta),
@@ -85,13 +91,6 @@ pub struct Decoded<'a> {
 pub enum PortSummary {
     /// A decoded port: the decoder's counters.
     Decoded(DecodeStats),
-    /// A port read by a text and a raw decoder (TT-Multi-RF).
-    TextAndRaw {
-        /// The text decoder's counters (raw lines are its unknown types).
-        text: DecodeStats,
-        /// The HEX decoder's counters (text lines are its skipped bytes).
-        raw: DecodeStats,
-    },
     /// A port without a decoder.
     NoDecoder {
         /// Always true.
@@ -126,9 +125,12 @@ impl Wrap for Vn200Message {
     }
 }
 
-impl Wrap for TextMessage {
+impl Wrap for MixedMessage {
     fn wrap(&self) -> Message<'_> {
-        Message::Ttmrf(self)
+        match self {
+            MixedMessage::Text(t) => Message::Ttmrf(t),
+            MixedMessage::Raw(f) => Message::TtmrfRaw(f),
+        }
     }
 }
 
@@ -196,97 +198,11 @@ impl<D: DeviceDecoder> Port<D> {
     }
 }
 
-enum Pending {
-    Text(TextMessage),
-    Raw(RawLine),
-}
-
-/// The TT-Multi-RF port: text and HEX decoders over the same bytes, merged by offset.
-struct TtmrfPort {
-    text: Port<TextDecoder>,
-    raw: Port<HexDecoder>,
-    pending: Vec<(u64, Pending)>,
-    index: u64,
-}
-
-impl TtmrfPort {
-    fn new() -> Self {
-        Self {
-            text: Port::new(TextDecoder::new(TextMode::Auto)),
-            raw: Port::new(HexDecoder::new()),
-            pending: Vec::new(),
-            index: 0,
-        }
-    }
-
-    fn push(&mut self, t_host_ns: u64, bytes: &[u8]) {
-        self.text.push(t_host_ns, bytes);
-        self.raw.push(t_host_ns, bytes);
-    }
-
-    fn run<E>(
-        &mut self,
-        device: &str,
-        eof: bool,
-        f: &mut impl FnMut(Decoded<'_>) -> Result<(), E>,
-    ) -> Result<(), E> {
-        loop {
-            let next = if eof {
-                self.text.codec.decode_eof(&mut self.text.buf)
-            } else {
-                self.text.codec.decode(&mut self.text.buf)
-            };
-            let Ok(Some(l)) = next else { break };
-            self.pending.push((l.offset, Pending::Text(l.message)));
-        }
-        loop {
-            let next = if eof {
-                self.raw.codec.decode_eof(&mut self.raw.buf)
-            } else {
-                self.raw.codec.decode(&mut self.raw.buf)
-            };
-            let Ok(Some(l)) = next else { break };
-            self.pending
-                .push((l.offset, Pending::Raw(RawLine::of(&l.message))));
-        }
-        // Every later message of either decoder starts at or after its consumed bytes.
-        let frontier = if eof {
-            u64::MAX
-        } else {
-            self.text
-                .codec
-                .0
-                .stats()
-                .bytes_consumed
-                .min(self.raw.codec.0.stats().bytes_consumed)
-        };
-        self.pending.sort_by_key(|p| p.0);
-        let n = self.pending.partition_point(|p| p.0 < frontier);
-        for (offset, m) in self.pending.drain(..n) {
-            let t_host_ns = self.text.t_host_of(offset);
-            let index = self.index;
-            self.index += 1;
-            let message = match &m {
-                Pending::Text(t) => Message::Ttmrf(t),
-                Pending::Raw(r) => Message::TtmrfRaw(r),
-            };
-            f(Decoded {
-                device,
-                index,
-                offset,
-                t_host_ns,
-                message,
-            })?;
-        }
-        Ok(())
-    }
-}
-
 enum AnyPort {
     Bahrs(Port<bahrs::Decoder>),
     Watson(Port<watson::Decoder>),
     Vn200(Box<Port<Vn200Decoder>>),
-    Ttmrf(Box<TtmrfPort>),
+    Ttmrf(Box<Port<MixedDecoder>>),
     NoDecoder { chunks: u64, bytes: u64 },
 }
 
@@ -323,7 +239,9 @@ impl Replayer {
                 ("vn200-icd", _) | ("", "vn200") => {
                     AnyPort::Vn200(Box::new(Port::new(Vn200Decoder::new())))
                 }
-                ("ttmrf-text", _) | ("", "ttmrf") => AnyPort::Ttmrf(Box::new(TtmrfPort::new())),
+                ("ttmrf-text", _) | ("", "ttmrf") => {
+                    AnyPort::Ttmrf(Box::new(Port::new(MixedDecoder::new())))
+                }
                 _ => AnyPort::NoDecoder {
                     chunks: 0,
                     bytes: 0,
@@ -381,10 +299,7 @@ impl Replayer {
                 }
                 AnyPort::Ttmrf(p) => {
                     p.run(device, true, f)?;
-                    PortSummary::TextAndRaw {
-                        text: *p.text.codec.0.stats(),
-                        raw: *p.raw.codec.0.stats(),
-                    }
+                    PortSummary::Decoded(*p.codec.0.stats())
                 }
                 AnyPort::NoDecoder { chunks, bytes } => PortSummary::NoDecoder {
                     no_decoder: true,
@@ -441,6 +356,43 @@ mod tests {
                 chunks: 1,
                 bytes: 3
             }
+        );
+    }
+
+    #[test]
+    fn ttmrf_port_yields_text_and_raw_lines_in_stream_order() {
+        // AT line (14 bytes), HEXd line (18 bytes), AT line: offsets 0, 14, 32; the chunks start
+        // at 0, 10 and 20, received at 1, 2 and 3 ns.
+        let bytes = b"AT+RUN_START\r\n*5D4B18FFFC710B;\r\nAT+RUN_END\r\n";
+        let mut r = Replayer::new();
+        let mut got = Vec::new();
+        let mut f = |d: Decoded<'_>| -> Result<(), ()> {
+            let raw = matches!(d.message, Message::TtmrfRaw(_));
+            let json = serde_json::to_value(d.message).unwrap();
+            got.push((d.index, d.offset, d.t_host_ns, raw, json));
+            Ok(())
+        };
+        for (i, c) in [&bytes[..10], &bytes[10..20], &bytes[20..]]
+            .iter()
+            .enumerate()
+        {
+            r.feed("ttmrf", "ttmrf-text", i as u64 + 1, c, &mut f)
+                .unwrap();
+        }
+        let summary = r.finish(&mut f).unwrap();
+        let pos: Vec<_> = got.iter().map(|g| (g.0, g.1, g.2, g.3)).collect();
+        assert_eq!(
+            pos,
+            vec![(0, 0, 1, false), (1, 14, 2, true), (2, 32, 3, false)]
+        );
+        assert_eq!(got[1].4["frame_hex"], "5D4B18FFFC710B");
+        assert_eq!(got[1].4["raw"], "mode_s");
+        let PortSummary::Decoded(s) = summary["ttmrf"] else {
+            panic!("{summary:?}")
+        };
+        assert_eq!(
+            (s.frames_decoded, s.bytes_consumed),
+            (3, bytes.len() as u64)
         );
     }
 }
