@@ -3,7 +3,11 @@
 //! with the host receive time of the chunk that held its first byte.
 //!
 //! The decoder of a port is chosen by its channel's `protocol` metadata (`bahrs-2.0`,
-//! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`), else by the device name. `index` counts decoded
+//! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`, `ttmrf-mavlink`, `ttmrf-gdl90`,
+//! `ttmrf-asterix`), else by the device name. A TT-Multi-RF port recorded with a binary decoded
+//! protocol is read by that protocol's decoder alone: AT lines on it (state messages after a
+//! reset) are skipped bytes in its counters, and a port switched between text and binary
+//! protocols by AT commands during the recording decodes only the protocol it started with. `index` counts decoded
 //! messages per device (it equals the truth's `index` while nothing of that device was lost or
 //! damaged); `offset` equals the truth's `rx_offset` for every intact message. The TT-Multi-RF
 //! text port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read
@@ -15,6 +19,9 @@ use std::collections::{BTreeMap, VecDeque};
 use bytes::BytesMut;
 use serde::{Serialize, Serializer};
 use tokio_util::codec::Decoder as _;
+use vigil_drivers::ttmrf::asterix::{AsterixDecoder, AsterixMessage};
+use vigil_drivers::ttmrf::gdl90::{Gdl90Decoder, Gdl90Message, TrafficAltitude};
+use vigil_drivers::ttmrf::mavlink::{MavlinkDecoder, MavlinkMessage};
 use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
 use vigil_drivers::ttmrf::raw::{RawFrame, RxMeta, encode_hex_string};
 use vigil_drivers::ttmrf::text::TextMessage;
@@ -31,11 +38,26 @@ pub enum Message<'a> {
     Watson(&'a watson::Line),
     /// VN-200 binary or ASCII message.
     Vn200(&'a Vn200Message),
-    /// TT-Multi-RF text message (CSV, JSON, NMEA, AT).
-    Ttmrf(&'a TextMessage),
+    /// TT-Multi-RF decoded message: text (CSV, JSON, NMEA, AT) or binary (MAVLink, GDL90,
+    /// ASTERIX).
+    Ttmrf(TtmrfMessage<'a>),
     /// TT-Multi-RF raw frame (HEX line), written as a [`RawLine`].
     #[serde(serialize_with = "raw_line")]
     TtmrfRaw(&'a RawFrame),
+}
+
+/// A TT-Multi-RF decoded-protocol message.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum TtmrfMessage<'a> {
+    /// CSV, JSON, NMEA or AT.
+    Text(&'a TextMessage),
+    /// MAVLink ADSB_VEHICLE / COLLISION.
+    Mavlink(&'a MavlinkMessage),
+    /// GDL90.
+    Gdl90(&'a Gdl90Message),
+    /// ASTERIX CAT021 / CAT023 record.
+    Asterix(&'a AsterixMessage),
 }
 
 fn raw_line<S: Serializer>(f: &&RawFrame, s: S) -> Result<S::Ok, S::Error> {
@@ -128,9 +150,27 @@ impl Wrap for Vn200Message {
 impl Wrap for MixedMessage {
     fn wrap(&self) -> Message<'_> {
         match self {
-            MixedMessage::Text(t) => Message::Ttmrf(t),
+            MixedMessage::Text(t) => Message::Ttmrf(TtmrfMessage::Text(t)),
             MixedMessage::Raw(f) => Message::TtmrfRaw(f),
         }
+    }
+}
+
+impl Wrap for MavlinkMessage {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(TtmrfMessage::Mavlink(self))
+    }
+}
+
+impl Wrap for Gdl90Message {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(TtmrfMessage::Gdl90(self))
+    }
+}
+
+impl Wrap for AsterixMessage {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(TtmrfMessage::Asterix(self))
     }
 }
 
@@ -203,6 +243,9 @@ enum AnyPort {
     Watson(Port<watson::Decoder>),
     Vn200(Box<Port<Vn200Decoder>>),
     Ttmrf(Box<Port<MixedDecoder>>),
+    TtmrfMavlink(Box<Port<MavlinkDecoder>>),
+    TtmrfGdl90(Box<Port<Gdl90Decoder>>),
+    TtmrfAsterix(Box<Port<AsterixDecoder>>),
     NoDecoder { chunks: u64, bytes: u64 },
 }
 
@@ -242,6 +285,16 @@ impl Replayer {
                 ("ttmrf-text", _) | ("", "ttmrf") => {
                     AnyPort::Ttmrf(Box::new(Port::new(MixedDecoder::new())))
                 }
+                ("ttmrf-mavlink", _) => {
+                    AnyPort::TtmrfMavlink(Box::new(Port::new(MavlinkDecoder::new())))
+                }
+                // The model sends pressure altitude in Traffic Reports (barometric priority).
+                ("ttmrf-gdl90", _) => AnyPort::TtmrfGdl90(Box::new(Port::new(Gdl90Decoder::new(
+                    TrafficAltitude::Pressure,
+                )))),
+                ("ttmrf-asterix", _) => {
+                    AnyPort::TtmrfAsterix(Box::new(Port::new(AsterixDecoder::default())))
+                }
                 _ => AnyPort::NoDecoder {
                     chunks: 0,
                     bytes: 0,
@@ -266,6 +319,18 @@ impl Replayer {
                 p.run(device, false, f)
             }
             AnyPort::Ttmrf(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::TtmrfMavlink(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::TtmrfGdl90(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::TtmrfAsterix(p) => {
                 p.push(t_host_ns, bytes);
                 p.run(device, false, f)
             }
@@ -298,6 +363,18 @@ impl Replayer {
                     PortSummary::Decoded(*p.codec.0.stats())
                 }
                 AnyPort::Ttmrf(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::TtmrfMavlink(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::TtmrfGdl90(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::TtmrfAsterix(p) => {
                     p.run(device, true, f)?;
                     PortSummary::Decoded(*p.codec.0.stats())
                 }
