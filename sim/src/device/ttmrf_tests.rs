@@ -228,6 +228,9 @@ fn csv_protocol_sends_the_manual_lines_with_pressure_altitude() {
 #[path = "ttmrf_binary_tests.rs"]
 mod binary;
 
+#[path = "ttmrf_at_tests.rs"]
+mod at_switch;
+
 #[test]
 fn unknown_protocols_and_raw_with_binary_are_refused_by_name() {
     let mut s = builtin("nominal").unwrap();
