@@ -4,6 +4,7 @@
 mod decode;
 mod geometry;
 mod listen;
+mod progress;
 mod record_cmd;
 mod replay;
 mod replay_aligned;

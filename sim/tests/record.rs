@@ -3,7 +3,7 @@
 
 use std::io::Cursor;
 
-use vigil_sim::record::{McapSink, Recorded, read_metadata, read_recording};
+use vigil_sim::record::{McapSink, Recorded, read_metadata, read_recording, recorded_span};
 use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
 
@@ -100,4 +100,27 @@ fn truncated_recording_is_read_up_to_the_damage() {
         assert!(n > last && n < all, "cut {frac}: {n} of {all}");
         last = n;
     }
+}
+
+#[test]
+fn recorded_span_is_the_first_and_last_log_time() {
+    let bytes = record("nominal", 3, 2);
+    let (mut first, mut last) = (u64::MAX, 0);
+    read_recording::<()>(&bytes, |m| {
+        let t = match m {
+            Recorded::Raw { t_host_ns, .. } | Recorded::Truth { t_host_ns, .. } => t_host_ns,
+            _ => return Ok(()),
+        };
+        first = first.min(t);
+        last = last.max(t);
+        Ok(())
+    })
+    .unwrap();
+    let (t0, t1) = recorded_span(&bytes).unwrap();
+    // Every message counts: chunks (receive time) and truth records (the host time their first
+    // byte started on the wire, earlier than its receipt).
+    assert_eq!((t0, t1), (first, last));
+    assert!(t1 - t0 > 2_500_000_000);
+    // A truncated file has no summary: no span.
+    assert_eq!(recorded_span(&bytes[..bytes.len() / 2]), None);
 }
