@@ -8,8 +8,11 @@ use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
 
 fn record(name: &str, seconds: i64, seed: u64) -> Vec<u8> {
-    let s = builtin(name).unwrap();
-    let mut sim = Simulator::new(&s, seed).unwrap();
+    record_scenario(&builtin(name).unwrap(), seconds, seed)
+}
+
+fn record_scenario(s: &vigil_sim::Scenario, seconds: i64, seed: u64) -> Vec<u8> {
+    let mut sim = Simulator::new(s, seed).unwrap();
     let mut sink = McapSink::new(Cursor::new(Vec::new()), None).unwrap();
     sim.run(seconds * 1_000_000_000, &mut sink).unwrap();
     sink.finish().unwrap().into_inner()
@@ -23,6 +26,19 @@ fn same_scenario_and_seed_give_identical_bytes() {
     assert!(a == b, "two runs differ");
     let c = record("link-errors", 30, 43);
     assert!(a != c, "another seed gives another recording");
+}
+
+#[test]
+fn binary_ttmrf_protocols_record_byte_identically() {
+    for protocol in ["mavlink", "gdl90", "asterix"] {
+        let mut s = builtin("link-errors").unwrap();
+        let t = s.devices.ttmrf.as_mut().unwrap();
+        t.protocol = protocol.into();
+        t.raw = "off".into();
+        let a = record_scenario(&s, 20, 42);
+        let b = record_scenario(&s, 20, 42);
+        assert!(a == b, "{protocol}: two runs differ");
+    }
 }
 
 #[test]
