@@ -166,6 +166,24 @@ fn over_long_raw_line_is_dropped_and_the_next_line_found() {
 }
 
 #[test]
+fn lines_after_an_over_long_json_object_are_decoded() {
+    // A JSON object longer than the framer's 64 KiB bound is dropped up to its line end; the raw
+    // and CSV lines after it are the port's next messages (not skipped up to the next `{`).
+    let mut b = br#"{"src":""#.to_vec();
+    b.extend(std::iter::repeat_n(b'x', 70_000));
+    b.extend_from_slice(format!("\"}}\r\n{HEX_SHORT}\r\n{A1}\r\n").as_bytes());
+    let (out, stats) = decode_chunked(MixedDecoder::new(), &b, &[4096]);
+    assert_eq!(out.len(), 2, "{stats:?}");
+    assert!(matches!(out[0], MixedMessage::Raw(_)));
+    assert!(matches!(out[1], MixedMessage::Text(TextMessage::Csv(_))));
+    assert_eq!(stats.malformed, 1);
+    assert_accounting(&stats, b.len());
+    // The text decoder alone finds the CSV line too.
+    let (out, _) = decode_chunked(TextDecoder::new(TextMode::Auto), &b, &[4096]);
+    assert_eq!(out.len(), 1);
+}
+
+#[test]
 fn random_garbage_interleaved_and_bit_flips() {
     assert_survives_random(MixedDecoder::new, 66, 300, 2000);
     let mut rng = XorShift::new(6);
