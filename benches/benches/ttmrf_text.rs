@@ -1,5 +1,6 @@
-//! TT-Multi-RF text protocol decoding: CSV (`#A` lines), JSON (`adsb` messages with ten targets)
-//! and the auto-detecting decoder on a mixed stream.
+//! TT-Multi-RF text protocol decoding: CSV (`#A` lines), JSON (`adsb` messages with ten targets),
+//! the auto-detecting decoder on a mixed stream, and the port decoder (`ttmrf::mixed`) on CSV
+//! lines interleaved with raw HEX lines (four per CSV line, as the simulator sends per target).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -8,7 +9,36 @@ use vigil_drivers::ttmrf::csv::{
     AdsbAircraft, AircraftFlags, AircraftState, CsvDecoder, CsvMessage, NicNac,
 };
 use vigil_drivers::ttmrf::json::JsonDecoder;
+use vigil_drivers::ttmrf::mixed::MixedDecoder;
+use vigil_drivers::ttmrf::raw::{ModeSFrame, RawFrame, RxMeta, hex};
 use vigil_drivers::ttmrf::text::{TextDecoder, TextMode};
+
+/// The CSV stream with four HEX lines (extended fields) after every CSV line.
+fn csv_with_hex(csv: &[u8]) -> Vec<u8> {
+    let mut out = bytes::BytesMut::new();
+    for (i, line) in csv.split_inclusive(|&b| b == b'\n').enumerate() {
+        out.extend_from_slice(line);
+        for k in 0..4u64 {
+            let mut bytes = [0u8; 14];
+            bytes[0] = 0x8D;
+            bytes[1..4].copy_from_slice(&(0x4D2400 + i as u32).to_be_bytes()[1..]);
+            bytes[4] = 0x58 + k as u8;
+            let f = RawFrame::ModeS(ModeSFrame {
+                bytes,
+                len: 14,
+                meta: RxMeta {
+                    signal_dbm: Some(-70),
+                    signal_quality: Some(12),
+                    ts_pps_ns: Some(123_456_789 + k),
+                    ts_utc_ns: Some(47_655_123_456_789 + k),
+                    ..RxMeta::default()
+                },
+            });
+            hex::encode_hex(&f, true, &mut out);
+        }
+    }
+    out.to_vec()
+}
 
 /// 1000 `#A` lines with varying values and valid CRCs.
 fn csv_stream() -> Vec<u8> {
@@ -95,6 +125,16 @@ fn bench(c: &mut Criterion) {
             let mut d = TextDecoder::new(TextMode::Auto);
             let out = decode_slice(&mut d, black_box(&mixed));
             assert_eq!(out.len(), 1100);
+            out
+        })
+    });
+    let port = csv_with_hex(&csv);
+    g.throughput(Throughput::Bytes(port.len() as u64));
+    g.bench_function("mixed_port_1000_csv_4000_hex", |b| {
+        b.iter(|| {
+            let mut d = MixedDecoder::new();
+            let out = decode_slice(&mut d, black_box(&port));
+            assert_eq!(out.len(), 5000);
             out
         })
     });

@@ -8,6 +8,7 @@ mod geometry;
 mod golden;
 mod listen;
 mod monitor_cmd;
+mod progress;
 mod record_cmd;
 mod replay;
 mod replay_aligned;

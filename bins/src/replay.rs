@@ -8,7 +8,11 @@
 //! damaged; `offset` equals the truth's `rx_offset` for every intact message, always.
 //!
 //! The decoder of a channel is chosen by its `protocol` metadata (`bahrs-2.0`, `watson-ahrs-e304`,
-//! `vn200-icd`, `ttmrf-text`), or by the device name when the channel has none.
+//! `vn200-icd`, `ttmrf-text`, `ttmrf-mavlink`, `ttmrf-gdl90`, `ttmrf-asterix`), or by the device
+//! name when the channel has none.
+//!
+//! With `--emit decoded` on a terminal, a progress bar on stderr follows the recording's log time
+//! (from the MCAP statistics record; a file without one, e.g. a truncated recording, shows none).
 //!
 //! Output is a deterministic function of the file: replaying twice gives identical bytes. Ports of an
 //! unknown protocol are counted in the summary on stderr, with each decoder's counters and any
@@ -22,8 +26,10 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use serde::Serialize;
-use vigil_sim::record::{Recorded, read_recording};
+use vigil_sim::record::{Recorded, read_recording, recorded_span};
 use vigil_sim::replay::{Decoded, PortSummary, Replayer};
+
+use crate::progress::ProgressBar;
 
 /// Arguments of `vigil replay`.
 #[derive(Debug, Args)]
@@ -81,6 +87,12 @@ pub struct ReplaySummary {
 pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<ReplaySummary> {
     let mut replayer = Replayer::new();
     let mut pace: Option<(u64, Instant)> = None;
+    let mut bar = recorded_span(mcap).map(|(t0, t1)| {
+        (
+            t0,
+            ProgressBar::stderr("vigil replay", t1.saturating_sub(t0)),
+        )
+    });
     let mut emit = |d: Decoded<'_>| write_line(out, d);
     let outcome = read_recording(mcap, |m| -> Result<()> {
         let Recorded::Raw {
@@ -99,8 +111,14 @@ pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<
                 std::thread::sleep(wait);
             }
         }
+        if let Some((t0, b)) = &mut bar {
+            b.set(t_host_ns.saturating_sub(*t0));
+        }
         replayer.feed(device, protocol, t_host_ns, bytes, &mut emit)
     })?;
+    if let Some((_, b)) = &mut bar {
+        b.finish();
+    }
     let devices = replayer.finish(&mut emit)?;
     Ok(ReplaySummary {
         kind: "summary",

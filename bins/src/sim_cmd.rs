@@ -1,7 +1,7 @@
 //! `vigil sim`: run a scenario into an MCAP recording (and optionally a truth JSON Lines file).
 
 use std::fs::File;
-use std::io::{BufWriter, IsTerminal, Write};
+use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, anyhow};
@@ -9,6 +9,8 @@ use clap::Args;
 use vigil_sim::record::McapSink;
 use vigil_sim::scenario::{BUILTIN_NAMES, Scenario, builtin};
 use vigil_sim::{Chunk, RunInfo, Simulator, Sink, SinkError, TruthRecord};
+
+use crate::progress::ProgressBar;
 
 /// Arguments of `vigil sim`.
 #[derive(Debug, Args)]
@@ -53,29 +55,26 @@ pub fn load_scenario(name_or_file: &str) -> Result<Scenario> {
     Scenario::from_toml(&text).with_context(|| format!("in {name_or_file}"))
 }
 
-/// Prints progress to stderr when it is a terminal.
+/// Shows a progress bar on stderr when it is a terminal ([`ProgressBar`]), in simulated time.
 struct Progress<'a> {
     inner: &'a mut dyn Sink,
     start_host_ns: u64,
-    duration_ns: u64,
-    shown_percent: u64,
-    enabled: bool,
+    bar: ProgressBar,
 }
 
 impl Sink for Progress<'_> {
     fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
         self.start_host_ns = info.host_clock.offset_ns;
-        self.duration_ns = info.duration_ns.max(1) as u64;
+        self.bar = ProgressBar::new(
+            "vigil sim",
+            info.duration_ns.max(1) as u64,
+            self.bar.enabled(),
+        );
         self.inner.start(info)
     }
     fn chunk(&mut self, chunk: &Chunk) -> Result<(), SinkError> {
-        if self.enabled {
-            let p = chunk.t_host_ns.saturating_sub(self.start_host_ns) * 100 / self.duration_ns;
-            if p > self.shown_percent && p <= 100 {
-                self.shown_percent = p;
-                eprint!("\rvigil sim: {p:3}%");
-            }
-        }
+        self.bar
+            .set(chunk.t_host_ns.saturating_sub(self.start_host_ns));
         self.inner.chunk(chunk)
     }
     fn truth(&mut self, record: &TruthRecord, t_host_ns: u64) -> Result<(), SinkError> {
@@ -111,15 +110,11 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let mut progress = Progress {
         inner: &mut sink,
         start_host_ns: 0,
-        duration_ns: 1,
-        shown_percent: 0,
-        enabled: std::io::stderr().is_terminal(),
+        bar: ProgressBar::stderr("vigil sim", duration_ns.max(1) as u64),
     };
     sim.run(duration_ns, &mut progress)
         .map_err(|e| anyhow!("simulation: {e}"))?;
-    if progress.enabled {
-        eprintln!();
-    }
+    progress.bar.finish();
     let mut w = sink
         .finish()
         .map_err(|e| anyhow!("writing {}: {e}", path.display()))?;

@@ -281,6 +281,14 @@ pub struct ReadOutcome {
     pub damage: Option<String>,
 }
 
+/// First and last log time of a recording's messages, ns, from its MCAP statistics record (for
+/// progress reports); `None` when the file has no readable summary (a truncated recording) or no
+/// messages.
+pub fn recorded_span(mcap: &[u8]) -> Option<(u64, u64)> {
+    let stats = mcap::Summary::read(mcap).ok()??.stats?;
+    (stats.message_count > 0).then_some((stats.message_start_time, stats.message_end_time))
+}
+
 /// Reads every message of an MCAP file in file order and hands it to `f`. A damaged or truncated
 /// file is read up to the damage; the outcome says where it stopped. `f` may stop the reading by
 /// returning an error, which is passed back.

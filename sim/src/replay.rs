@@ -3,21 +3,28 @@
 //! with the host receive time of the chunk that held its first byte.
 //!
 //! The decoder of a port is chosen by its channel's `protocol` metadata (`bahrs-2.0`,
-//! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`), else by the device name. `index` counts decoded
+//! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`, `ttmrf-mavlink`, `ttmrf-gdl90`,
+//! `ttmrf-asterix`), else by the device name. A TT-Multi-RF port recorded with a binary decoded
+//! protocol is read by that protocol's decoder alone: AT lines on it (state messages after a
+//! reset) are skipped bytes in its counters, and a port switched between text and binary
+//! protocols by AT commands during the recording decodes only the protocol it started with. `index` counts decoded
 //! messages per device (it equals the truth's `index` while nothing of that device was lost or
 //! damaged); `offset` equals the truth's `rx_offset` for every intact message. The TT-Multi-RF
-//! port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read by the
-//! text decoder (auto mode) and the HEX decoder side by side over the same bytes, their messages
-//! merged in offset order (a message is released once both decoders have consumed past its
-//! first byte). Ports of unknown protocols are counted, not decoded.
+//! text port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read
+//! by the drivers' [`MixedDecoder`], which yields both in stream order. Ports of unknown protocols
+//! are counted, not decoded.
 
 use std::collections::{BTreeMap, VecDeque};
 
 use bytes::BytesMut;
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 use tokio_util::codec::Decoder as _;
-use vigil_drivers::ttmrf::raw::{HexDecoder, RawFrame, RxMeta, encode_hex_string};
-use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::ttmrf::asterix::{AsterixDecoder, AsterixMessage};
+use vigil_drivers::ttmrf::gdl90::{Gdl90Decoder, Gdl90Message, TrafficAltitude};
+use vigil_drivers::ttmrf::mavlink::{MavlinkDecoder, MavlinkMessage};
+use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
+use vigil_drivers::ttmrf::raw::{RawFrame, RxMeta, encode_hex_string};
+use vigil_drivers::ttmrf::text::TextMessage;
 use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
 use vigil_drivers::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
 
@@ -31,10 +38,30 @@ pub enum Message<'a> {
     Watson(&'a watson::Line),
     /// VN-200 binary or ASCII message.
     Vn200(&'a Vn200Message),
-    /// TT-Multi-RF text message (CSV, JSON, NMEA, AT).
-    Ttmrf(&'a TextMessage),
-    /// TT-Multi-RF raw frame (HEX line).
-    TtmrfRaw(&'a RawLine),
+    /// TT-Multi-RF decoded message: text (CSV, JSON, NMEA, AT) or binary (MAVLink, GDL90,
+    /// ASTERIX).
+    Ttmrf(TtmrfMessage<'a>),
+    /// TT-Multi-RF raw frame (HEX line), written as a [`RawLine`].
+    #[serde(serialize_with = "raw_line")]
+    TtmrfRaw(&'a RawFrame),
+}
+
+/// A TT-Multi-RF decoded-protocol message.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum TtmrfMessage<'a> {
+    /// CSV, JSON, NMEA or AT.
+    Text(&'a TextMessage),
+    /// MAVLink ADSB_VEHICLE / COLLISION.
+    Mavlink(&'a MavlinkMessage),
+    /// GDL90.
+    Gdl90(&'a Gdl90Message),
+    /// ASTERIX CAT021 / CAT023 record.
+    Asterix(&'a AsterixMessage),
+}
+
+fn raw_line<S: Serializer>(f: &&RawFrame, s: S) -> Result<S::Ok, S::Error> {
+    RawLine::of(f).serialize(s)
 }
 
 /// A raw frame of the TT-Multi-RF port as replay writes it: the frame's bytes in hex and the
@@ -50,7 +77,8 @@ pub struct RawLine {
 }
 
 impl RawLine {
-    fn of(f: &RawFrame) -> Self {
+    /// The output form of a raw frame.
+    pub fn of(f: &RawFrame) -> Self {
         let (raw, bytes, meta) = match f {
             RawFrame::ModeS(m) => ("mode_s", m.data().to_vec(), m.meta),
             RawFrame::ModeAc(m) => ("mode_ac", m.code.0.to_be_bytes().to_vec(), m.meta),
@@ -85,13 +113,6 @@ pub struct Decoded<'a> {
 pub enum PortSummary {
     /// A decoded port: the decoder's counters.
     Decoded(DecodeStats),
-    /// A port read by a text and a raw decoder (TT-Multi-RF).
-    TextAndRaw {
-        /// The text decoder's counters (raw lines are its unknown types).
-        text: DecodeStats,
-        /// The HEX decoder's counters (text lines are its skipped bytes).
-        raw: DecodeStats,
-    },
     /// A port without a decoder.
     NoDecoder {
         /// Always true.
@@ -126,9 +147,30 @@ impl Wrap for Vn200Message {
     }
 }
 
-impl Wrap for TextMessage {
+impl Wrap for MixedMessage {
     fn wrap(&self) -> Message<'_> {
-        Message::Ttmrf(self)
+        match self {
+            MixedMessage::Text(t) => Message::Ttmrf(TtmrfMessage::Text(t)),
+            MixedMessage::Raw(f) => Message::TtmrfRaw(f),
+        }
+    }
+}
+
+impl Wrap for MavlinkMessage {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(TtmrfMessage::Mavlink(self))
+    }
+}
+
+impl Wrap for Gdl90Message {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(TtmrfMessage::Gdl90(self))
+    }
+}
+
+impl Wrap for AsterixMessage {
+    fn wrap(&self) -> Message<'_> {
+        Message::Ttmrf(TtmrfMessage::Asterix(self))
     }
 }
 
@@ -196,97 +238,14 @@ impl<D: DeviceDecoder> Port<D> {
     }
 }
 
-enum Pending {
-    Text(TextMessage),
-    Raw(RawLine),
-}
-
-/// The TT-Multi-RF port: text and HEX decoders over the same bytes, merged by offset.
-struct TtmrfPort {
-    text: Port<TextDecoder>,
-    raw: Port<HexDecoder>,
-    pending: Vec<(u64, Pending)>,
-    index: u64,
-}
-
-impl TtmrfPort {
-    fn new() -> Self {
-        Self {
-            text: Port::new(TextDecoder::new(TextMode::Auto)),
-            raw: Port::new(HexDecoder::new()),
-            pending: Vec::new(),
-            index: 0,
-        }
-    }
-
-    fn push(&mut self, t_host_ns: u64, bytes: &[u8]) {
-        self.text.push(t_host_ns, bytes);
-        self.raw.push(t_host_ns, bytes);
-    }
-
-    fn run<E>(
-        &mut self,
-        device: &str,
-        eof: bool,
-        f: &mut impl FnMut(Decoded<'_>) -> Result<(), E>,
-    ) -> Result<(), E> {
-        loop {
-            let next = if eof {
-                self.text.codec.decode_eof(&mut self.text.buf)
-            } else {
-                self.text.codec.decode(&mut self.text.buf)
-            };
-            let Ok(Some(l)) = next else { break };
-            self.pending.push((l.offset, Pending::Text(l.message)));
-        }
-        loop {
-            let next = if eof {
-                self.raw.codec.decode_eof(&mut self.raw.buf)
-            } else {
-                self.raw.codec.decode(&mut self.raw.buf)
-            };
-            let Ok(Some(l)) = next else { break };
-            self.pending
-                .push((l.offset, Pending::Raw(RawLine::of(&l.message))));
-        }
-        // Every later message of either decoder starts at or after its consumed bytes.
-        let frontier = if eof {
-            u64::MAX
-        } else {
-            self.text
-                .codec
-                .0
-                .stats()
-                .bytes_consumed
-                .min(self.raw.codec.0.stats().bytes_consumed)
-        };
-        self.pending.sort_by_key(|p| p.0);
-        let n = self.pending.partition_point(|p| p.0 < frontier);
-        for (offset, m) in self.pending.drain(..n) {
-            let t_host_ns = self.text.t_host_of(offset);
-            let index = self.index;
-            self.index += 1;
-            let message = match &m {
-                Pending::Text(t) => Message::Ttmrf(t),
-                Pending::Raw(r) => Message::TtmrfRaw(r),
-            };
-            f(Decoded {
-                device,
-                index,
-                offset,
-                t_host_ns,
-                message,
-            })?;
-        }
-        Ok(())
-    }
-}
-
 enum AnyPort {
     Bahrs(Port<bahrs::Decoder>),
     Watson(Port<watson::Decoder>),
     Vn200(Box<Port<Vn200Decoder>>),
-    Ttmrf(Box<TtmrfPort>),
+    Ttmrf(Box<Port<MixedDecoder>>),
+    TtmrfMavlink(Box<Port<MavlinkDecoder>>),
+    TtmrfGdl90(Box<Port<Gdl90Decoder>>),
+    TtmrfAsterix(Box<Port<AsterixDecoder>>),
     NoDecoder { chunks: u64, bytes: u64 },
 }
 
@@ -323,7 +282,19 @@ impl Replayer {
                 ("vn200-icd", _) | ("", "vn200") => {
                     AnyPort::Vn200(Box::new(Port::new(Vn200Decoder::new())))
                 }
-                ("ttmrf-text", _) | ("", "ttmrf") => AnyPort::Ttmrf(Box::new(TtmrfPort::new())),
+                ("ttmrf-text", _) | ("", "ttmrf") => {
+                    AnyPort::Ttmrf(Box::new(Port::new(MixedDecoder::new())))
+                }
+                ("ttmrf-mavlink", _) => {
+                    AnyPort::TtmrfMavlink(Box::new(Port::new(MavlinkDecoder::new())))
+                }
+                // The model sends pressure altitude in Traffic Reports (barometric priority).
+                ("ttmrf-gdl90", _) => AnyPort::TtmrfGdl90(Box::new(Port::new(Gdl90Decoder::new(
+                    TrafficAltitude::Pressure,
+                )))),
+                ("ttmrf-asterix", _) => {
+                    AnyPort::TtmrfAsterix(Box::new(Port::new(AsterixDecoder::default())))
+                }
                 _ => AnyPort::NoDecoder {
                     chunks: 0,
                     bytes: 0,
@@ -348,6 +319,18 @@ impl Replayer {
                 p.run(device, false, f)
             }
             AnyPort::Ttmrf(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::TtmrfMavlink(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::TtmrfGdl90(p) => {
+                p.push(t_host_ns, bytes);
+                p.run(device, false, f)
+            }
+            AnyPort::TtmrfAsterix(p) => {
                 p.push(t_host_ns, bytes);
                 p.run(device, false, f)
             }
@@ -381,10 +364,19 @@ impl Replayer {
                 }
                 AnyPort::Ttmrf(p) => {
                     p.run(device, true, f)?;
-                    PortSummary::TextAndRaw {
-                        text: *p.text.codec.0.stats(),
-                        raw: *p.raw.codec.0.stats(),
-                    }
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::TtmrfMavlink(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::TtmrfGdl90(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
+                }
+                AnyPort::TtmrfAsterix(p) => {
+                    p.run(device, true, f)?;
+                    PortSummary::Decoded(*p.codec.0.stats())
                 }
                 AnyPort::NoDecoder { chunks, bytes } => PortSummary::NoDecoder {
                     no_decoder: true,
@@ -441,6 +433,43 @@ mod tests {
                 chunks: 1,
                 bytes: 3
             }
+        );
+    }
+
+    #[test]
+    fn ttmrf_port_yields_text_and_raw_lines_in_stream_order() {
+        // AT line (14 bytes), HEXd line (18 bytes), AT line: offsets 0, 14, 32; the chunks start
+        // at 0, 10 and 20, received at 1, 2 and 3 ns.
+        let bytes = b"AT+RUN_START\r\n*5D4B18FFFC710B;\r\nAT+RUN_END\r\n";
+        let mut r = Replayer::new();
+        let mut got = Vec::new();
+        let mut f = |d: Decoded<'_>| -> Result<(), ()> {
+            let raw = matches!(d.message, Message::TtmrfRaw(_));
+            let json = serde_json::to_value(d.message).unwrap();
+            got.push((d.index, d.offset, d.t_host_ns, raw, json));
+            Ok(())
+        };
+        for (i, c) in [&bytes[..10], &bytes[10..20], &bytes[20..]]
+            .iter()
+            .enumerate()
+        {
+            r.feed("ttmrf", "ttmrf-text", i as u64 + 1, c, &mut f)
+                .unwrap();
+        }
+        let summary = r.finish(&mut f).unwrap();
+        let pos: Vec<_> = got.iter().map(|g| (g.0, g.1, g.2, g.3)).collect();
+        assert_eq!(
+            pos,
+            vec![(0, 0, 1, false), (1, 14, 2, true), (2, 32, 3, false)]
+        );
+        assert_eq!(got[1].4["frame_hex"], "5D4B18FFFC710B");
+        assert_eq!(got[1].4["raw"], "mode_s");
+        let PortSummary::Decoded(s) = summary["ttmrf"] else {
+            panic!("{summary:?}")
+        };
+        assert_eq!(
+            (s.frames_decoded, s.bytes_consumed),
+            (3, bytes.len() as u64)
         );
     }
 }

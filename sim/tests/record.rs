@@ -3,13 +3,16 @@
 
 use std::io::Cursor;
 
-use vigil_sim::record::{McapSink, Recorded, read_metadata, read_recording};
+use vigil_sim::record::{McapSink, Recorded, read_metadata, read_recording, recorded_span};
 use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
 
 fn record(name: &str, seconds: i64, seed: u64) -> Vec<u8> {
-    let s = builtin(name).unwrap();
-    let mut sim = Simulator::new(&s, seed).unwrap();
+    record_scenario(&builtin(name).unwrap(), seconds, seed)
+}
+
+fn record_scenario(s: &vigil_sim::Scenario, seconds: i64, seed: u64) -> Vec<u8> {
+    let mut sim = Simulator::new(s, seed).unwrap();
     let mut sink = McapSink::new(Cursor::new(Vec::new()), None).unwrap();
     sim.run(seconds * 1_000_000_000, &mut sink).unwrap();
     sink.finish().unwrap().into_inner()
@@ -23,6 +26,19 @@ fn same_scenario_and_seed_give_identical_bytes() {
     assert!(a == b, "two runs differ");
     let c = record("link-errors", 30, 43);
     assert!(a != c, "another seed gives another recording");
+}
+
+#[test]
+fn binary_ttmrf_protocols_record_byte_identically() {
+    for protocol in ["mavlink", "gdl90", "asterix"] {
+        let mut s = builtin("link-errors").unwrap();
+        let t = s.devices.ttmrf.as_mut().unwrap();
+        t.protocol = protocol.into();
+        t.raw = "off".into();
+        let a = record_scenario(&s, 20, 42);
+        let b = record_scenario(&s, 20, 42);
+        assert!(a == b, "{protocol}: two runs differ");
+    }
 }
 
 #[test]
@@ -100,4 +116,27 @@ fn truncated_recording_is_read_up_to_the_damage() {
         assert!(n > last && n < all, "cut {frac}: {n} of {all}");
         last = n;
     }
+}
+
+#[test]
+fn recorded_span_is_the_first_and_last_log_time() {
+    let bytes = record("nominal", 3, 2);
+    let (mut first, mut last) = (u64::MAX, 0);
+    read_recording::<()>(&bytes, |m| {
+        let t = match m {
+            Recorded::Raw { t_host_ns, .. } | Recorded::Truth { t_host_ns, .. } => t_host_ns,
+            _ => return Ok(()),
+        };
+        first = first.min(t);
+        last = last.max(t);
+        Ok(())
+    })
+    .unwrap();
+    let (t0, t1) = recorded_span(&bytes).unwrap();
+    // Every message counts: chunks (receive time) and truth records (the host time their first
+    // byte started on the wire, earlier than its receipt).
+    assert_eq!((t0, t1), (first, last));
+    assert!(t1 - t0 > 2_500_000_000);
+    // A truncated file has no summary: no span.
+    assert_eq!(recorded_span(&bytes[..bytes.len() / 2]), None);
 }

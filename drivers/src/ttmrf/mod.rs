@@ -10,6 +10,7 @@ pub mod flarm_category;
 pub mod gdl90;
 pub mod json;
 pub mod mavlink;
+pub mod mixed;
 pub mod nmea;
 pub mod raw;
 pub mod text;

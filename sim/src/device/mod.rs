@@ -16,6 +16,7 @@ pub mod bahrs;
 #[cfg(test)]
 mod scripted_host;
 pub mod ttmrf;
+pub mod ttmrf_binary;
 pub mod vn200;
 pub mod watson;
 

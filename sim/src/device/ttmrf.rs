@@ -1,38 +1,54 @@
 //! Aerobits TT-Multi-RF device model (TT-Multi-RF manual): the RUN / CONFIGURATION /
 //! BOOTLOADER states and AT messages (manual 4, 5) through [`SimModule`]; in RUN the decoded
-//! traffic protocol (CSV 6.4 / 7.2.1 / 8.2.1 / 10.2.1, or JSON 6.6), the JSON GNSS section
-//! (9.2.2) and raw Mode S frames (7.2.2: HEX with extended fields, HEXd or Beast) for ADS-B
-//! targets, every byte encoded by the drivers' encoders.
+//! traffic protocol (CSV 6.4 / 7.2.1 / 8.2.1 / 10.2.1, JSON 6.6, or the binary MAVLink, GDL90
+//! and ASTERIX of 7.2.1 / 8.2.1, see [`super::ttmrf_binary`]), the JSON GNSS section (9.2.2)
+//! and raw Mode S frames (7.2.2: HEX with extended fields, HEXd or Beast) for ADS-B targets,
+//! every byte encoded by the drivers' encoders.
+//!
+//! What is sent follows the module's stored settings, as on the device: the scenario's
+//! `protocol` and `raw` are written to `ADSB_RX_PROTOCOL_DECODED` / `ADSB_RX_PROTOCOL_RAW` at
+//! power-on, and an AT write in CONFIGURATION changes them for the next RUN (the module saves
+//! settings on leaving CONFIGURATION, 4.1.3). Decision: the model drives every subsystem's
+//! decoded output (ADS-B, UAT, FLARM) from `ADSB_RX_PROTOCOL_DECODED`, limited to the links the
+//! protocol carries (GDL90: ADS-B only; ASTERIX: ADS-B and FLARM; the others all), rather than
+//! modelling `UAT_DECODED_PROTOCOL` / `FLARM_RX_PROTOCOL_DECODED` apart: one port then carries
+//! one decoded protocol. The recording channel's protocol (`ttmrf-text`, `ttmrf-mavlink`,
+//! `ttmrf-gdl90`, `ttmrf-asterix`) is the one configured at start.
 //!
 //! Schedule (all on GPS time, whole milliseconds, so JSON `ts` is exact):
 //! - one traffic message per intruder per second, intruder `i` of `n` at `(i + 1) * 1000 /
 //!   (n + 1)` ms into each second (spread, like a receiver reporting its table in turn); JSON
-//!   sends one target per message, in the array of its link (`adsb`, `uat`, `flarm`);
-//! - with `gnss = true`, at every whole second: the JSON `gnss` section (JSON mode), or NMEA
-//!   `$GPGGA` and `$GPRMC` (CSV mode; manual 9.2.1), UTC time of day and date;
+//!   sends one target per message, in the array of its link (`adsb`, `uat`, `flarm`); ASTERIX
+//!   one record per data block;
+//! - at every whole second: with `gnss = true`, the JSON `gnss` section (JSON), or NMEA `$GPGGA`
+//!   and `$GPRMC` (CSV; manual 9.2.1), UTC time of day and date; whatever `gnss` says, the GDL90
+//!   Heartbeat, Ownship Report and Ownship Geometric Altitude (GDL90) or the CAT023 status
+//!   (ASTERIX), which the manual lists as part of those protocols; nothing for MAVLink;
 //! - raw frames of each ADS-B target (raw != "off"), at its phase plus: 100 ms even and 600 ms
 //!   odd airborne position (TC 11), 350 and 850 ms airborne velocity (TC 19 subtype 1), and
 //!   identification (TC 1-4) at 200 ms every 5 s: 2 + 2 + 0.2 frames per second as DO-260B
 //!   transmitters. HEX times: TS1s = ns since the last whole second (the PPS), TS24h = ns since
 //!   UTC midnight; Beast: the 12 MHz counter = UTC ns of day * 12 / 1000.
 //!
-//! Values: barometric altitude = the ISA pressure altitude of the truth (whole ft, the Mode S
-//! encoder quantises to 25 ft); geometric altitude = WGS-84 height; ADS-B/UAT NIC 8, NACp 9,
-//! NACv 1, NICbaro 1 (a GNSS-equipped transponder); emitter category as the GDL90 number (A0-A7
-//! = 0-7, B0-B7 = 8-15, C = 16-23, D = 24-31); a `spoof_offset_ned_m` intruder reports its
-//! spoofed position (the truth records both). GNSS section: 3-D fix with 2.5 m / 4 m accuracy
-//! and matching noise; during a `gnss_outage` fault `fix` = 0 and nothing else.
+//! Values: barometric altitude = the ISA pressure altitude of the truth (whole ft in CSV/JSON,
+//! the Mode S encoder quantises to 25 ft); geometric altitude = WGS-84 height; ADS-B/UAT NIC 8,
+//! NACp 9, NACv 1, NICbaro 1 (a GNSS-equipped transponder); emitter category as the GDL90 number
+//! (A0-A7 = 0-7, B0-B7 = 8-15, C = 16-23, D = 24-31); a `spoof_offset_ned_m` intruder reports
+//! its spoofed position (the truth records both). GNSS section: 3-D fix with 2.5 m / 4 m
+//! accuracy and matching noise; during a `gnss_outage` fault `fix` = 0 and nothing else.
 //!
 //! AT commands from the host go to [`SimModule`] at the module's current baud (a pseudo-terminal
 //! has no baud; the link keeps the scenario's); the module acts on a command (state changes
-//! included) and its answers leave 1 ms after the window that delivered it. Outside RUN no traffic, GNSS or raw output is sent. A `device_reset`
-//! fault power-cycles the module (BOOTLOADER then RUN messages).
+//! included) and its answers leave 1 ms after the window that delivered it. Outside RUN no
+//! traffic, GNSS or raw output is sent. A `device_reset` fault power-cycles the module
+//! (BOOTLOADER then RUN messages).
 //!
-//! Truth: `type` = "adsb" / "uat" / "flarm" (traffic message), "gnss", "nmea_gga", "nmea_rmc",
-//! "raw_position",
-//! "raw_velocity", "raw_identification", "at"; values: `address`, true `lat_deg`, `lon_deg`,
-//! `height_m`, `alt_pressure_m`, `vel_ned_mps`, `track_rad`, the `reported_*` position, `nic`,
-//! `nac_p`, `ts_ms`.
+//! Truth: `type` = "adsb" / "uat" / "flarm" (traffic message, any protocol; `protocol` names
+//! it), "gnss", "nmea_gga", "nmea_rmc", "gdl90_heartbeat", "gdl90_ownship",
+//! "gdl90_ownship_geo_altitude", "asterix_status", "raw_position", "raw_velocity",
+//! "raw_identification", "at"; values: `address`, true `lat_deg`, `lon_deg`, `height_m`,
+//! `alt_pressure_m`, `vel_ned_mps`, `track_rad`, the `reported_*` position, `nic`, `nac_p`,
+//! `ts_ms` (ownship messages: the true ownship and `fix`).
 
 use bytes::BytesMut;
 use serde_json::{Map, Value, json};
@@ -42,12 +58,13 @@ use vigil_drivers::modes::encode::{
 use vigil_drivers::ttmrf::csv::{
     AdsbAircraft, AircraftFlags, AircraftState, CsvMessage, FlarmAircraft, NicNac, UatAircraft,
 };
-use vigil_drivers::ttmrf::json::{
-    AdsbTarget, FlarmTarget, Gnss, GnssAccuracy, JsonMessage, UatNicNac, UatTarget,
-};
-use vigil_drivers::ttmrf::nmea::{Date as NmeaDate, Gga, NmeaBody, NmeaSentence, Rmc};
+use vigil_drivers::ttmrf::json::{AdsbTarget, FlarmTarget, JsonMessage, UatNicNac, UatTarget};
 use vigil_drivers::ttmrf::raw::{ModeSFrame, RawFrame, RxMeta, beast, hex};
 
+use vigil_drivers::ttmrf::asterix::common::DataSource;
+use vigil_drivers::ttmrf::at::{DecodedProtocol, RawProtocol, SettingId};
+
+use super::ttmrf_binary::{self, Binary, Target, carries};
 use super::{DeviceModel, Emission, FaultSchedule};
 use crate::rng::Rng;
 use crate::scenario::{Link, TtmrfConfig};
@@ -68,7 +85,8 @@ pub const GNSS_V_SIGMA_M: f64 = 4.0;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Event {
-    Gnss,
+    /// The whole second: GNSS section / NMEA, GDL90 heartbeat and ownship, ASTERIX status.
+    Second,
     Traffic(usize),
     Position(usize, bool),
     Velocity(usize),
@@ -98,6 +116,18 @@ fn utc_ns_of_day(t_gps_ns: i64) -> u64 {
     (t_gps_ns - GPS_MINUS_UTC_S * NS_PER_S).rem_euclid(86_400 * NS_PER_S) as u64
 }
 
+/// The scenario name of a decoded protocol (truth `protocol`).
+pub fn protocol_name(p: DecodedProtocol) -> &'static str {
+    match p {
+        DecodedProtocol::None => "none",
+        DecodedProtocol::Csv => "csv",
+        DecodedProtocol::Mavlink => "mavlink",
+        DecodedProtocol::Json => "json",
+        DecodedProtocol::Gdl90 => "gdl90",
+        DecodedProtocol::Asterix => "asterix",
+    }
+}
+
 fn obj(v: Value) -> Map<String, Value> {
     match v {
         Value::Object(m) => m,
@@ -123,6 +153,42 @@ pub struct TtmrfModel {
     /// Host bytes and the time the module acts on them.
     inbox: Vec<(i64, Vec<u8>)>,
     resets_ns: Vec<i64>,
+    /// The recording channel's protocol (the decoded protocol configured at start).
+    channel: &'static str,
+    /// MAVLink packet sequence number of the next frame.
+    mavlink_seq: u8,
+}
+
+/// The value of `ADSB_RX_PROTOCOL_DECODED` (manual table 12) for a scenario protocol name.
+pub fn decoded_protocol_of(name: &str) -> DecodedProtocol {
+    match name {
+        "csv" => DecodedProtocol::Csv,
+        "mavlink" => DecodedProtocol::Mavlink,
+        "json" => DecodedProtocol::Json,
+        "gdl90" => DecodedProtocol::Gdl90,
+        "asterix" => DecodedProtocol::Asterix,
+        _ => DecodedProtocol::None,
+    }
+}
+
+/// The value of `ADSB_RX_PROTOCOL_RAW` (manual table 12) for a scenario raw name.
+pub fn raw_protocol_of(name: &str) -> RawProtocol {
+    match name {
+        "hex" => RawProtocol::Hex,
+        "beast" => RawProtocol::Beast,
+        "hexd" => RawProtocol::Hexd,
+        _ => RawProtocol::None,
+    }
+}
+
+/// The recording channel protocol of a port whose decoded protocol is `name` at start.
+pub fn channel_protocol(name: &str) -> &'static str {
+    match name {
+        "mavlink" => "ttmrf-mavlink",
+        "gdl90" => "ttmrf-gdl90",
+        "asterix" => "ttmrf-asterix",
+        _ => "ttmrf-text",
+    }
 }
 
 impl TtmrfModel {
@@ -133,9 +199,18 @@ impl TtmrfModel {
             .filter_map(|i| world.intruder(i, world.start_gps_ns).map(|t| t.link))
             .collect();
         let start = world.start_gps_ns;
+        let mut module = SimModule::new(SERIAL, "1.0.0");
+        module.set_stored(
+            SettingId::AdsbRxProtocolDecoded.name(),
+            &(decoded_protocol_of(&cfg.protocol) as i64).to_string(),
+        );
+        module.set_stored(
+            SettingId::AdsbRxProtocolRaw.name(),
+            &(raw_protocol_of(&cfg.raw) as i64).to_string(),
+        );
         Self {
             cfg: cfg.clone(),
-            module: SimModule::new(SERIAL, "1.0.0"),
+            module,
             noise: Rng::stream(seed, "ttmrf/noise"),
             n,
             links,
@@ -149,6 +224,50 @@ impl TtmrfModel {
                 .rev()
                 .map(|s| start + (s * 1e9).round() as i64)
                 .collect(),
+            channel: channel_protocol(&cfg.protocol),
+            mavlink_seq: 0,
+        }
+    }
+
+    fn setting(&self, id: SettingId) -> Option<i64> {
+        self.module
+            .stored(id.name())
+            .and_then(|v| v.trim().parse().ok())
+    }
+
+    /// The decoded protocol the module sends now (its stored `ADSB_RX_PROTOCOL_DECODED`: the
+    /// model drives every subsystem's decoded output from it, see the module doc).
+    pub fn decoded_protocol(&self) -> DecodedProtocol {
+        match self.setting(SettingId::AdsbRxProtocolDecoded) {
+            Some(1) => DecodedProtocol::Csv,
+            Some(2) => DecodedProtocol::Mavlink,
+            Some(3) => DecodedProtocol::Json,
+            Some(4) => DecodedProtocol::Gdl90,
+            Some(5) => DecodedProtocol::Asterix,
+            _ => DecodedProtocol::None,
+        }
+    }
+
+    /// The raw protocol the module sends now (its stored `ADSB_RX_PROTOCOL_RAW`).
+    pub fn raw_protocol(&self) -> RawProtocol {
+        match self.setting(SettingId::AdsbRxProtocolRaw) {
+            Some(1) => RawProtocol::Hex,
+            Some(2) => RawProtocol::Beast,
+            Some(3) => RawProtocol::Json,
+            Some(4) => RawProtocol::Hexd,
+            _ => RawProtocol::None,
+        }
+    }
+
+    fn asterix_source(&self) -> DataSource {
+        let byte = |id| {
+            self.setting(id)
+                .and_then(|v| u8::try_from(v).ok())
+                .unwrap_or(0)
+        };
+        DataSource {
+            sac: byte(SettingId::AsterixSac),
+            sic: byte(SettingId::AsterixSic),
         }
     }
 
@@ -164,10 +283,12 @@ impl TtmrfModel {
     /// Queues the events of GPS second `s`.
     fn schedule(&mut self, s: i64) {
         let base = s * NS_PER_S;
-        if self.cfg.gnss {
-            self.queue.push((base, Event::Gnss));
-        }
-        let raw = self.cfg.raw != "off";
+        self.queue.push((base, Event::Second));
+        // JSON raw output (setting 3) is not modelled: nothing is sent for it.
+        let raw = matches!(
+            self.raw_protocol(),
+            RawProtocol::Hex | RawProtocol::Hexd | RawProtocol::Beast
+        );
         for i in 0..self.n {
             let p = base + self.phase_ns(i);
             self.queue.push((p, Event::Traffic(i)));
@@ -207,8 +328,54 @@ impl TtmrfModel {
         let ecat = ecat_number(&it.emitter_category);
         let callsign = (!it.callsign.is_empty()).then(|| it.callsign.clone());
         let ts_ms = utc_ms_of_day(t);
-        let (kind, line) = match (self.cfg.protocol.as_str(), it.link) {
-            ("csv", Link::Flarm) => (
+        let protocol = self.decoded_protocol();
+        let binary = match protocol {
+            DecodedProtocol::None => return None,
+            DecodedProtocol::Mavlink => Some(Binary::Mavlink),
+            DecodedProtocol::Gdl90 => Some(Binary::Gdl90),
+            DecodedProtocol::Asterix => Some(Binary::Asterix),
+            DecodedProtocol::Csv | DecodedProtocol::Json => None,
+        };
+        let kind = match it.link {
+            Link::Adsb1090 => "adsb",
+            Link::Uat978 => "uat",
+            Link::Flarm => "flarm",
+        };
+        let (kind, line) = match (protocol, it.link, binary) {
+            (_, _, Some(b)) => {
+                if !carries(b, it.link) {
+                    return None;
+                }
+                let target = Target {
+                    link: it.link,
+                    icao,
+                    lat_deg: lat,
+                    lon_deg: lon,
+                    height_m: h,
+                    alt_pressure_m: it.alt_pressure_m,
+                    vel_ned_mps: it.vel_ned_mps,
+                    track_deg,
+                    callsign: it.callsign.clone(),
+                    ecat,
+                };
+                let bytes = match b {
+                    Binary::Mavlink => {
+                        let seq = self.mavlink_seq;
+                        self.mavlink_seq = seq.wrapping_add(1);
+                        ttmrf_binary::mavlink_vehicle(seq, &target)
+                    }
+                    Binary::Gdl90 => ttmrf_binary::gdl90_traffic(&target),
+                    Binary::Asterix => ttmrf_binary::asterix_target(
+                        &target,
+                        utc_ns_of_day(t) as f64 / 1e9,
+                        self.asterix_source(),
+                        // Track numbers 1.. by intruder (12 bits).
+                        ((i + 1) % 4096) as u16,
+                    ),
+                };
+                (kind, bytes)
+            }
+            (DecodedProtocol::Csv, Link::Flarm, _) => (
                 "flarm",
                 CsvMessage::Flarm(FlarmAircraft {
                     id: icao,
@@ -221,9 +388,10 @@ impl TtmrfModel {
                     velv_mps: Some(round_to(-vd, 0.1)),
                     ..Default::default()
                 })
-                .to_line(),
+                .to_line()
+                .into_bytes(),
             ),
-            ("csv", link) => {
+            (DecodedProtocol::Csv, link, _) => {
                 let state = AircraftState {
                     icao,
                     flags: Some(AircraftFlags::from_raw(0x3F00)),
@@ -247,16 +415,16 @@ impl TtmrfModel {
                         state,
                         ..Default::default()
                     };
-                    ("uat", CsvMessage::Uat(m).to_line())
+                    ("uat", CsvMessage::Uat(m).to_line().into_bytes())
                 } else {
                     let m = AdsbAircraft {
                         state,
                         ..Default::default()
                     };
-                    ("adsb", CsvMessage::Adsb(m).to_line())
+                    ("adsb", CsvMessage::Adsb(m).to_line().into_bytes())
                 }
             }
-            (_, link) => {
+            (_, link, _) => {
                 let mut m = JsonMessage {
                     src: Some(SERIAL.into()),
                     ts_ms: Some(ts_ms),
@@ -326,11 +494,12 @@ impl TtmrfModel {
                         "flarm"
                     }
                 };
-                (kind, m.to_wire())
+                (kind, m.to_wire().into_bytes())
             }
         };
-        let bytes = self.send_line(line.as_bytes())?;
+        let bytes = self.send_line(&line)?;
         let v = json!({
+            "protocol": protocol_name(protocol),
             "intruder": i,
             "address": it.address,
             "callsign": it.callsign,
@@ -355,157 +524,6 @@ impl TtmrfModel {
             t_gps_ns: t,
             values: obj(v),
         })
-    }
-
-    fn gnss(&mut self, t: i64, world: &World, faults: &FaultSchedule) -> Option<Emission> {
-        let lost = faults.gnss_lost("ttmrf", world.elapsed_s(t));
-        let o = world.ownship(t);
-        let g = if lost {
-            Gnss {
-                fix: Some(0),
-                ..Default::default()
-            }
-        } else {
-            let n = &mut self.noise;
-            let (dn, de, dd) = (
-                n.gauss(GNSS_H_SIGMA_M),
-                n.gauss(GNSS_H_SIGMA_M),
-                n.gauss(GNSS_V_SIGMA_M),
-            );
-            let [vn, ve, vd] = o.vel_ned_mps;
-            let h = round_to(o.height_m - dd, 0.1);
-            Gnss {
-                fix: Some(1),
-                lat_deg: Some(round_to(
-                    o.lat_deg + (dn / world.frame.radius_north_m).to_degrees(),
-                    1e-7,
-                )),
-                lon_deg: Some(round_to(
-                    o.lon_deg + (de / world.frame.radius_east_m).to_degrees(),
-                    1e-7,
-                )),
-                alt_wgs84_m: Some(h),
-                // The simulated geoid is the ellipsoid.
-                alt_msl_m: Some(h),
-                track_deg: Some(round_to(ve.atan2(vn).to_degrees().rem_euclid(360.0), 0.1) % 360.0),
-                velh_kt: Some(round_to(vn.hypot(ve) * KT_PER_MPS, 0.1)),
-                velv_mps: Some(round_to(-vd, 0.1)),
-                acc: Some(GnssAccuracy {
-                    lat_m: Some(GNSS_H_SIGMA_M),
-                    lon_m: Some(GNSS_H_SIGMA_M),
-                    alt_m: Some(GNSS_V_SIGMA_M),
-                }),
-                nac_p: Some(9),
-                nac_v: Some(1),
-                nic: Some(8),
-                ..Default::default()
-            }
-        };
-        let ts_ms = utc_ms_of_day(t);
-        let m = JsonMessage {
-            src: Some(SERIAL.into()),
-            ts_ms: Some(ts_ms),
-            ver: Some(1),
-            gnss: Some(g),
-            ..Default::default()
-        };
-        let bytes = self.send_line(m.to_wire().as_bytes())?;
-        let v = json!({
-            "fix": !lost,
-            "lat_deg": o.lat_deg,
-            "lon_deg": o.lon_deg,
-            "height_m": o.height_m,
-            "vel_ned_mps": o.vel_ned_mps,
-            "ts_ms": ts_ms,
-        });
-        Some(Emission {
-            t_ready_gps_ns: t,
-            bytes,
-            kind: "gnss",
-            t_gps_ns: t,
-            values: obj(v),
-        })
-    }
-
-    /// GGA then RMC (manual 9.2.1, NMEA output of the GNSS section) for CSV mode.
-    fn nmea(&mut self, t: i64, world: &World, faults: &FaultSchedule, out: &mut Vec<Emission>) {
-        let lost = faults.gnss_lost("ttmrf", world.elapsed_s(t));
-        let o = world.ownship(t);
-        let utc_s = utc_ns_of_day(t) as f64 / 1e9;
-        let d = crate::units::gps_ns_to_utc_date(t);
-        let date = NmeaDate {
-            year: d.year() as u16,
-            month: d.month() as u8,
-            day: d.day(),
-        };
-        let [vn, ve, _] = o.vel_ned_mps;
-        let (lat, lon, h) = if lost {
-            (None, None, None)
-        } else {
-            let n = &mut self.noise;
-            let (dn, de, dd) = (
-                n.gauss(GNSS_H_SIGMA_M),
-                n.gauss(GNSS_H_SIGMA_M),
-                n.gauss(GNSS_V_SIGMA_M),
-            );
-            (
-                Some(o.lat_deg + (dn / world.frame.radius_north_m).to_degrees()),
-                Some(o.lon_deg + (de / world.frame.radius_east_m).to_degrees()),
-                Some(round_to(o.height_m - dd, 0.1)),
-            )
-        };
-        let gga = Gga {
-            time_s: Some(utc_s),
-            lat_deg: lat,
-            lon_deg: lon,
-            quality: Some(u8::from(!lost)),
-            satellites: Some(if lost { 0 } else { 10 }),
-            hdop: (!lost).then_some(0.9),
-            alt_msl_m: h,
-            // The simulated geoid is the ellipsoid.
-            geoid_sep_m: (!lost).then_some(0.0),
-            ..Default::default()
-        };
-        let rmc = Rmc {
-            time_s: Some(utc_s),
-            valid: Some(!lost),
-            lat_deg: lat,
-            lon_deg: lon,
-            speed_kt: (!lost).then(|| round_to(vn.hypot(ve) * KT_PER_MPS, 0.1)),
-            course_deg: (!lost)
-                .then(|| round_to(ve.atan2(vn).to_degrees().rem_euclid(360.0), 0.1) % 360.0),
-            date: Some(date),
-            mode: Some(if lost { 'N' } else { 'A' }),
-            ..Default::default()
-        };
-        for (kind, body) in [
-            ("nmea_gga", NmeaBody::Gga(gga)),
-            ("nmea_rmc", NmeaBody::Rmc(rmc)),
-        ] {
-            let line = NmeaSentence {
-                talker: "GP".into(),
-                body,
-            }
-            .to_line();
-            let Some(bytes) = self.send_line(line.as_bytes()) else {
-                return;
-            };
-            let v = json!({
-                "fix": !lost,
-                "lat_deg": o.lat_deg,
-                "lon_deg": o.lon_deg,
-                "height_m": o.height_m,
-                "vel_ned_mps": o.vel_ned_mps,
-                "utc_s_of_day": utc_s,
-            });
-            out.push(Emission {
-                t_ready_gps_ns: t,
-                bytes,
-                kind,
-                t_gps_ns: t,
-                values: obj(v),
-            });
-        }
     }
 
     fn raw(&mut self, t: i64, e: Event, it: &IntruderTruth) -> Option<Emission> {
@@ -556,7 +574,8 @@ impl TtmrfModel {
             _ => return None,
         };
         let utc_ns = utc_ns_of_day(t);
-        let beast_mode = self.cfg.raw == "beast";
+        let raw_protocol = self.raw_protocol();
+        let beast_mode = raw_protocol == RawProtocol::Beast;
         let meta = RxMeta {
             signal_dbm: (!beast_mode).then_some(-70),
             signal_quality: (!beast_mode).then_some(12),
@@ -571,12 +590,14 @@ impl TtmrfModel {
             meta,
         });
         let mut buf = BytesMut::with_capacity(96);
-        match self.cfg.raw.as_str() {
-            "beast" => {
+        match raw_protocol {
+            RawProtocol::Beast => {
                 beast::encode_beast(&rf, &mut buf);
             }
-            "hexd" => hex::encode_hex(&rf, false, &mut buf),
-            _ => hex::encode_hex(&rf, true, &mut buf),
+            RawProtocol::Hexd => hex::encode_hex(&rf, false, &mut buf),
+            RawProtocol::Hex => hex::encode_hex(&rf, true, &mut buf),
+            // Switched off (or to the unmodelled JSON raw section) since it was scheduled.
+            RawProtocol::None | RawProtocol::Json => return None,
         }
         let bytes = self.send_line(&buf)?;
         let mut v = obj(json!({
@@ -612,7 +633,7 @@ impl DeviceModel for TtmrfModel {
     }
 
     fn protocol(&self) -> &'static str {
-        "ttmrf-text"
+        self.channel
     }
 
     fn baud(&self) -> u32 {
@@ -650,7 +671,7 @@ impl DeviceModel for TtmrfModel {
                 .queue
                 .last()
                 .copied()
-                .unwrap_or((i64::MAX, Event::Gnss));
+                .unwrap_or((i64::MAX, Event::Second));
             // Host commands, resets and AT answers that come first.
             if let Some(&(ti, _)) = self.inbox.first()
                 && ti <= t
@@ -693,14 +714,24 @@ impl DeviceModel for TtmrfModel {
             if t < world.start_gps_ns {
                 continue;
             }
-            let em = match e {
-                Event::Gnss if self.cfg.protocol == "csv" => {
+            let em = match (e, self.decoded_protocol()) {
+                (Event::Second, DecodedProtocol::Csv) if self.cfg.gnss => {
                     self.nmea(t, world, faults, out);
                     None
                 }
-                Event::Gnss => self.gnss(t, world, faults),
-                Event::Traffic(i) => world.intruder(i, t).and_then(|it| self.traffic(t, i, &it)),
-                Event::Position(i, _) | Event::Velocity(i) | Event::Ident(i) => {
+                (Event::Second, DecodedProtocol::Json) if self.cfg.gnss => {
+                    self.gnss(t, world, faults)
+                }
+                (Event::Second, DecodedProtocol::Gdl90) => {
+                    self.gdl90_second(t, world, faults, out);
+                    None
+                }
+                (Event::Second, DecodedProtocol::Asterix) => self.asterix_status(t),
+                (Event::Second, _) => None,
+                (Event::Traffic(i), _) => {
+                    world.intruder(i, t).and_then(|it| self.traffic(t, i, &it))
+                }
+                (Event::Position(i, _) | Event::Velocity(i) | Event::Ident(i), _) => {
                     world.intruder(i, t).and_then(|it| self.raw(t, e, &it))
                 }
             };
@@ -708,6 +739,9 @@ impl DeviceModel for TtmrfModel {
         }
     }
 }
+
+#[path = "ttmrf_second.rs"]
+mod second;
 
 #[cfg(test)]
 #[path = "ttmrf_tests.rs"]

@@ -227,12 +227,25 @@ fn csv_protocol_sends_the_manual_lines_with_pressure_altitude() {
     assert!(rmc.contains(",010626,"), "{rmc}");
 }
 
+#[path = "ttmrf_binary_tests.rs"]
+mod binary;
+
+#[path = "ttmrf_at_tests.rs"]
+mod at_switch;
+
 #[test]
-fn unmodelled_protocols_are_refused_by_name() {
+fn unknown_protocols_and_raw_with_binary_are_refused_by_name() {
+    let mut s = builtin("nominal").unwrap();
+    s.devices.ttmrf.as_mut().unwrap().protocol = "adsc".into();
+    let e = Simulator::new(&s, 1).err().unwrap().to_string();
+    assert!(e.contains("devices.ttmrf.protocol"), "{e}");
+    // nominal has raw = "hex": not with a binary protocol.
     let mut s = builtin("nominal").unwrap();
     s.devices.ttmrf.as_mut().unwrap().protocol = "gdl90".into();
     let e = Simulator::new(&s, 1).err().unwrap().to_string();
-    assert!(e.contains("devices.ttmrf.protocol"), "{e}");
+    assert!(e.contains("devices.ttmrf.raw"), "{e}");
+    s.devices.ttmrf.as_mut().unwrap().raw = "off".into();
+    assert!(Simulator::new(&s, 1).is_ok());
     let mut s = builtin("nominal").unwrap();
     s.devices.ttmrf.as_mut().unwrap().raw = "avr".into();
     let e = Simulator::new(&s, 1).err().unwrap().to_string();

@@ -89,12 +89,23 @@ impl Devices {
         }
         if let Some(t) = &self.ttmrf {
             check_baud("devices.ttmrf.baud", t.baud)?;
-            // The model sends CSV or JSON; the binary protocols (MAVLink, GDL90, ASTERIX) have
-            // encoders in the drivers but no model yet.
-            if !matches!(t.protocol.as_str(), "csv" | "json") {
+            if !matches!(
+                t.protocol.as_str(),
+                "csv" | "json" | "mavlink" | "gdl90" | "asterix"
+            ) {
                 return Err(invalid(
                     "devices.ttmrf.protocol",
-                    "must be csv or json (mavlink, gdl90 and asterix are not modelled)",
+                    "must be csv, json, mavlink, gdl90 or asterix",
+                ));
+            }
+            // The manual gives the module one UART for every output. Binary frames may hold any
+            // byte (`*`, `\n` included), so HEX lines between them cannot be framed reliably, and
+            // the binary decoders skip text as garbage: a scenario with a binary decoded
+            // protocol must switch raw output off (decision; the manual does not say).
+            if matches!(t.protocol.as_str(), "mavlink" | "gdl90" | "asterix") && t.raw != "off" {
+                return Err(invalid(
+                    "devices.ttmrf.raw",
+                    "must be off with a binary decoded protocol (mavlink, gdl90, asterix)",
                 ));
             }
             if !matches!(t.raw.as_str(), "off" | "hex" | "hexd" | "beast") {
@@ -265,8 +276,8 @@ impl Default for Vn200Config {
 pub struct TtmrfConfig {
     /// Baud rate.
     pub baud: u32,
-    /// Decoded output protocol: "csv" or "json" (the model's; "mavlink", "gdl90" and "asterix"
-    /// are refused until modelled).
+    /// Decoded output protocol at power-on: "csv", "json", "mavlink", "gdl90" or "asterix" (the
+    /// module's `ADSB_RX_PROTOCOL_DECODED`; AT commands may change it later).
     pub protocol: String,
     /// Raw Mode S output: "off", "hex", "hexd", "beast".
     pub raw: String,

@@ -5,8 +5,9 @@
 
 use bytes::BytesMut;
 use vigil_drivers::DeviceDecoder;
-use vigil_drivers::ttmrf::raw::{BeastDecoder, HexDecoder, beast, hex};
-use vigil_drivers::ttmrf::text::{TextDecoder, TextMessage, TextMode};
+use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
+use vigil_drivers::ttmrf::raw::{BeastDecoder, beast, hex};
+use vigil_drivers::ttmrf::text::TextMessage;
 use vigil_drivers::vn200::Vn200Message;
 use vigil_drivers::vn200::ascii::ChecksumKind;
 
@@ -41,18 +42,21 @@ pub fn ttmrf_text_bytes(m: &TextMessage) -> Vec<u8> {
     }
 }
 
-/// Every message of a TT-Multi-RF port: text (CSV, JSON, NMEA, AT) and raw Mode S (HEX, Beast),
-/// each decoded by its own decoder from the same bytes, in offset order.
+/// Every message of a TT-Multi-RF port: text (CSV, JSON, NMEA, AT) and raw HEX lines through the
+/// drivers' port decoder ([`MixedDecoder`], stream order), and raw Beast frames through their own
+/// decoder over the same bytes, merged in offset order.
 pub fn ttmrf_located(bytes: &[u8]) -> Vec<(u64, Vec<u8>)> {
-    let mut v: Vec<(u64, Vec<u8>)> = decode_located(TextDecoder::new(TextMode::Auto), bytes)
+    let mut v: Vec<(u64, Vec<u8>)> = decode_located(MixedDecoder::new(), bytes)
         .into_iter()
-        .map(|(o, m)| (o, ttmrf_text_bytes(&m)))
+        .map(|(o, m)| match m {
+            MixedMessage::Text(t) => (o, ttmrf_text_bytes(&t)),
+            MixedMessage::Raw(f) => {
+                let mut b = BytesMut::new();
+                hex::encode_hex(&f, true, &mut b);
+                (o, b.to_vec())
+            }
+        })
         .collect();
-    for (o, f) in decode_located(HexDecoder::new(), bytes) {
-        let mut b = BytesMut::new();
-        hex::encode_hex(&f, true, &mut b);
-        v.push((o, b.to_vec()));
-    }
     for (o, f) in decode_located(BeastDecoder::new(), bytes) {
         let mut b = BytesMut::new();
         beast::encode_beast(&f, &mut b);

@@ -301,6 +301,10 @@ pub(crate) fn step_object(
             Some(i) => {
                 stats.skip(buf, i + 1);
                 *discarding = false;
+                // Hand back here: on a port that carries other protocols too (text auto mode,
+                // `ttmrf::mixed`), the next line is the caller's to dispatch, not bytes to skip
+                // up to the next `{`.
+                return Step::Continue;
             }
             None => {
                 let n = buf.len();

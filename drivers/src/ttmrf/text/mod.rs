@@ -90,7 +90,8 @@ pub struct ProtocolCounts {
     pub nmea: u64,
     /// AT lines.
     pub at: u64,
-    /// Raw Mode S lines passed over.
+    /// Raw Mode S lines: passed over by [`TextDecoder`], decoded by
+    /// [`crate::ttmrf::mixed::MixedDecoder`].
     pub raw_mode_s: u64,
 }
 
@@ -103,13 +104,15 @@ enum Inner {
     At(AtDecoder),
 }
 
+/// The auto-mode state machine; also driven by [`crate::ttmrf::mixed::MixedDecoder`], which hands
+/// it the text lines of a port that carries raw HEX lines too.
 #[derive(Debug, Clone, Default)]
-struct Auto {
+pub(crate) struct Auto {
     lines: LineFramer,
     object: ObjectFramer,
     object_discarding: bool,
-    stats: DecodeStats,
-    counts: ProtocolCounts,
+    pub(crate) stats: DecodeStats,
+    pub(crate) counts: ProtocolCounts,
 }
 
 /// Longest line in auto mode (the longest of the line protocols).
@@ -129,7 +132,15 @@ fn is_start(b: u8) -> bool {
 }
 
 impl Auto {
-    fn step(&mut self, buf: &mut BytesMut, eof: bool) -> Option<Option<TextMessage>> {
+    /// Whether a message (JSON object) or an over-long line is in progress: the next bytes belong
+    /// to it whatever they look like.
+    pub(crate) fn busy(&self) -> bool {
+        self.object.in_progress() || self.object_discarding || self.lines.is_discarding()
+    }
+
+    /// One step: `None` = need more bytes, `Some(None)` = bytes consumed (skipped) without a
+    /// message, `Some(Some(m))` = a message.
+    pub(crate) fn step(&mut self, buf: &mut BytesMut, eof: bool) -> Option<Option<TextMessage>> {
         if self.object.in_progress() || self.object_discarding {
             return self.json(buf, eof);
         }

@@ -46,6 +46,12 @@ pub fn ecat_to_emitter(ecat: u8) -> Option<u8> {
     })
 }
 
+/// The inverse of [`ecat_to_emitter`]: the I021/020 ECAT code of a DO-260B/GDL90 emitter category
+/// (for encoders: the simulated module). `None` for categories ECAT has no code for (8, 13, 16).
+pub fn emitter_to_ecat(emitter: u8) -> Option<u8> {
+    (0..=24).find(|&ecat| ecat_to_emitter(ecat) == Some(emitter))
+}
+
 /// The emitter category of a record in the [`TrafficReport`] numbering (see the module doc).
 pub fn emitter_category(r: &Cat021Record) -> Option<u8> {
     let raw = r.emitter_category?;
@@ -227,6 +233,25 @@ mod tests {
         assert_eq!(ecat_to_emitter(24), Some(21));
         for reserved in [7, 8, 9, 17, 18, 19, 25, 255] {
             assert_eq!(ecat_to_emitter(reserved), None);
+        }
+    }
+
+    #[test]
+    fn emitter_to_ecat_inverts_the_table() {
+        // CAT021 ed 2.1 I021/020: rotorcraft 10, glider 11, UAV 13, parachutist 16.
+        assert_eq!(emitter_to_ecat(7), Some(10));
+        assert_eq!(emitter_to_ecat(9), Some(11));
+        assert_eq!(emitter_to_ecat(14), Some(13));
+        assert_eq!(emitter_to_ecat(11), Some(16));
+        assert_eq!(emitter_to_ecat(3), Some(3));
+        // DO-260B 8, 13, 16 are unassigned: no ECAT code.
+        for e in [8, 13, 16, 22] {
+            assert_eq!(emitter_to_ecat(e), None);
+        }
+        for e in 0..=21 {
+            if let Some(c) = emitter_to_ecat(e) {
+                assert_eq!(ecat_to_emitter(c), Some(e));
+            }
         }
     }
 }
