@@ -8,6 +8,8 @@ mod record_cmd;
 mod replay;
 mod replay_aligned;
 mod replay_fused;
+#[cfg(target_os = "linux")]
+mod service;
 mod sim_cmd;
 #[cfg(target_os = "linux")]
 mod sim_live;
@@ -38,6 +40,12 @@ enum Command {
     Replay(replay::ReplayArgs),
     /// Print what a vigil iceoryx2 service publishes, as JSON Lines (or latency statistics).
     Listen(listen::ListenArgs),
+    /// Run the service: read the ports, fuse, publish on the bus, monitor, record.
+    #[cfg(target_os = "linux")]
+    Run(service::live::RunArgs),
+    /// Print an example configuration (`--example`) or validate one (`--check FILE`).
+    #[cfg(target_os = "linux")]
+    Config(service::live::ConfigArgs),
 }
 
 fn main() -> ExitCode {
@@ -49,6 +57,10 @@ fn main() -> ExitCode {
         Command::Record(args) => record_cmd::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Listen(args) => listen::run(&args),
+        #[cfg(target_os = "linux")]
+        Command::Run(args) => service::live::run(&args),
+        #[cfg(target_os = "linux")]
+        Command::Config(args) => service::live::config(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

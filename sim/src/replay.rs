@@ -359,6 +359,24 @@ impl Replayer {
         }
     }
 
+    /// The decoder counters of `device` so far (`None` for a port without a decoder or not seen
+    /// yet). A TT-Multi-RF port reports its text decoder's counters with the raw frames added to
+    /// the decoded count (each decoder skips the other's lines). Used by `vigil run` for its
+    /// periodic integrity report while the stream goes on.
+    pub fn stats(&self, device: &str) -> Option<DecodeStats> {
+        match self.ports.get(device)? {
+            AnyPort::Bahrs(p) => Some(*p.codec.0.stats()),
+            AnyPort::Watson(p) => Some(*p.codec.0.stats()),
+            AnyPort::Vn200(p) => Some(*p.codec.0.stats()),
+            AnyPort::Ttmrf(p) => {
+                let mut s = *p.text.codec.0.stats();
+                s.frames_decoded += p.raw.codec.0.stats().frames_decoded;
+                Some(s)
+            }
+            AnyPort::NoDecoder { .. } => None,
+        }
+    }
+
     /// Ends every port's stream (decoding what is left) and returns their counters.
     pub fn finish<E>(
         &mut self,
