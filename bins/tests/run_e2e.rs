@@ -1,0 +1,227 @@
+//! `vigil run` end to end: the simulator on pseudo-terminals (`vigil sim --pty-dir`, nominal
+//! scenario), `vigil run` on those ports in a second process, and this test as the subscriber in a
+//! third; SIGTERM then leaves a complete MCAP file that `vigil replay` reads without damage.
+#![cfg(target_os = "linux")]
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use vigil_bus::payload::integrity::LINK_OK;
+use vigil_bus::payload::read_text;
+use vigil_bus::{
+    AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, TrafficPayload,
+};
+
+fn start_sim(dir: &Path, seconds: &str) -> Child {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args([
+            "sim",
+            "--scenario",
+            "nominal",
+            "--duration",
+            seconds,
+            "--seed",
+            "5",
+        ])
+        .arg("--pty-dir")
+        .arg(dir)
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("start vigil sim");
+    // The four port lines; read them all (the simulator exits when one cannot be written).
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    for _ in 0..4 {
+        lines.next().expect("port line").unwrap();
+    }
+    child
+}
+
+fn sigterm(child: &Child) {
+    // The `kill` program: no signal API among the test's dependencies.
+    let ok = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(ok.success());
+}
+
+fn wait_exit(child: &mut Child, limit: Duration) -> std::process::ExitStatus {
+    let start = Instant::now();
+    loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            return s;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("process did not exit within {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
+    let dir = common::tmp("run_e2e", "pty");
+    let mcap = common::tmp("run_e2e", "run.mcap");
+    let _ = std::fs::remove_file(&mcap);
+    let prefix = format!("vigil-test-{}-run-e2e", std::process::id());
+    let config = common::tmp("run_e2e", "run.toml");
+    let mut text = format!(
+        "[bus]\nprefix = \"{prefix}\"\n[record]\npath = {:?}\n",
+        mcap
+    );
+    for d in ["bahrs", "watson", "vn200", "ttmrf"] {
+        text += &format!("[[ports]]\ndevice = \"{d}\"\npath = {:?}\n", dir.join(d));
+    }
+    text += "[status]\nintegrity_period_s = 0.25\n";
+    std::fs::write(&config, text).unwrap();
+
+    let mut sim = start_sim(&dir, "30");
+    let bus = Bus::new(&BusConfig {
+        prefix: prefix.clone(),
+        node_name: "run-e2e-test".to_string(),
+        ..BusConfig::default()
+    })
+    .unwrap();
+    let mut traffic = bus.subscriber::<TrafficPayload>().unwrap();
+    let mut ownship = bus.subscriber::<OwnshipPayload>().unwrap();
+    let mut attitude = bus.subscriber::<AttitudePayload>().unwrap();
+    let mut integrity = bus.subscriber::<IntegrityPayload>().unwrap();
+    let mut run = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["run", "--config"])
+        .arg(&config)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start vigil run");
+
+    // Collect until a traffic picture holds the scenario's five intruders (the clocks lock
+    // within ~2 s, the tracks form at the next 1 s steps).
+    let deadline = Instant::now() + Duration::from_secs(15);
+    let mut full_picture: Option<TrafficPayload> = None;
+    let mut own: Option<OwnshipPayload> = None;
+    // Attitude is latest-state-wins with a buffer of 8: count what arrives, and the publisher's
+    // sequence number (one per record, at the BAHRS navigation rate of 50 Hz).
+    let mut att = 0usize;
+    let mut att_valid = 0usize;
+    let mut att_seq = 0u64;
+    let mut integ: Option<IntegrityPayload> = None;
+    while full_picture.is_none() && Instant::now() < deadline {
+        traffic.wait(Duration::from_millis(50)).unwrap();
+        while let Some(t) = traffic.try_receive().unwrap() {
+            if t.count == 5 {
+                full_picture = Some(*t.payload());
+            }
+        }
+        while let Some(o) = ownship.try_receive().unwrap() {
+            own = Some(*o.payload());
+        }
+        while let Some(a) = attitude.try_receive().unwrap() {
+            att += 1;
+            att_valid += usize::from(a.valid == 1);
+            att_seq = a.header.seq;
+        }
+        while let Some(i) = integrity.try_receive().unwrap() {
+            integ = Some(*i.payload());
+        }
+    }
+    let t = full_picture.expect("a traffic picture with the five intruders");
+    let mut addresses: Vec<u32> = t.targets().iter().map(|x| x.address).collect();
+    addresses.sort_unstable();
+    // nominal.toml: 4B1801, 4B1802 (ADS-B), A12345 (UAT), 3D0A11 (FLARM), and one more.
+    for a in [0x3D0A11, 0x4B1801, 0x4B1802, 0xA12345] {
+        assert!(
+            addresses.contains(&a),
+            "{a:06X} missing from {addresses:06X?}"
+        );
+    }
+    assert_eq!(t.dropped, 0);
+    for x in t.targets() {
+        // The intruders start 1.5 .. 9 km away; bearing within [0, 360).
+        assert!(
+            (500.0..20_000.0).contains(&x.horizontal_distance_m),
+            "{:06X} at {} m",
+            x.address,
+            x.horizontal_distance_m
+        );
+        assert!((0.0..360.0).contains(&x.bearing_deg));
+        let r = x.rel_north_m.hypot(x.rel_east_m);
+        assert!((r - x.horizontal_distance_m).abs() < 1e-6);
+    }
+    let o = own.expect("an ownship");
+    assert_eq!(o.valid, 1);
+    // The scenario starts at 47.40 N 8.50 E and flies 40 m/s.
+    assert!((o.lat_deg - 47.40).abs() < 0.05 && (o.lon_deg - 8.50).abs() < 0.05);
+    assert!(
+        (o.ground_speed_mps - 40.0).abs() < 3.0,
+        "{}",
+        o.ground_speed_mps
+    );
+    assert!(
+        att > 0 && att_valid > 0 && att_seq > 10,
+        "{att} attitude samples, {att_valid} valid, last seq {att_seq}"
+    );
+    let i = integ.expect("an integrity report");
+    assert_eq!(i.device_count, 4);
+    for d in i.devices() {
+        assert_eq!(d.link_state, LINK_OK, "{}", read_text(&d.name));
+    }
+
+    sigterm(&run);
+    let status = wait_exit(&mut run, Duration::from_secs(5));
+    let _ = sim.kill();
+    let _ = sim.wait();
+    let mut log = String::new();
+    std::io::Read::read_to_string(run.stderr.as_mut().unwrap(), &mut log).unwrap();
+    assert!(status.success(), "vigil run: {status}\n{log}");
+    assert!(log.contains("stopping (SIGTERM)"), "{log}");
+    assert!(log.contains("recording finalised"), "{log}");
+
+    // The recording is complete (summary written): replay reads it with no damage.
+    let out = common::vigil(&["replay", mcap.to_str().unwrap()]);
+    assert!(out.status.success());
+    // Messages on stdout, the summary on stderr.
+    assert!(out.stdout.len() > 1000);
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(stderr.lines().last().unwrap()).unwrap();
+    assert_eq!(summary["kind"], "summary");
+    assert!(summary["damage"].is_null(), "{summary}");
+    assert!(summary["mcap_messages"].as_u64().unwrap() > 100);
+    for d in ["bahrs", "watson", "vn200", "ttmrf"] {
+        assert!(
+            summary["devices"].get(d).is_some(),
+            "{d} missing: {summary}"
+        );
+    }
+}
+
+#[test]
+fn config_example_is_printed_and_checked() {
+    let out = common::vigil(&["config", "--example"]);
+    assert!(out.status.success());
+    let path = common::tmp("run_config", "example.toml");
+    std::fs::write(&path, &out.stdout).unwrap();
+    let out = common::vigil(&["config", "--check", path.to_str().unwrap()]);
+    assert!(out.status.success());
+    let ports = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(ports.lines().count(), 4);
+    assert!(
+        ports.starts_with("bahrs /dev/ttyUSB0 115200 bahrs-2.0\n"),
+        "{ports}"
+    );
+
+    // A bad value: the error names the key.
+    let bad = common::tmp("run_config", "bad.toml");
+    std::fs::write(
+        &bad,
+        "[[ports]]\ndevice = \"vn200\"\npath = \"/dev/x\"\nbaud = 1000\n",
+    )
+    .unwrap();
+    let out = common::vigil(&["run", "--config", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("ports[0].baud: must be one of"), "{err}");
+}
