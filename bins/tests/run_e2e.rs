@@ -40,6 +40,16 @@ fn start_sim(dir: &Path, seconds: &str) -> Child {
     child
 }
 
+/// Kills the child if the test fails before it ends.
+struct Guard(Child);
+
+impl Drop for Guard {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
 fn sigterm(child: &Child) {
     // The `kill` program: no signal API among the test's dependencies.
     let ok = Command::new("kill")
@@ -80,7 +90,7 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
     text += "[status]\nintegrity_period_s = 0.25\n";
     std::fs::write(&config, text).unwrap();
 
-    let mut sim = start_sim(&dir, "30");
+    let _sim = Guard(start_sim(&dir, "30"));
     let bus = Bus::new(&BusConfig {
         prefix: prefix.clone(),
         node_name: "run-e2e-test".to_string(),
@@ -91,12 +101,15 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
     let mut ownship = bus.subscriber::<OwnshipPayload>().unwrap();
     let mut attitude = bus.subscriber::<AttitudePayload>().unwrap();
     let mut integrity = bus.subscriber::<IntegrityPayload>().unwrap();
-    let mut run = Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args(["run", "--config"])
-        .arg(&config)
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start vigil run");
+    let mut run = Guard(
+        Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["run", "--config"])
+            .arg(&config)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start vigil run"),
+    );
 
     // Collect until a traffic picture holds the scenario's five intruders (the clocks lock
     // within ~2 s, the tracks form at the next 1 s steps).
@@ -170,12 +183,10 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
         assert_eq!(d.link_state, LINK_OK, "{}", read_text(&d.name));
     }
 
-    sigterm(&run);
-    let status = wait_exit(&mut run, Duration::from_secs(5));
-    let _ = sim.kill();
-    let _ = sim.wait();
+    sigterm(&run.0);
+    let status = wait_exit(&mut run.0, Duration::from_secs(5));
     let mut log = String::new();
-    std::io::Read::read_to_string(run.stderr.as_mut().unwrap(), &mut log).unwrap();
+    std::io::Read::read_to_string(run.0.stderr.as_mut().unwrap(), &mut log).unwrap();
     assert!(status.success(), "vigil run: {status}\n{log}");
     assert!(log.contains("stopping (SIGTERM)"), "{log}");
     assert!(log.contains("recording finalised"), "{log}");
