@@ -236,3 +236,81 @@ fn config_example_is_printed_and_checked() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("ports[0].baud: must be one of"), "{err}");
 }
+
+#[test]
+fn run_configures_the_vn200_and_ttmrf_when_asked_and_keeps_decoding() {
+    let dir = common::tmp("run_setup", "pty");
+    let prefix = format!("vigil-test-{}-run-setup", std::process::id());
+    let config = common::tmp("run_setup", "run.toml");
+    let mut text = format!(
+        "[bus]\nprefix = \"{prefix}\"\n[configure]\nvn200_binary_outputs = true\n\
+         vn200_rate_hz = 100\nttmrf_protocol = true\nttmrf_decoded = \"json\"\n"
+    );
+    for d in ["bahrs", "watson", "vn200", "ttmrf"] {
+        text += &format!("[[ports]]\ndevice = \"{d}\"\npath = {:?}\n", dir.join(d));
+    }
+    std::fs::write(&config, text).unwrap();
+    let _sim = Guard(start_sim(&dir, "30"));
+    let bus = Bus::new(&BusConfig {
+        prefix,
+        node_name: "run-setup-test".to_string(),
+        ..BusConfig::default()
+    })
+    .unwrap();
+    let mut traffic = bus.subscriber::<TrafficPayload>().unwrap();
+    let mut run = Guard(
+        Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["run", "--config"])
+            .arg(&config)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start vigil run"),
+    );
+    let stderr = run.0.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    std::thread::spawn(move || {
+        for l in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if tx.send(l).is_err() {
+                break;
+            }
+        }
+    });
+    // The VN-200 session takes well under a second; the TT-Multi-RF one a few seconds (its
+    // CONFIGURATION state transitions).
+    let deadline = Instant::now() + Duration::from_secs(15);
+    let (mut vn, mut tt) = (false, false);
+    let mut log = Vec::new();
+    while !(vn && tt) {
+        let left = deadline.saturating_duration_since(Instant::now());
+        let Ok(l) = rx.recv_timeout(left) else {
+            panic!("set-up not reported:\n{}", log.join("\n"));
+        };
+        vn |= l.contains("vn200: binary output 1 configured at 100 Hz");
+        tt |= l.contains("ttmrf: protocols configured");
+        assert!(!l.contains("set-up failed"), "{l}");
+        log.push(l);
+    }
+    // The VN-200 model took the write: its Register 75 echo matched.
+    assert!(
+        log.iter()
+            .any(|l| l.contains("VNWRG -> Accepted { echo_matches: true }")),
+        "{}",
+        log.join("\n")
+    );
+    // After the set-up the TT-Multi-RF sends JSON: the traffic still comes through (pictures
+    // published before now are drained first).
+    while traffic.try_receive().unwrap().is_some() {}
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let mut seen = 0;
+    while seen == 0 && Instant::now() < deadline {
+        if let Some(t) = traffic.receive_timeout(Duration::from_millis(200)).unwrap()
+            && t.count > 0
+        {
+            seen = t.count;
+        }
+    }
+    assert!(seen > 0, "no traffic after the set-up");
+    sigterm(&run.0);
+    assert!(wait_exit(&mut run.0, Duration::from_secs(5)).success());
+}

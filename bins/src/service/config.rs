@@ -13,6 +13,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use vigil_fusion::pipeline::{PipelineConfig, TrafficAltitudeKind};
 
+use super::setup::{Setup, TtText, VN200_IMU_HZ};
+
 /// A configuration value that failed validation, with its key.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{key}: {reason}")]
@@ -147,14 +149,33 @@ impl PortConfig {
     }
 }
 
-/// `[configure]`: device set-up sent at start.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+/// `[configure]`: device set-up sent when a port opens (see [`super::setup`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ConfigureSection {
-    /// Write the VN-200 binary output registers (75-77) at start.
+    /// Write the VN-200 binary output 1 (Register 75) on every VN-200 port.
     pub vn200_binary_outputs: bool,
-    /// Set the TT-Multi-RF output protocols with AT commands at start.
+    /// Its output rate, Hz: 800 / n for a whole n >= 2 (400, 200, 100, 80, 50, 40, ...).
+    pub vn200_rate_hz: u32,
+    /// Set the TT-Multi-RF decoded protocols (and NMEA) with AT commands on every TT-Multi-RF
+    /// port.
     pub ttmrf_protocol: bool,
+    /// Decoded protocol of ADS-B, UAT and FLARM: `"json"` or `"csv"`.
+    pub ttmrf_decoded: TtText,
+    /// The TT-Multi-RF's GNSS NMEA output (the ownship fallback position).
+    pub ttmrf_gnss_nmea: bool,
+}
+
+impl Default for ConfigureSection {
+    fn default() -> Self {
+        Self {
+            vn200_binary_outputs: false,
+            vn200_rate_hz: 200,
+            ttmrf_protocol: false,
+            ttmrf_decoded: TtText::Json,
+            ttmrf_gnss_nmea: true,
+        }
+    }
 }
 
 /// `[record]`: MCAP recording of the raw port input.
@@ -321,6 +342,8 @@ pub struct Port {
     pub baud: u32,
     /// Wire protocol.
     pub protocol: Protocol,
+    /// Device set-up to run each time the port opens.
+    pub setup: Option<Setup>,
 }
 
 /// The commented example printed by `vigil config --example`; it parses to [`Config::default`].
@@ -365,9 +388,15 @@ baud = 921600
 protocol = "ttmrf-text"
 
 [configure]
-# Device set-up at start (not implemented yet: must stay false).
+# Device set-up each time a port opens. VN-200: write binary output 1 (Register 75) with the
+# outputs vigil reads, at vn200_rate_hz (800 / n for a whole n >= 2); not saved to flash.
 vn200_binary_outputs = false
+vn200_rate_hz = 200
+# TT-Multi-RF: set the decoded protocol of ADS-B, UAT and FLARM ("json" or "csv") and the GNSS
+# NMEA output with AT commands (the module keeps them).
 ttmrf_protocol = false
+ttmrf_decoded = "json"
+ttmrf_gnss_nmea = true
 
 [record]
 # MCAP recording of the raw port input (uncomment to record; `vigil replay` reads it).
@@ -503,23 +532,33 @@ impl Config {
                     format!("must be one of {} (got {baud})", list.join(", ")),
                 ));
             }
+            let c = &self.configure;
+            let setup = match protocol {
+                Protocol::Vn200 if c.vn200_binary_outputs => Some(Setup::Vn200 {
+                    rate_divisor: (VN200_IMU_HZ / c.vn200_rate_hz.max(1)) as u16,
+                }),
+                Protocol::TtmrfText | Protocol::TtmrfHex if c.ttmrf_protocol => {
+                    Some(Setup::Ttmrf {
+                        decoded: c.ttmrf_decoded,
+                        gnss_nmea: c.ttmrf_gnss_nmea,
+                        run_baud: baud,
+                    })
+                }
+                _ => None,
+            };
             ports.push(Port {
                 device: p.device.clone(),
                 path: p.path.clone(),
                 baud,
                 protocol,
+                setup,
             });
         }
-        if self.configure.vn200_binary_outputs {
+        let rate = self.configure.vn200_rate_hz;
+        if rate == 0 || !VN200_IMU_HZ.is_multiple_of(rate) || VN200_IMU_HZ / rate < 2 {
             return Err(invalid(
-                "configure.vn200_binary_outputs",
-                "device set-up at start is not implemented in this version (must be false)",
-            ));
-        }
-        if self.configure.ttmrf_protocol {
-            return Err(invalid(
-                "configure.ttmrf_protocol",
-                "device set-up at start is not implemented in this version (must be false)",
+                "configure.vn200_rate_hz",
+                format!("must be 800 / n for a whole n >= 2, e.g. 400, 200, 100, 50 (got {rate})"),
             ));
         }
         if let Some(path) = &self.record.path
@@ -612,6 +651,12 @@ baud = 12345
             .unwrap_err();
         assert_eq!(e.key, "record.flush_period_s");
 
+        let e = Config::parse("[configure]\nvn200_rate_hz = 300\n")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "configure.vn200_rate_hz");
+
         let e = Config::parse("[link]\nsilence_s = -1\n")
             .unwrap()
             .validate()
@@ -626,6 +671,35 @@ baud = 12345
         let e = Config::parse("[[ports]]\ndevice = \"bahrs\"\npath = \"/x\"\nspeed = 9600\n")
             .unwrap_err();
         assert!(e.to_string().contains("unknown field `speed`"), "{e}");
+    }
+
+    #[test]
+    fn configure_section_gives_each_port_its_setup() {
+        let c = Config::parse(
+            "[configure]\nvn200_binary_outputs = true\nvn200_rate_hz = 400\n\
+             ttmrf_protocol = true\nttmrf_decoded = \"csv\"\nttmrf_gnss_nmea = false\n",
+        )
+        .unwrap();
+        let ports = c.validate().unwrap();
+        assert_eq!(ports[0].setup, None);
+        assert_eq!(ports[1].setup, None);
+        // 800 Hz IMU / 400 Hz = divisor 2.
+        assert_eq!(ports[2].setup, Some(Setup::Vn200 { rate_divisor: 2 }));
+        assert_eq!(
+            ports[3].setup,
+            Some(Setup::Ttmrf {
+                decoded: TtText::Csv,
+                gnss_nmea: false,
+                run_baud: 921_600
+            })
+        );
+        assert!(
+            Config::default()
+                .validate()
+                .unwrap()
+                .iter()
+                .all(|p| p.setup.is_none())
+        );
     }
 
     #[test]

@@ -147,6 +147,18 @@ async fn port_task(i: usize, port: Port, link: LinkSection, tx: mpsc::Sender<Por
                 if tx.send(PortEvent::Opened(i)).await.is_err() {
                     return;
                 }
+                if let Some(setup) = port.setup {
+                    // What the device sends during the session goes to the service afterwards,
+                    // each read with its own receive time.
+                    let mut during: Vec<(u64, Vec<u8>)> = Vec::new();
+                    let mut forward = |b: Vec<u8>| during.push((monotonic_ns(), b));
+                    super::setup::run(&port.device, setup, &mut serial, &mut forward).await;
+                    for (t, b) in during {
+                        if tx.send(PortEvent::Chunk(i, t, b)).await.is_err() {
+                            return;
+                        }
+                    }
+                }
                 let reason = loop {
                     match serial.read(&mut buf).await {
                         Ok(0) => break "end of file".to_string(),

@@ -13,6 +13,7 @@
 pub mod config;
 pub mod convert;
 pub mod live;
+pub mod setup;
 
 use anyhow::{Result, anyhow};
 use vigil_bus::payload::integrity as integ;

@@ -27,6 +27,7 @@ fn service_for(sink: &MemorySink) -> Service {
             path: "/dev/null".into(),
             baud: p.baud,
             protocol: Protocol::resolve(p.protocol, p.device).unwrap(),
+            setup: None,
         })
         .collect();
     Service::new(
