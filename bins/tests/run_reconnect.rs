@@ -188,3 +188,69 @@ fn run_reconnects_a_port_that_disappears_and_comes_back() {
     assert_eq!(back.checksum_failures, 0);
     stop(run);
 }
+
+/// A `vigil run` killed with SIGKILL (no clean shutdown) loses at most the last second of its
+/// recording: the file is flushed every second, and `vigil replay` reads it up to the damage.
+#[test]
+fn a_killed_run_leaves_a_recording_readable_up_to_its_last_flush() {
+    let path = common::tmp("run_killed", "watson");
+    let mcap = common::tmp("run_killed", "run.mcap");
+    let _ = std::fs::remove_file(&mcap);
+    let prefix = format!("vigil-test-{}-run-killed", std::process::id());
+    let config = common::tmp("run_killed", "run.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "[bus]\nprefix = \"{prefix}\"\n[[ports]]\ndevice = \"watson\"\npath = {path:?}\n\
+             [record]\npath = {mcap:?}\n[status]\nintegrity_period_s = 0.1\n"
+        ),
+    )
+    .unwrap();
+    let pty = open_pty();
+    link(&path, &pty);
+    let bus = Bus::new(&BusConfig {
+        prefix,
+        node_name: "run-killed-test".to_string(),
+        ..BusConfig::default()
+    })
+    .unwrap();
+    let mut sub = bus.subscriber::<IntegrityPayload>().unwrap();
+    let mut run = Guard(Some(
+        Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["run", "--config"])
+            .arg(&config)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start vigil run"),
+    ));
+    // Lines for about 2.5 s: at least two flushes have happened by then.
+    let first = feed_until(Some(&pty), &mut sub, "messages", |d| d.messages >= 1);
+    let start = Instant::now();
+    let last = feed_until(Some(&pty), &mut sub, "2.5 s of lines", |_| {
+        start.elapsed() > Duration::from_millis(2500)
+    });
+    assert!(last.messages > first.messages);
+    if let Some(c) = run.0.as_mut() {
+        c.kill().unwrap(); // SIGKILL
+        c.wait().unwrap();
+    }
+    let out = common::vigil(&["replay", mcap.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(stderr.lines().last().unwrap()).unwrap();
+    // Lines decoded from the file: all but at most the last second's (20 lines per second are
+    // written here; `last.messages` were decoded live by 2.5 s).
+    let replayed = summary["devices"]["watson"]["frames_decoded"]
+        .as_u64()
+        .unwrap();
+    assert!(
+        replayed + 25 >= last.messages && replayed > 0,
+        "{replayed} replayed, {} live: {summary}",
+        last.messages
+    );
+}
