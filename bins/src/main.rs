@@ -1,5 +1,5 @@
-//! `vigil`: the one command-line program (decode, geometry, sim, record and replay now; run, demo
-//! and listen as their issues land).
+//! `vigil`: the one command-line program (decode, geometry, sim, record, replay, listen, run and
+//! config now; demo as its issue lands).
 
 mod decode;
 mod geometry;

@@ -334,6 +334,18 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
     for t in &tasks {
         t.abort();
     }
+    // Chunks already read are processed and recorded before the recording is finalised.
+    while let Ok(ev) = rx.try_recv() {
+        if let PortEvent::Chunk(i, t, bytes) = ev {
+            if let Some(rec) = &mut recorder
+                && rec.write_raw(i as u16, t, &bytes).is_err()
+            {
+                record_errors += 1;
+                recorder = None;
+            }
+            service.on_chunk(i, t, &bytes, &mut out);
+        }
+    }
     if let Some(rec) = recorder {
         let path = config
             .record
