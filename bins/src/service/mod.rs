@@ -64,6 +64,8 @@ pub struct Counters {
 struct PortState {
     port: Port,
     open: bool,
+    /// A failure to open or a closure was reported.
+    closed_seen: bool,
     opened_host_ns: Option<u64>,
     opens: u64,
     bytes: u64,
@@ -100,6 +102,7 @@ impl Service {
                 .map(|p| PortState {
                     port: p.clone(),
                     open: false,
+                    closed_seen: false,
                     opened_host_ns: None,
                     opens: 0,
                     bytes: 0,
@@ -125,14 +128,15 @@ impl Service {
         &self.counters
     }
 
-    /// Port `port` opened (`open`) or closed at host time `t_host_ns`. Every open after the first
-    /// counts as a reconnect.
+    /// Port `port` opened (`open`), or closed or failed to open, at host time `t_host_ns`. Every
+    /// open after the first counts as a reconnect.
     pub fn on_link(&mut self, port: usize, open: bool, t_host_ns: u64) {
         if let Some(p) = self.ports.get_mut(port) {
             if open && !p.open {
                 p.opens += 1;
                 p.opened_host_ns = Some(t_host_ns);
             }
+            p.closed_seen |= !open;
             p.open = open;
         }
     }
@@ -215,10 +219,11 @@ impl Service {
 
     fn link_state(&self, p: &PortState, now: u64) -> u8 {
         if !p.open {
-            return if p.opens == 0 {
-                integ::LINK_UNKNOWN
-            } else {
+            // Not yet tried: unknown; failed to open or lost: disconnected (retried).
+            return if p.closed_seen {
                 integ::LINK_DISCONNECTED
+            } else {
+                integ::LINK_UNKNOWN
             };
         }
         let since = p.last_message_host_ns.or(p.opened_host_ns).unwrap_or(now);

@@ -100,8 +100,11 @@ fn a_closed_port_is_disconnected_then_silent_data_counts_reconnects() {
     let mut s = service_for(&sink);
     let t0 = sink.chunks[0].t_host_ns;
     let mut out = Collected::default();
-    // Nothing opened yet: unknown.
+    // Nothing tried yet: unknown; a port that fails to open: disconnected, no reconnect counted.
     assert_eq!(s.integrity(t0).devices[0].link_state, integ::LINK_UNKNOWN);
+    s.on_link(1, false, t0);
+    let d = s.integrity(t0).devices[1];
+    assert_eq!((d.link_state, d.reconnects), (integ::LINK_DISCONNECTED, 0));
     s.on_link(0, true, t0);
     // Open, no message for more than the silence limit (2 s): silent.
     assert_eq!(
