@@ -280,7 +280,8 @@ impl Service {
         }
     }
 
-    /// One line of status: per port its link, bytes and messages; outputs; tracks.
+    /// One line of status: per port its link, bytes, messages and bad frames (checksum failures,
+    /// malformed, unsupported version); outputs; tracks.
     pub fn status_line(&self, t_host_ns: u64) -> String {
         let link = |s: u8| match s {
             integ::LINK_OK => "ok",
@@ -292,12 +293,16 @@ impl Service {
             .ports
             .iter()
             .map(|p| {
+                let bad = self.replay.port_stats(&p.port.device).map_or(0, |s| {
+                    s.checksum_failures + s.malformed + s.unsupported_version
+                });
                 format!(
-                    "{}={} {}B/{}msg",
+                    "{}={} {}B/{}msg/{}bad",
                     p.port.device,
                     link(self.link_state(p, t_host_ns)),
                     p.bytes,
-                    p.frames
+                    p.frames,
+                    bad
                 )
             })
             .collect();
