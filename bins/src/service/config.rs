@@ -3,6 +3,10 @@
 //! (`ports[2].baud: must be one of ...`). `vigil config --example` prints [`EXAMPLE`], a commented
 //! file that parses back to [`Config::default`].
 //!
+//! Decision: inside a `[[ports]]` entry, `device` and `path` are required (a port without them
+//! means nothing); the `ports` list as a whole has a default (the four devices on
+//! `/dev/ttyUSB0..3`), and `baud` and `protocol` default from the device.
+//!
 //! Decision: the `[monitor]` section is kept as an opaque TOML table for now. The monitor's
 //! `MonitorParams` does not implement `Deserialize` yet (its rules are being written); until it
 //! does, the section is accepted, must be a table, and the monitor runs with its defaults (a
