@@ -2,7 +2,8 @@
 //!
 //! One tokio task per port reads with tokio-serial and reopens the port with exponential
 //! backoff when it fails to open or disappears (the [`Service`] reports it disconnected
-//! meanwhile). Every read chunk, stamped with the host monotonic time of the read, goes over one
+//! meanwhile); a port with a configured device set-up runs it each time it opens
+//! ([`super::setup`]). Every read chunk, stamped with the host monotonic time of the read, goes over one
 //! mpsc channel to the single processing loop, so the processing order is the channel's order.
 //! The loop records the raw chunks in MCAP when configured (flushed at least once a second),
 //! feeds the [`Service`], publishes on the bus, ticks the integrity report and the monitor, logs
