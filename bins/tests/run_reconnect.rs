@@ -254,3 +254,73 @@ fn a_killed_run_leaves_a_recording_readable_up_to_its_last_flush() {
         last.messages
     );
 }
+
+/// A subscriber SIGKILLed in the middle of the stream disturbs neither `vigil run` nor the other
+/// subscribers: integrity reports keep arriving here at their period.
+#[test]
+fn a_killed_subscriber_does_not_disturb_run_or_other_subscribers() {
+    let path = common::tmp("run_sub_killed", "watson");
+    let prefix = format!("vigil-test-{}-run-sub-killed", std::process::id());
+    let config = common::tmp("run_sub_killed", "run.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "[bus]\nprefix = \"{prefix}\"\n[[ports]]\ndevice = \"watson\"\npath = {path:?}\n\
+             [status]\nintegrity_period_s = 0.05\n"
+        ),
+    )
+    .unwrap();
+    let pty = open_pty();
+    link(&path, &pty);
+    let bus = Bus::new(&BusConfig {
+        prefix: prefix.clone(),
+        node_name: "run-sub-killed-test".to_string(),
+        ..BusConfig::default()
+    })
+    .unwrap();
+    let mut sub = bus.subscriber::<IntegrityPayload>().unwrap();
+    let run = Guard(Some(
+        Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["run", "--config"])
+            .arg(&config)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start vigil run"),
+    ));
+    feed_until(Some(&pty), &mut sub, "messages", |d| d.messages >= 1);
+    // A second-process subscriber (asking for more samples than will come), killed with SIGKILL
+    // while subscribed: its ports stay registered until a cleanup finds the dead node.
+    let mut other = Guard(Some(
+        Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args([
+                "listen",
+                "integrity",
+                "--prefix",
+                &prefix,
+                "--count",
+                "1000000",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start vigil listen"),
+    ));
+    feed_until(Some(&pty), &mut sub, "the listener to run", |_| true);
+    std::thread::sleep(Duration::from_millis(300));
+    if let Some(c) = other.0.as_mut() {
+        c.kill().unwrap(); // SIGKILL
+        c.wait().unwrap();
+    }
+    // 20 reports per second are published: here, at least 10 within the next second, and the
+    // link still decodes.
+    let start = Instant::now();
+    let before = sub.received();
+    let d = feed_until(Some(&pty), &mut sub, "reports after the kill", |_| {
+        start.elapsed() > Duration::from_secs(1)
+    });
+    let got = sub.received() - before;
+    assert!(got >= 10, "{got} integrity reports in 1 s after the kill");
+    assert_eq!(d.link_state, LINK_OK);
+    stop(run);
+}
