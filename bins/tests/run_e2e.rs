@@ -362,3 +362,30 @@ fn run_configures_the_vn200_and_ttmrf_when_asked_and_keeps_decoding() {
     sigterm(&run.0);
     assert!(wait_exit(&mut run.0, Duration::from_secs(5)).success());
 }
+
+#[test]
+fn a_missing_port_is_retried_and_duration_ends_the_run() {
+    let prefix = format!("vigil-test-{}-run-missing", std::process::id());
+    let config = common::tmp("run_missing", "run.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "[bus]\nprefix = \"{prefix}\"\n[[ports]]\ndevice = \"vn200\"\n\
+             path = \"/nonexistent/ttyVN\"\n[link]\nreconnect_initial_s = 0.05\n"
+        ),
+    )
+    .unwrap();
+    let start = Instant::now();
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["run", "--duration", "1", "--config"])
+        .arg(&config)
+        .output()
+        .unwrap();
+    let log = String::from_utf8(out.stderr).unwrap();
+    assert!(out.status.success(), "{log}");
+    assert!(start.elapsed() < Duration::from_secs(5));
+    // Logged once (not at every retry), and the run ends at its duration.
+    assert_eq!(log.matches("port vn200: cannot open").count(), 1, "{log}");
+    assert!(log.contains("stopping (end of --duration)"), "{log}");
+    assert!(log.contains("vn200=disconnected"), "{log}");
+}
