@@ -53,8 +53,10 @@ enum PortEvent {
     Closed(usize, String),
 }
 
-/// The bus publishers of every topic.
-struct BusOutputs {
+/// The bus publishers of every topic: the [`Outputs`] of `vigil run` (and of anything else that
+/// publishes a [`Service`]'s payloads). Failed publications are counted and the first ten
+/// logged.
+pub struct BusOutputs {
     attitude: Publisher<AttitudePayload>,
     ownship: Publisher<OwnshipPayload>,
     traffic: Publisher<TrafficPayload>,
@@ -64,7 +66,8 @@ struct BusOutputs {
 }
 
 impl BusOutputs {
-    fn new(bus: &Bus) -> Result<Self> {
+    /// A publisher per topic on `bus`.
+    pub fn new(bus: &Bus) -> Result<Self> {
         Ok(Self {
             attitude: bus.publisher()?,
             ownship: bus.publisher()?,
@@ -73,6 +76,11 @@ impl BusOutputs {
             alerts: bus.publisher()?,
             errors: 0,
         })
+    }
+
+    /// Publications that failed so far.
+    pub fn errors(&self) -> u64 {
+        self.errors
     }
 }
 
@@ -324,7 +332,7 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
                 }
             }
             _ = status.tick() => {
-                info!("status: {} | publish errors {}", service.status_line(monotonic_ns()), out.errors);
+                info!("status: {} | publish errors {}", service.status_line(monotonic_ns()), out.errors());
             }
             _ = &mut ctrl_c => break "SIGINT",
             _ = sigterm.recv() => break "SIGTERM",
@@ -366,7 +374,7 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         service.status_line(monotonic_ns()),
         c.chunks,
         c.bytes,
-        out.errors
+        out.errors()
     );
     Ok(())
 }

@@ -205,6 +205,22 @@ impl Service {
         self.fused = fused;
     }
 
+    /// Ends every stream (a recording's end: `vigil replay --publish`): releases what the
+    /// aligner and the pipeline still hold and publishes it. Not for a live service, whose
+    /// streams go on.
+    pub fn finish(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
+        let (pipeline, fused) = (&mut self.pipeline, &mut self.fused);
+        let mut sink = |s: &AlignedSample| -> Result<()> {
+            pipeline.handle(s, fused);
+            Ok(())
+        };
+        if self.replay.finish(&mut sink).is_err() {
+            self.counters.errors += 1;
+        }
+        self.pipeline.finish(&mut self.fused);
+        self.publish_fused(t_host_ns, out);
+    }
+
     /// GPS time at host time `t_host_ns`: from the host-clock model when it has one, else
     /// extrapolated from the newest output; `None` before any.
     pub fn gps_time(&self, t_host_ns: u64) -> Option<i64> {
