@@ -208,6 +208,8 @@ impl Service {
     /// Ends every stream (a recording's end: `vigil replay --publish`): releases what the
     /// aligner and the pipeline still hold and publishes it. Not for a live service, whose
     /// streams go on.
+    // Used by the tests now, and by `vigil replay --publish` (issue 11) next.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub fn finish(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
         let (pipeline, fused) = (&mut self.pipeline, &mut self.fused);
         let mut sink = |s: &AlignedSample| -> Result<()> {
