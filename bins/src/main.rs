@@ -1,5 +1,5 @@
-//! `vigil`: the one command-line program (decode, geometry, sim, record and replay now; run, demo
-//! and listen as their issues land).
+//! `vigil`: the one command-line program (run, demo, monitor, config, decode, geometry, sim,
+//! record, replay, listen).
 
 mod decode;
 #[cfg(target_os = "linux")]
@@ -13,6 +13,8 @@ mod record_cmd;
 mod replay;
 mod replay_aligned;
 mod replay_fused;
+#[cfg(target_os = "linux")]
+mod service;
 mod sim_cmd;
 #[cfg(target_os = "linux")]
 mod sim_live;
@@ -48,6 +50,12 @@ enum Command {
     Listen(listen::ListenArgs),
     /// The integrity monitor as a separate process: subscribes to the fused topics, publishes alerts.
     Monitor(monitor_cmd::MonitorArgs),
+    /// Run the service: read the ports, fuse, publish on the bus, monitor, record.
+    #[cfg(target_os = "linux")]
+    Run(service::live::RunArgs),
+    /// Print an example configuration (`--example`) or validate one (`--check FILE`).
+    #[cfg(target_os = "linux")]
+    Config(service::live::ConfigArgs),
 }
 
 fn main() -> ExitCode {
@@ -62,6 +70,10 @@ fn main() -> ExitCode {
         Command::Replay(args) => replay::run(&args),
         Command::Listen(args) => listen::run(&args),
         Command::Monitor(args) => monitor_cmd::run(&args),
+        #[cfg(target_os = "linux")]
+        Command::Run(args) => service::live::run(&args),
+        #[cfg(target_os = "linux")]
+        Command::Config(args) => service::live::config(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

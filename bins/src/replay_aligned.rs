@@ -259,6 +259,26 @@ impl AlignedReplay {
         self.align(device, samples, f)
     }
 
+    /// The aligner (its clock models, for the live service's integrity report).
+    pub fn aligner(&self) -> &Aligner {
+        &self.aligner
+    }
+
+    /// The decoder counters of `device` so far (as [`AlignedReplay::finish`] reports them), or
+    /// `None` for a port without a decoder or not seen yet.
+    pub fn port_stats(&self, device: &str) -> Option<vigil_drivers::DecodeStats> {
+        match self.own.get(device) {
+            Some(OwnPort::Vn200(p)) => Some(*p.codec.0.stats()),
+            Some(OwnPort::TtMixed(p)) => {
+                let mut stats = *p.text.codec.0.stats();
+                stats.frames_decoded += p.hex.codec.0.stats().frames_decoded;
+                Some(stats)
+            }
+            Some(OwnPort::TtHex(p)) => Some(*p.codec.0.stats()),
+            None => self.replayer.stats(device),
+        }
+    }
+
     /// Ends every stream, releases what the aligner holds, and returns the Replayer's counters
     /// (ports decoded here are listed with their decoder counters).
     pub fn finish(

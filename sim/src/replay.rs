@@ -342,6 +342,21 @@ impl Replayer {
         }
     }
 
+    /// The decoder counters of `device` so far (`None` for a port without a decoder or not seen
+    /// yet). Used by `vigil run` for its periodic integrity report while the stream goes on.
+    pub fn stats(&self, device: &str) -> Option<DecodeStats> {
+        match self.ports.get(device)? {
+            AnyPort::Bahrs(p) => Some(*p.codec.0.stats()),
+            AnyPort::Watson(p) => Some(*p.codec.0.stats()),
+            AnyPort::Vn200(p) => Some(*p.codec.0.stats()),
+            AnyPort::Ttmrf(p) => Some(*p.codec.0.stats()),
+            AnyPort::TtmrfMavlink(p) => Some(*p.codec.0.stats()),
+            AnyPort::TtmrfGdl90(p) => Some(*p.codec.0.stats()),
+            AnyPort::TtmrfAsterix(p) => Some(*p.codec.0.stats()),
+            AnyPort::NoDecoder { .. } => None,
+        }
+    }
+
     /// Ends every port's stream (decoding what is left) and returns their counters.
     pub fn finish<E>(
         &mut self,

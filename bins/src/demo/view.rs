@@ -312,9 +312,10 @@ mod tests {
             assert!(text.contains(want), "{want}: {text}");
         }
         for k in 0..20 {
-            let mut a = AlertPayload::default();
-            a.alert_id = k;
-            v.alert(a);
+            v.alert(AlertPayload {
+                alert_id: k,
+                ..Default::default()
+            });
         }
         assert_eq!(v.alerts.len(), ALERT_HISTORY);
         assert_eq!(v.alerts.back().unwrap().alert_id, 19);

@@ -1,0 +1,742 @@
+//! The one configuration file of `vigil run` (issue 10, "Configuration"): TOML, every parameter
+//! with a default, unknown keys refused, validated at start with errors that name the key
+//! (`ports[2].baud: must be one of ...`). `vigil config --example` prints [`EXAMPLE`], a commented
+//! file that parses back to [`Config::default`].
+//!
+//! Decision: inside a `[[ports]]` entry, `device` and `path` are required (a port without them
+//! means nothing); the `ports` list as a whole has a default (the four devices on
+//! `/dev/ttyUSB0..3`), and `baud` and `protocol` default from the device.
+//!
+//! The `[monitor]` section is the monitor's own parameter table ([`MonitorParams`], validated by
+//! it; its errors are reported under `monitor.`).
+
+use std::path::{Path, PathBuf};
+
+use vigil_monitor::MonitorParams;
+
+use serde::{Deserialize, Serialize};
+use vigil_fusion::pipeline::{PipelineConfig, TrafficAltitudeKind};
+
+use super::setup::{Setup, TtText, VN200_IMU_HZ};
+
+/// A configuration value that failed validation, with its key.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{key}: {reason}")]
+pub struct ConfigError {
+    /// The offending key, e.g. `ports[2].baud`.
+    pub key: String,
+    /// What is wrong and what is allowed.
+    pub reason: String,
+}
+
+fn invalid(key: impl Into<String>, reason: impl Into<String>) -> ConfigError {
+    ConfigError {
+        key: key.into(),
+        reason: reason.into(),
+    }
+}
+
+/// Baud rates a port may use (the standard UART rates the four devices support).
+pub const BAUD_RATES: [u32; 9] = [
+    4800, 9600, 19_200, 38_400, 57_600, 115_200, 230_400, 460_800, 921_600,
+];
+
+/// The wire protocol of a port: selects the decoder and the device kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Protocol {
+    /// BAHRS protocol 2.0 (binary).
+    Bahrs,
+    /// Watson AHRS-E304 text lines.
+    Watson,
+    /// VN-200 ICD 1.3 (binary and ASCII).
+    Vn200,
+    /// TT-Multi-RF text outputs (CSV, JSON, NMEA, ... in auto mode) and raw HEX lines.
+    TtmrfText,
+    /// TT-Multi-RF raw HEX lines only.
+    TtmrfHex,
+}
+
+impl Protocol {
+    /// Every protocol.
+    pub const ALL: [Protocol; 5] = [
+        Protocol::Bahrs,
+        Protocol::Watson,
+        Protocol::Vn200,
+        Protocol::TtmrfText,
+        Protocol::TtmrfHex,
+    ];
+
+    /// The protocol's name in the configuration and in recordings' channel metadata (the names
+    /// `vigil replay` selects decoders by).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Protocol::Bahrs => "bahrs-2.0",
+            Protocol::Watson => "watson-ahrs-e304",
+            Protocol::Vn200 => "vn200-icd",
+            Protocol::TtmrfText => "ttmrf-text",
+            Protocol::TtmrfHex => "ttmrf-hex",
+        }
+    }
+
+    /// The device's usual baud rate (the simulator's defaults).
+    pub const fn default_baud(self) -> u32 {
+        match self {
+            Protocol::Bahrs => 115_200,
+            Protocol::Watson => 9600,
+            Protocol::Vn200 | Protocol::TtmrfText | Protocol::TtmrfHex => 921_600,
+        }
+    }
+
+    /// The protocol of a port: named explicitly, or (empty) implied by the standard device
+    /// names `bahrs`, `watson`, `vn200`, `ttmrf`.
+    pub fn resolve(protocol: &str, device: &str) -> Option<Protocol> {
+        if protocol.is_empty() {
+            return match device {
+                "bahrs" => Some(Protocol::Bahrs),
+                "watson" => Some(Protocol::Watson),
+                "vn200" => Some(Protocol::Vn200),
+                "ttmrf" => Some(Protocol::TtmrfText),
+                _ => None,
+            };
+        }
+        Protocol::ALL.into_iter().find(|p| p.name() == protocol)
+    }
+}
+
+/// `[bus]`: the iceoryx2 publication.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BusSection {
+    /// Prefix of every service name (`PREFIX/vigil/traffic`); empty for plain `vigil/...`.
+    pub prefix: String,
+    /// iceoryx2 node name of this process.
+    pub node_name: String,
+    /// Period of the dead-node cleanup, s.
+    pub cleanup_period_s: f64,
+}
+
+impl Default for BusSection {
+    fn default() -> Self {
+        Self {
+            prefix: String::new(),
+            node_name: "vigil-run".to_string(),
+            cleanup_period_s: 1.0,
+        }
+    }
+}
+
+/// `[[ports]]`: one serial port.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PortConfig {
+    /// Port name (recording channel `/<device>/raw`, integrity entry): letters, digits, `-`, `_`,
+    /// at most 16 bytes.
+    pub device: String,
+    /// Serial device path, e.g. `/dev/ttyUSB0`.
+    pub path: PathBuf,
+    /// Baud rate; 0 (default) takes the protocol's usual rate.
+    #[serde(default)]
+    pub baud: u32,
+    /// Wire protocol (see [`Protocol::name`]); empty (default) infers it from the device name.
+    #[serde(default)]
+    pub protocol: String,
+}
+
+impl PortConfig {
+    fn new(device: &str, path: &str, protocol: Protocol) -> Self {
+        Self {
+            device: device.to_string(),
+            path: PathBuf::from(path),
+            baud: protocol.default_baud(),
+            protocol: protocol.name().to_string(),
+        }
+    }
+}
+
+/// `[configure]`: device set-up sent when a port opens (see [`super::setup`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ConfigureSection {
+    /// Write the VN-200 binary output 1 (Register 75) on every VN-200 port.
+    pub vn200_binary_outputs: bool,
+    /// Its output rate, Hz: 800 / n for a whole n >= 2 (400, 200, 100, 80, 50, 40, ...).
+    pub vn200_rate_hz: u32,
+    /// Set the TT-Multi-RF decoded protocols (and NMEA) with AT commands on every TT-Multi-RF
+    /// port.
+    pub ttmrf_protocol: bool,
+    /// Decoded protocol of ADS-B, UAT and FLARM: `"json"` or `"csv"`.
+    pub ttmrf_decoded: TtText,
+    /// The TT-Multi-RF's GNSS NMEA output (the ownship fallback position).
+    pub ttmrf_gnss_nmea: bool,
+}
+
+impl Default for ConfigureSection {
+    fn default() -> Self {
+        Self {
+            vn200_binary_outputs: false,
+            vn200_rate_hz: 200,
+            ttmrf_protocol: false,
+            ttmrf_decoded: TtText::Json,
+            ttmrf_gnss_nmea: true,
+        }
+    }
+}
+
+/// `[record]`: MCAP recording of the raw port input.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RecordSection {
+    /// Output file; absent: no recording.
+    pub path: Option<PathBuf>,
+    /// Period of the flush to disk, s (at most 1 s: a killed process loses at most that much).
+    pub flush_period_s: f64,
+}
+
+impl Default for RecordSection {
+    fn default() -> Self {
+        Self {
+            path: None,
+            flush_period_s: 1.0,
+        }
+    }
+}
+
+/// `[pipeline]`: fusion parameters (the rest of [`PipelineConfig`] keeps its defaults).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PipelineSection {
+    /// Period of the ownship/traffic steps, s.
+    pub step_s: f64,
+    /// A clock jump longer than this restarts the step grid, s.
+    pub max_step_gap_s: f64,
+    /// Altitude of GDL90 traffic: `"pressure"` or `"geometric_preferred"` (the module's
+    /// altitude priority setting).
+    pub gdl90_altitude: Gdl90Altitude,
+}
+
+/// Configuration form of [`TrafficAltitudeKind`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Gdl90Altitude {
+    /// Pressure altitude (GDL90 definition).
+    #[default]
+    Pressure,
+    /// Geometric when the target sent one.
+    GeometricPreferred,
+}
+
+impl Default for PipelineSection {
+    fn default() -> Self {
+        let d = PipelineConfig::default();
+        Self {
+            step_s: d.step_s,
+            max_step_gap_s: d.max_step_gap_s,
+            gdl90_altitude: Gdl90Altitude::Pressure,
+        }
+    }
+}
+
+impl PipelineSection {
+    /// The pipeline parameters.
+    pub fn pipeline_config(&self) -> PipelineConfig {
+        PipelineConfig {
+            step_s: self.step_s,
+            max_step_gap_s: self.max_step_gap_s,
+            gdl90_altitude: match self.gdl90_altitude {
+                Gdl90Altitude::Pressure => TrafficAltitudeKind::Pressure,
+                Gdl90Altitude::GeometricPreferred => TrafficAltitudeKind::GeometricPreferred,
+            },
+            ..PipelineConfig::default()
+        }
+    }
+}
+
+/// `[link]`: port supervision.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LinkSection {
+    /// A port with no decoded message for this long is reported silent, s.
+    pub silence_s: f64,
+    /// First wait before reopening a failed port, s (doubled after each failure).
+    pub reconnect_initial_s: f64,
+    /// Longest wait between reopening attempts, s.
+    pub reconnect_max_s: f64,
+}
+
+impl Default for LinkSection {
+    fn default() -> Self {
+        Self {
+            silence_s: 2.0,
+            reconnect_initial_s: 0.1,
+            reconnect_max_s: 5.0,
+        }
+    }
+}
+
+/// `[status]`: periodic reports.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StatusSection {
+    /// Period of the one-line status log, s.
+    pub period_s: f64,
+    /// Period of the `integrity` publication (and monitor evaluation), s.
+    pub integrity_period_s: f64,
+}
+
+impl Default for StatusSection {
+    fn default() -> Self {
+        Self {
+            period_s: 10.0,
+            integrity_period_s: 1.0,
+        }
+    }
+}
+
+/// The whole configuration of `vigil run`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    /// Publication.
+    pub bus: BusSection,
+    /// Serial ports (default: the four devices on `/dev/ttyUSB0` .. `/dev/ttyUSB3`).
+    pub ports: Vec<PortConfig>,
+    /// Device set-up at start.
+    pub configure: ConfigureSection,
+    /// Recording.
+    pub record: RecordSection,
+    /// Fusion.
+    pub pipeline: PipelineSection,
+    /// Port supervision.
+    pub link: LinkSection,
+    /// Periodic reports.
+    pub status: StatusSection,
+    /// Monitor thresholds and rule timings.
+    pub monitor: MonitorParams,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            bus: BusSection::default(),
+            ports: vec![
+                PortConfig::new("bahrs", "/dev/ttyUSB0", Protocol::Bahrs),
+                PortConfig::new("watson", "/dev/ttyUSB1", Protocol::Watson),
+                PortConfig::new("vn200", "/dev/ttyUSB2", Protocol::Vn200),
+                PortConfig::new("ttmrf", "/dev/ttyUSB3", Protocol::TtmrfText),
+            ],
+            configure: ConfigureSection::default(),
+            record: RecordSection::default(),
+            pipeline: PipelineSection::default(),
+            link: LinkSection::default(),
+            status: StatusSection::default(),
+            monitor: MonitorParams::default(),
+        }
+    }
+}
+
+/// A validated port: its configuration with the protocol and baud resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Port {
+    /// Port name.
+    pub device: String,
+    /// Serial device path.
+    pub path: PathBuf,
+    /// Baud rate.
+    pub baud: u32,
+    /// Wire protocol.
+    pub protocol: Protocol,
+    /// Device set-up to run each time the port opens.
+    pub setup: Option<Setup>,
+}
+
+/// The service's part of the example configuration (see [`example`]).
+pub const EXAMPLE: &str = r#"# vigil run configuration (TOML). Every key is optional: the values shown are the defaults.
+# Unknown keys are refused; `vigil run` names the key of any invalid value at start.
+
+[bus]
+# Prefix of every iceoryx2 service name: "" publishes vigil/attitude, vigil/traffic, ...;
+# "site1" publishes site1/vigil/attitude, ... (service names are global on a host).
+prefix = ""
+# iceoryx2 node name of this process.
+node_name = "vigil-run"
+# Period of the cleanup of dead subscribers' resources, s.
+cleanup_period_s = 1.0
+
+# One [[ports]] table per serial port. device: port name (letters, digits, '-', '_'; at most
+# 16 bytes); path: serial device; baud: one of 4800 9600 19200 38400 57600 115200 230400 460800
+# 921600 (0: the protocol's usual rate); protocol: bahrs-2.0, watson-ahrs-e304, vn200-icd,
+# ttmrf-text or ttmrf-hex ("" infers it from the device names bahrs, watson, vn200, ttmrf).
+[[ports]]
+device = "bahrs"
+path = "/dev/ttyUSB0"
+baud = 115200
+protocol = "bahrs-2.0"
+
+[[ports]]
+device = "watson"
+path = "/dev/ttyUSB1"
+baud = 9600
+protocol = "watson-ahrs-e304"
+
+[[ports]]
+device = "vn200"
+path = "/dev/ttyUSB2"
+baud = 921600
+protocol = "vn200-icd"
+
+[[ports]]
+device = "ttmrf"
+path = "/dev/ttyUSB3"
+baud = 921600
+protocol = "ttmrf-text"
+
+[configure]
+# Device set-up each time a port opens. VN-200: write binary output 1 (Register 75) with the
+# outputs vigil reads, at vn200_rate_hz (800 / n for a whole n >= 2); not saved to flash.
+vn200_binary_outputs = false
+vn200_rate_hz = 200
+# TT-Multi-RF: set the decoded protocol of ADS-B, UAT and FLARM ("json" or "csv") and the GNSS
+# NMEA output with AT commands (the module keeps them).
+ttmrf_protocol = false
+ttmrf_decoded = "json"
+ttmrf_gnss_nmea = true
+
+[record]
+# MCAP recording of the raw port input (uncomment to record; `vigil replay` reads it).
+# path = "/var/lib/vigil/flight.mcap"
+# Flush to disk at least this often, s (0 < value <= 1).
+flush_period_s = 1.0
+
+[pipeline]
+# Period of the ownship and traffic outputs, s (GPS-time grid).
+step_s = 1.0
+# A time jump longer than this restarts the output grid, s.
+max_step_gap_s = 10.0
+# Altitude carried by GDL90 traffic: "pressure" or "geometric_preferred".
+gdl90_altitude = "pressure"
+
+[link]
+# A port with no decoded message for this long is reported silent, s.
+silence_s = 2.0
+# Reopening a missing or failed port: first wait, s (doubled after each failure) ...
+reconnect_initial_s = 0.1
+# ... up to this, s.
+reconnect_max_s = 5.0
+
+[status]
+# Period of the one-line status log, s.
+period_s = 10.0
+# Period of the integrity publication and of the monitor's evaluation, s.
+integrity_period_s = 1.0
+
+
+"#;
+
+/// The commented example printed by `vigil config --example`: [`EXAMPLE`] and the monitor's own
+/// commented section; it parses to [`Config::default`].
+pub fn example() -> String {
+    format!("{EXAMPLE}{}", MonitorParams::example_toml())
+}
+
+fn positive(key: &str, v: f64) -> Result<(), ConfigError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(key, format!("must be a positive number (got {v})")))
+    }
+}
+
+impl Config {
+    /// Parses a configuration text (no validation).
+    pub fn parse(text: &str) -> Result<Self, toml::de::Error> {
+        toml::from_str(text)
+    }
+
+    /// Reads, parses and validates a configuration file.
+    pub fn load(path: &Path) -> anyhow::Result<(Self, Vec<Port>)> {
+        use anyhow::Context;
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        let c = Self::parse(&text).with_context(|| format!("in {}", path.display()))?;
+        let ports = c
+            .validate()
+            .with_context(|| format!("in {}", path.display()))?;
+        Ok((c, ports))
+    }
+
+    /// Checks every value; returns the ports with protocol and baud resolved, or the first
+    /// invalid key.
+    pub fn validate(&self) -> Result<Vec<Port>, ConfigError> {
+        if self.bus.node_name.is_empty() {
+            return Err(invalid("bus.node_name", "must not be empty"));
+        }
+        if !self
+            .bus
+            .prefix
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b"-_/.".contains(&b))
+        {
+            return Err(invalid(
+                "bus.prefix",
+                "letters, digits, '-', '_', '.' or '/' only",
+            ));
+        }
+        positive("bus.cleanup_period_s", self.bus.cleanup_period_s)?;
+        if self.ports.is_empty() {
+            return Err(invalid("ports", "at least one port is needed"));
+        }
+        if self.ports.len() > vigil_bus::payload::integrity::MAX_DEVICES {
+            return Err(invalid(
+                "ports",
+                format!(
+                    "at most {} ports (the integrity report's capacity)",
+                    vigil_bus::payload::integrity::MAX_DEVICES
+                ),
+            ));
+        }
+        let mut ports = Vec::with_capacity(self.ports.len());
+        for (i, p) in self.ports.iter().enumerate() {
+            let key = |k: &str| format!("ports[{i}].{k}");
+            let name_ok = !p.device.is_empty()
+                && p.device.len() <= vigil_bus::payload::integrity::DEVICE_NAME_LEN
+                && p.device
+                    .bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
+            if !name_ok {
+                return Err(invalid(
+                    key("device"),
+                    "1 to 16 letters, digits, '-' or '_'",
+                ));
+            }
+            if self.ports[..i].iter().any(|q| q.device == p.device) {
+                return Err(invalid(
+                    key("device"),
+                    format!("{:?} appears twice", p.device),
+                ));
+            }
+            if p.path.as_os_str().is_empty() {
+                return Err(invalid(key("path"), "must not be empty"));
+            }
+            let Some(protocol) = Protocol::resolve(&p.protocol, &p.device) else {
+                let names: Vec<&str> = Protocol::ALL.iter().map(|p| p.name()).collect();
+                return Err(invalid(
+                    key("protocol"),
+                    format!(
+                        "must be one of {} (or empty for a device named bahrs, watson, vn200 \
+                         or ttmrf)",
+                        names.join(", ")
+                    ),
+                ));
+            };
+            let baud = if p.baud == 0 {
+                protocol.default_baud()
+            } else {
+                p.baud
+            };
+            if !BAUD_RATES.contains(&baud) {
+                let list: Vec<String> = BAUD_RATES.iter().map(u32::to_string).collect();
+                return Err(invalid(
+                    key("baud"),
+                    format!("must be one of {} (got {baud})", list.join(", ")),
+                ));
+            }
+            let c = &self.configure;
+            let setup = match protocol {
+                Protocol::Vn200 if c.vn200_binary_outputs => Some(Setup::Vn200 {
+                    rate_divisor: (VN200_IMU_HZ / c.vn200_rate_hz.max(1)) as u16,
+                }),
+                Protocol::TtmrfText | Protocol::TtmrfHex if c.ttmrf_protocol => {
+                    Some(Setup::Ttmrf {
+                        decoded: c.ttmrf_decoded,
+                        gnss_nmea: c.ttmrf_gnss_nmea,
+                        run_baud: baud,
+                    })
+                }
+                _ => None,
+            };
+            ports.push(Port {
+                device: p.device.clone(),
+                path: p.path.clone(),
+                baud,
+                protocol,
+                setup,
+            });
+        }
+        let rate = self.configure.vn200_rate_hz;
+        if rate == 0 || !VN200_IMU_HZ.is_multiple_of(rate) || VN200_IMU_HZ / rate < 2 {
+            return Err(invalid(
+                "configure.vn200_rate_hz",
+                format!("must be 800 / n for a whole n >= 2, e.g. 400, 200, 100, 50 (got {rate})"),
+            ));
+        }
+        if let Some(path) = &self.record.path
+            && path.as_os_str().is_empty()
+        {
+            return Err(invalid("record.path", "must not be empty"));
+        }
+        positive("record.flush_period_s", self.record.flush_period_s)?;
+        if self.record.flush_period_s > 1.0 {
+            return Err(invalid(
+                "record.flush_period_s",
+                "must be at most 1 s (a killed process loses at most one period)",
+            ));
+        }
+        positive("pipeline.step_s", self.pipeline.step_s)?;
+        if self.pipeline.step_s < 1e-3 {
+            return Err(invalid("pipeline.step_s", "must be at least 0.001 s"));
+        }
+        positive("pipeline.max_step_gap_s", self.pipeline.max_step_gap_s)?;
+        positive("link.silence_s", self.link.silence_s)?;
+        positive("link.reconnect_initial_s", self.link.reconnect_initial_s)?;
+        positive("link.reconnect_max_s", self.link.reconnect_max_s)?;
+        if self.link.reconnect_max_s < self.link.reconnect_initial_s {
+            return Err(invalid(
+                "link.reconnect_max_s",
+                "must not be below link.reconnect_initial_s",
+            ));
+        }
+        positive("status.period_s", self.status.period_s)?;
+        positive("status.integrity_period_s", self.status.integrity_period_s)?;
+        self.monitor.validate().map_err(|e| {
+            invalid(
+                format!("monitor.{}", e.key),
+                format!("{} (got {})", e.expected, e.value),
+            )
+        })?;
+        Ok(ports)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn example_parses_back_to_the_defaults() {
+        let c = Config::parse(&example()).unwrap();
+        assert_eq!(c, Config::default());
+        let ports = c.validate().unwrap();
+        assert_eq!(ports.len(), 4);
+        assert_eq!(ports[1].protocol, Protocol::Watson);
+        assert_eq!(ports[1].baud, 9600);
+    }
+
+    #[test]
+    fn an_empty_file_is_the_default() {
+        assert_eq!(Config::parse("").unwrap(), Config::default());
+    }
+
+    #[test]
+    fn errors_name_the_key() {
+        let text = r#"
+[[ports]]
+device = "bahrs"
+path = "/dev/a"
+[[ports]]
+device = "watson"
+path = "/dev/b"
+[[ports]]
+device = "vn200"
+path = "/dev/c"
+baud = 12345
+"#;
+        let e = Config::parse(text).unwrap().validate().unwrap_err();
+        assert_eq!(e.key, "ports[2].baud");
+        assert!(
+            e.to_string()
+                .starts_with("ports[2].baud: must be one of 4800,")
+        );
+
+        let e = Config::parse("[[ports]]\ndevice = \"gyro\"\npath = \"/dev/x\"\n")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "ports[0].protocol");
+
+        let e = Config::parse("[[ports]]\ndevice = \"a\"\npath = \"/x\"\nprotocol = \"vn200-icd\"\n[[ports]]\ndevice = \"a\"\npath = \"/y\"\nprotocol = \"vn200-icd\"\n")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "ports[1].device");
+
+        let e = Config::parse("[record]\nflush_period_s = 2.0\n")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "record.flush_period_s");
+
+        let e = Config::parse("[configure]\nvn200_rate_hz = 300\n")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "configure.vn200_rate_hz");
+
+        let e = Config::parse("[link]\nsilence_s = -1\n")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "link.silence_s");
+    }
+
+    #[test]
+    fn unknown_keys_are_refused_with_their_name() {
+        let e = Config::parse("[pipeline]\nstep = 1.0\n").unwrap_err();
+        assert!(e.to_string().contains("unknown field `step`"), "{e}");
+        let e = Config::parse("[[ports]]\ndevice = \"bahrs\"\npath = \"/x\"\nspeed = 9600\n")
+            .unwrap_err();
+        assert!(e.to_string().contains("unknown field `speed`"), "{e}");
+    }
+
+    #[test]
+    fn configure_section_gives_each_port_its_setup() {
+        let c = Config::parse(
+            "[configure]\nvn200_binary_outputs = true\nvn200_rate_hz = 400\n\
+             ttmrf_protocol = true\nttmrf_decoded = \"csv\"\nttmrf_gnss_nmea = false\n",
+        )
+        .unwrap();
+        let ports = c.validate().unwrap();
+        assert_eq!(ports[0].setup, None);
+        assert_eq!(ports[1].setup, None);
+        // 800 Hz IMU / 400 Hz = divisor 2.
+        assert_eq!(ports[2].setup, Some(Setup::Vn200 { rate_divisor: 2 }));
+        assert_eq!(
+            ports[3].setup,
+            Some(Setup::Ttmrf {
+                decoded: TtText::Csv,
+                gnss_nmea: false,
+                run_baud: 921_600
+            })
+        );
+        assert!(
+            Config::default()
+                .validate()
+                .unwrap()
+                .iter()
+                .all(|p| p.setup.is_none())
+        );
+    }
+
+    #[test]
+    fn pipeline_section_maps_to_the_pipeline_parameters() {
+        let c =
+            Config::parse("[pipeline]\nstep_s = 0.5\ngdl90_altitude = \"geometric_preferred\"\n")
+                .unwrap();
+        let p = c.pipeline.pipeline_config();
+        assert_eq!(p.step_s, 0.5);
+        assert_eq!(p.max_step_gap_s, 10.0);
+        assert_eq!(p.gdl90_altitude, TrafficAltitudeKind::GeometricPreferred);
+    }
+
+    #[test]
+    fn protocol_is_inferred_from_standard_device_names() {
+        assert_eq!(Protocol::resolve("", "vn200"), Some(Protocol::Vn200));
+        assert_eq!(Protocol::resolve("", "imu"), None);
+        assert_eq!(
+            Protocol::resolve("ttmrf-hex", "imu"),
+            Some(Protocol::TtmrfHex)
+        );
+        for p in Protocol::ALL {
+            assert_eq!(Protocol::resolve(p.name(), "x"), Some(p));
+        }
+    }
+}

@@ -1,0 +1,416 @@
+//! Fusion outputs -> bus payloads (issue 10, "bus/"): the one place where the fusion's
+//! serde-friendly records (degrees, `Option`s, enums) become the fixed-size `#[repr(C)]` payloads
+//! (radians where the payload says so, NaN for unknown, `u8` codes).
+//!
+//! Decisions:
+//! - Voted attitude sigma: the record does not carry one. The selected (median) unit's sigma is
+//!   used; when two units are averaged (no median unit), the larger of the two sigmas (the
+//!   conservative choice); NaN when none is known.
+//! - A unit's `valid`: its values are present and its three gates are open.
+//! - A unit's `t_gps_ns`: the comparison time minus the unit's sample age (interpolated units),
+//!   the comparison time itself for the BAHRS (the reference), 0 without values.
+//! - Isolation: one unit isolated (the record's `isolated`) -> ISOLATED; otherwise a declared
+//!   fault -> DETECTED_NOT_ISOLATED; no axis compared -> NOT_COMPARED; else NO_FAULT.
+//! - Traffic relative velocities (`rel_vel_north_mps`, `rel_vel_east_mps`, `rel_vel_up_mps`)
+//!   are NaN: the fusion's [`Target`] does not carry the intruder velocity nor the relative
+//!   state, only its consequences (range rate, CPA, tau). Filling them needs an additive field in
+//!   `vigil_fusion::traffic::Target` (left to the fusion's owner).
+//! - A target without geometry (no comparable altitude): horizontal distance from the positions,
+//!   the other geometric quantities NaN.
+
+use vigil_bus::payload::attitude::{
+    self as att, AttitudePayload, UNIT_COUNT, UNIT_NONE, UnitAttitude,
+};
+use vigil_bus::payload::integrity::{
+    self as integ, DeviceIntegrity, IntegrityPayload, MAX_DEVICES,
+};
+use vigil_bus::payload::ownship::{self as own, OwnshipPayload};
+use vigil_bus::payload::traffic::{self as tr, TrafficPayload};
+use vigil_bus::payload::write_text;
+use vigil_drivers::DecodeStats;
+use vigil_fusion::attitude::gates::{Gate, GateReason};
+use vigil_fusion::attitude::isolation::{Isolation, PairVerdict, Unit};
+use vigil_fusion::attitude::record::{AttitudeRecord, AxisPair, PairRecord, UnitValues, VotedAxis};
+use vigil_fusion::ownship::{Ownship, OwnshipSolution, PositionSource};
+use vigil_fusion::pipeline::TrafficPicture;
+use vigil_fusion::time::ClockStatus;
+use vigil_fusion::time::aligner::{ClockReport, Device};
+use vigil_fusion::traffic::track::AddressSpace;
+use vigil_fusion::traffic::{AltitudeKind, Target};
+
+use super::config::Protocol;
+
+const NS_PER_S: f64 = 1e9;
+
+fn opt(v: Option<f64>) -> f64 {
+    v.unwrap_or(f64::NAN)
+}
+
+fn heading_rad(deg: Option<f64>) -> f64 {
+    deg.map_or(f64::NAN, |d| {
+        d.to_radians().rem_euclid(std::f64::consts::TAU)
+    })
+}
+
+fn unit_index(u: Unit) -> usize {
+    match u {
+        Unit::Bahrs => usize::from(att::UNIT_BAHRS),
+        Unit::Vn200 => usize::from(att::UNIT_VN200),
+        Unit::Watson => usize::from(att::UNIT_WATSON),
+    }
+}
+
+fn gate_flags(g: Gate) -> u8 {
+    match g {
+        None => 0,
+        Some(r) => match r {
+            GateReason::HealthIntegrityRisk => att::FAULT_HEALTH,
+            GateReason::InsErrorBits | GateReason::ImuFailed => {
+                att::FAULT_HEALTH | att::FAULT_INVALID
+            }
+            GateReason::HealthUnavailable
+            | GateReason::HealthUndefined
+            | GateReason::AccuracyInvalid
+            | GateReason::InsModeNoAttitude
+            | GateReason::OverRange
+            | GateReason::NotFinite => att::FAULT_INVALID,
+            GateReason::NoData | GateReason::Stale => att::FAULT_STALE,
+            GateReason::Frozen => att::FAULT_FROZEN,
+            // Not a fault of the unit: the heading is not comparable here.
+            GateReason::MagneticPole | GateReason::NoDeclination => 0,
+        },
+    }
+}
+
+fn unit(v: &UnitValues, t_gps_ns: i64, isolated: bool) -> UnitAttitude {
+    let has = v.roll_deg.is_some() || v.pitch_deg.is_some() || v.heading_deg.is_some();
+    let gates = [v.gates.roll, v.gates.pitch, v.gates.heading];
+    let sigma = v.sigma_deg.map(|s| s.map(f64::to_radians));
+    let mut flags = gates.iter().fold(0u8, |f, g| f | gate_flags(*g));
+    if isolated {
+        flags |= att::FAULT_ISOLATED;
+    }
+    UnitAttitude {
+        t_gps_ns: if has {
+            t_gps_ns - v.age_s.map_or(0, |a| (a * NS_PER_S).round() as i64)
+        } else {
+            0
+        },
+        roll_rad: v.roll_deg.map_or(f64::NAN, f64::to_radians),
+        pitch_rad: v.pitch_deg.map_or(f64::NAN, f64::to_radians),
+        heading_rad: heading_rad(v.heading_deg),
+        sigma_roll_rad: sigma.map_or(f64::NAN, |s| s[0]),
+        sigma_pitch_rad: sigma.map_or(f64::NAN, |s| s[1]),
+        sigma_heading_rad: sigma.map_or(f64::NAN, |s| s[2]),
+        valid: u8::from(
+            v.roll_deg.is_some()
+                && v.pitch_deg.is_some()
+                && v.heading_deg.is_some()
+                && gates.iter().all(Option::is_none),
+        ),
+        fault_flags: flags,
+        reserved: [0; 6],
+    }
+}
+
+fn verdict(v: PairVerdict) -> u8 {
+    match v {
+        PairVerdict::Pass => att::VERDICT_PASS,
+        PairVerdict::Fail => att::VERDICT_FAIL,
+        PairVerdict::NotCompared => att::VERDICT_NOT_COMPARED,
+    }
+}
+
+fn verdicts(p: &PairRecord) -> [u8; 3] {
+    let v = |a: &AxisPair| verdict(a.verdict);
+    [v(&p.roll), v(&p.pitch), v(&p.heading)]
+}
+
+/// Sigma of a voted axis, rad (see the module decisions); `axis` 0 roll, 1 pitch, 2 heading.
+fn voted_sigma(v: Option<&VotedAxis>, units: &[UnitAttitude; UNIT_COUNT], axis: usize) -> f64 {
+    let Some(v) = v else { return f64::NAN };
+    let sigma = |u: Unit| {
+        let u = &units[unit_index(u)];
+        [u.sigma_roll_rad, u.sigma_pitch_rad, u.sigma_heading_rad][axis]
+    };
+    match v.selected {
+        Some(u) => sigma(u),
+        None => v
+            .used
+            .iter()
+            .map(|&u| sigma(u))
+            .fold(f64::NAN, |m, s| if s.is_nan() { m } else { s.max(m) }),
+    }
+}
+
+/// The attitude payload of one cross-check record.
+pub fn attitude(r: &AttitudeRecord) -> AttitudePayload {
+    let isolated = |u: Unit| r.isolated == Some(u);
+    let mut units = [UnitAttitude::default(); UNIT_COUNT];
+    units[unit_index(Unit::Bahrs)] = unit(&r.bahrs, r.t_gps_ns, isolated(Unit::Bahrs));
+    units[unit_index(Unit::Vn200)] = unit(&r.vn200, r.t_gps_ns, isolated(Unit::Vn200));
+    units[unit_index(Unit::Watson)] = unit(&r.watson, r.t_gps_ns, isolated(Unit::Watson));
+    let i = &r.isolation;
+    let all_not_compared = [i.roll, i.pitch, i.heading, i.joint]
+        .iter()
+        .all(|x| *x == Isolation::NotCompared);
+    let (isolation, isolated_unit) = match r.isolated {
+        Some(u) => (att::ISOLATION_ISOLATED, unit_index(u) as u8),
+        None if r.fault || r.multiple_fault => (att::ISOLATION_DETECTED_NOT_ISOLATED, UNIT_NONE),
+        None if all_not_compared => (att::ISOLATION_NOT_COMPARED, UNIT_NONE),
+        None => (att::ISOLATION_NO_FAULT, UNIT_NONE),
+    };
+    let mut pair_verdicts = [[0u8; 3]; 3];
+    pair_verdicts[att::PAIR_BAHRS_VN200] = verdicts(&r.pairs.bahrs_vn200);
+    pair_verdicts[att::PAIR_BAHRS_WATSON] = verdicts(&r.pairs.bahrs_watson);
+    pair_verdicts[att::PAIR_VN200_WATSON] = verdicts(&r.pairs.vn200_watson);
+    let v = &r.voted;
+    let mut p = AttitudePayload {
+        roll_rad: v
+            .roll
+            .as_ref()
+            .map_or(f64::NAN, |a| a.value_deg.to_radians()),
+        pitch_rad: v
+            .pitch
+            .as_ref()
+            .map_or(f64::NAN, |a| a.value_deg.to_radians()),
+        heading_rad: heading_rad(v.heading.as_ref().map(|a| a.value_deg)),
+        sigma_roll_rad: voted_sigma(v.roll.as_ref(), &units, 0),
+        sigma_pitch_rad: voted_sigma(v.pitch.as_ref(), &units, 1),
+        sigma_heading_rad: voted_sigma(v.heading.as_ref(), &units, 2),
+        units,
+        pair_verdicts,
+        isolation,
+        isolated_unit,
+        valid: u8::from(v.roll.is_some() && v.pitch.is_some() && v.heading.is_some()),
+        ..AttitudePayload::default()
+    };
+    p.header.gps_time_ns = r.t_gps_ns;
+    p
+}
+
+/// The ownship payload of one ownship solution.
+pub fn ownship(s: &OwnshipSolution) -> OwnshipPayload {
+    let o = &s.ownship;
+    let (sin, cos) = o.track_deg.to_radians().sin_cos();
+    let mut p = OwnshipPayload {
+        lat_deg: o.lat_deg,
+        lon_deg: o.lon_deg,
+        alt_pressure_m: opt(o.alt_pressure_m),
+        alt_geometric_m: opt(o.alt_geometric_m),
+        vel_north_mps: o.ground_speed_mps * cos,
+        vel_east_mps: o.ground_speed_mps * sin,
+        vel_up_mps: o.vertical_rate_mps,
+        ground_speed_mps: o.ground_speed_mps,
+        track_deg: o.track_deg,
+        sigma_horizontal_m: o.position_sigma_m,
+        // The builder gives no vertical uncertainty.
+        sigma_vertical_m: f64::NAN,
+        sigma_velocity_mps: opt(s.velocity_sigma_mps),
+        source: match o.source {
+            PositionSource::Vn200Ins => own::SOURCE_VN200_INS,
+            PositionSource::TtMultiRfGnss => own::SOURCE_TTMRF_GNSS,
+            PositionSource::External => own::SOURCE_EXTERNAL,
+        },
+        // The builder returns a state only when it is usable; a non-finite position is not.
+        valid: u8::from(o.lat_deg.is_finite() && o.lon_deg.is_finite()),
+        ..OwnshipPayload::default()
+    };
+    p.header.gps_time_ns = o.t_gps_ns;
+    p
+}
+
+fn address_type(s: AddressSpace) -> u8 {
+    match s {
+        AddressSpace::Icao => tr::ADDRESS_ICAO,
+        AddressSpace::NonIcao => tr::ADDRESS_NON_ICAO,
+        AddressSpace::TisbOther => tr::ADDRESS_TISB_OTHER,
+        AddressSpace::FlarmRandom => tr::ADDRESS_FLARM_RANDOM,
+        AddressSpace::FlarmFixed => tr::ADDRESS_FLARM_FIXED,
+        AddressSpace::Surface => tr::ADDRESS_SURFACE,
+        AddressSpace::Unknown => tr::ADDRESS_UNKNOWN,
+    }
+}
+
+/// One target of the traffic payload; `own` (the ownship of the same step) gives the distance of
+/// a target without geometry.
+pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
+    let f = &t.flags;
+    let flags = [
+        (f.impossible_speed, tr::PLAUSIBILITY_IMPOSSIBLE_SPEED),
+        (f.position_jump, tr::PLAUSIBILITY_POSITION_JUMP),
+        (f.altitude_jump, tr::PLAUSIBILITY_ALTITUDE_JUMP),
+        (f.range_vs_signal, tr::PLAUSIBILITY_RANGE_VS_SIGNAL),
+        (
+            f.inconsistent_sources,
+            tr::PLAUSIBILITY_INCONSISTENT_SOURCES,
+        ),
+    ]
+    .iter()
+    .fold(0u8, |acc, &(on, bit)| if on { acc | bit } else { acc });
+    let mut callsign = [0u8; tr::CALLSIGN_LEN];
+    if let Some(c) = &t.callsign {
+        write_text(&mut callsign, c);
+    }
+    let nan = f64::NAN;
+    let distance = match (&t.geometry, own) {
+        (Some(g), _) => g.horizontal_distance_m,
+        (None, Some(o)) => vigil_fusion::traffic::plausibility::horizontal_distance_m(
+            o.lat_deg, o.lon_deg, t.lat_deg, t.lon_deg,
+        ),
+        (None, None) => nan,
+    };
+    let (sin, cos) = t.bearing_true_deg.to_radians().sin_cos();
+    let g = t.geometry.as_ref();
+    tr::Target {
+        address: t.key.address & 0x00FF_FFFF,
+        address_type: address_type(t.key.space),
+        alert_level: t.alert_level.min(tr::ALERT_WARNING),
+        altitude_kind: match t.altitude_kind {
+            AltitudeKind::Pressure => tr::ALTITUDE_PRESSURE,
+            AltitudeKind::Geometric => tr::ALTITUDE_GEOMETRIC,
+            AltitudeKind::None => tr::ALTITUDE_UNKNOWN,
+        },
+        plausibility_flags: flags,
+        callsign,
+        rel_north_m: distance * cos,
+        rel_east_m: distance * sin,
+        rel_vel_north_mps: nan,
+        rel_vel_east_mps: nan,
+        rel_vel_up_mps: nan,
+        horizontal_distance_m: distance,
+        vertical_separation_m: g.map_or(nan, |g| g.vertical_separation_m),
+        bearing_deg: t.bearing_true_deg.rem_euclid(360.0),
+        range_rate_mps: g.map_or(nan, |g| g.range_rate_mps),
+        tcpa_s: g.map_or(nan, |g| g.tcpa_s),
+        hmd_m: g.map_or(nan, |g| g.hmd_m),
+        tau_mod_s: g.and_then(|g| g.tau_mod_s).unwrap_or(nan),
+        time_to_lowc_s: g.map_or(nan, |g| {
+            if g.well_clear_violated_now {
+                0.0
+            } else {
+                g.loss_of_well_clear_interval_s.map_or(nan, |iv| iv.0)
+            }
+        }),
+        age_s: t.age_s,
+    }
+}
+
+/// Fills `out` (reused: the payload is 140 KiB) with the picture, targets in the picture's
+/// priority order; targets beyond the capacity are dropped and counted.
+pub fn traffic(p: &TrafficPicture, own: Option<&Ownship>, out: &mut TrafficPayload) {
+    out.header = Default::default();
+    out.header.gps_time_ns = p.t_gps_ns;
+    let n = p.targets.len().min(tr::MAX_TARGETS);
+    for (slot, t) in out.targets.iter_mut().zip(&p.targets) {
+        *slot = target(t, own);
+    }
+    out.count = n as u32;
+    out.dropped = u32::try_from(p.targets.len() - n).unwrap_or(u32::MAX);
+}
+
+/// What the service knows of one port, for its integrity entry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PortReport<'a> {
+    /// Port name.
+    pub name: &'a str,
+    /// Wire protocol (gives the device kind).
+    pub protocol: Protocol,
+    /// `LINK_*` code.
+    pub link_state: u8,
+    /// Time since the last decoded message, s; `None` when none was ever decoded.
+    pub last_message_age_s: Option<f64>,
+    /// Bytes read from the port.
+    pub bytes_received: u64,
+    /// The decoder's counters (`None`: nothing decoded yet).
+    pub stats: Option<DecodeStats>,
+    /// Times the port was reopened.
+    pub reconnects: u64,
+}
+
+fn device_code(p: Protocol) -> u8 {
+    match p {
+        Protocol::Bahrs => integ::DEVICE_BAHRS,
+        Protocol::Watson => integ::DEVICE_WATSON,
+        Protocol::Vn200 => integ::DEVICE_VN200,
+        Protocol::TtmrfText | Protocol::TtmrfHex => integ::DEVICE_TTMRF,
+    }
+}
+
+/// The integrity entry of one port.
+pub fn device(r: &PortReport<'_>) -> DeviceIntegrity {
+    let s = r.stats.unwrap_or_default();
+    let mut name = [0u8; integ::DEVICE_NAME_LEN];
+    write_text(&mut name, r.name);
+    DeviceIntegrity {
+        name,
+        device: device_code(r.protocol),
+        link_state: r.link_state,
+        reserved: [0; 6],
+        last_message_age_s: opt(r.last_message_age_s),
+        bytes_received: r.bytes_received,
+        bytes_consumed: s.bytes_consumed,
+        bytes_skipped: s.bytes_skipped,
+        messages: s.frames_decoded,
+        checksum_failures: s.checksum_failures,
+        unknown_types: s.unknown_types,
+        // Unsupported protocol versions are malformed frames for a consumer.
+        malformed: s.malformed + s.unsupported_version,
+        reconnects: r.reconnects,
+    }
+}
+
+/// The clock status code from the aligner's per-device reports.
+///
+/// Decision: the installation's time is PPS-locked when the BAHRS clock (disciplined by the
+/// VN-200 PPS) is locked; else it has GPS time when the VN-200 clock or the host-clock model is
+/// locked; holdover when one of them coasts; not locked otherwise.
+pub fn clock_status(reports: &[ClockReport]) -> u8 {
+    let status = |d: Device| reports.iter().find(|r| r.device == d).map(|r| r.status);
+    let host = status(Device::Watson).or(status(Device::Ttmrf));
+    let gps = [status(Device::Vn200), host];
+    if status(Device::Bahrs) == Some(ClockStatus::Locked) {
+        integ::CLOCK_PPS_LOCKED
+    } else if gps.contains(&Some(ClockStatus::Locked)) {
+        integ::CLOCK_GPS_TIME
+    } else if gps.contains(&Some(ClockStatus::Coasting))
+        || status(Device::Bahrs) == Some(ClockStatus::Coasting)
+    {
+        integ::CLOCK_HOLDOVER
+    } else {
+        integ::CLOCK_NOT_LOCKED
+    }
+}
+
+/// The integrity payload: one entry per port (at most [`MAX_DEVICES`]), the clock status, and
+/// the host clock's offset from GPS time with its sigma (from the host-clock model, the report of
+/// the host-timed devices), at GPS time `t_gps_ns` (0 when unknown).
+pub fn integrity(
+    ports: &[PortReport<'_>],
+    clocks: &[ClockReport],
+    leap_seconds_known: bool,
+    t_gps_ns: i64,
+) -> IntegrityPayload {
+    let mut p = IntegrityPayload {
+        clock_status: clock_status(clocks),
+        leap_seconds_known: u8::from(leap_seconds_known),
+        clock_offset_s: f64::NAN,
+        clock_sigma_s: f64::NAN,
+        ..IntegrityPayload::default()
+    };
+    p.header.gps_time_ns = t_gps_ns;
+    if let Some(host) = clocks.iter().find(|r| r.device == Device::Watson) {
+        p.clock_offset_s = host.offset_ns.map_or(f64::NAN, |o| o / NS_PER_S);
+        p.clock_sigma_s = host.residual_ns.map_or(f64::NAN, |s| s / NS_PER_S);
+    }
+    let n = ports.len().min(MAX_DEVICES);
+    for (slot, r) in p.devices.iter_mut().zip(ports) {
+        *slot = device(r);
+    }
+    p.device_count = n as u32;
+    p
+}
+
+#[cfg(test)]
+#[path = "convert_tests.rs"]
+mod tests;

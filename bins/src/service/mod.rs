@@ -1,0 +1,378 @@
+//! The service (issue 10, `vigil run`): raw port chunks in, bus payloads and alerts out.
+//!
+//! [`Service`] is the whole processing path as a plain struct, free of tokio, ports and clocks:
+//! [`Service::on_chunk`] takes one read chunk of a port with its host monotonic receive time and
+//! runs it through [`AlignedReplay`] (decode, align) -> [`Pipeline`] (fuse) -> [`convert`] ->
+//! [`Outputs`] (publish), feeding the [`Monitor`] with every payload published;
+//! [`Service::tick`] publishes the `integrity` report and the monitor's alerts at a host time.
+//! [`Service::on_link`] tells it a port opened or closed. The same struct serves `vigil run`
+//! ([`live`]), and is meant for `vigil demo` and `vigil replay --publish`.
+//!
+//! Bad input is counted (decoder counters, per-port in `integrity`), never fatal.
+
+pub mod config;
+pub mod convert;
+pub mod live;
+pub mod setup;
+
+use anyhow::{Result, anyhow};
+use vigil_bus::payload::integrity as integ;
+use vigil_bus::{AlertPayload, IntegrityPayload, Payload, TrafficPayload};
+#[cfg(test)]
+use vigil_bus::{AttitudePayload, OwnshipPayload};
+use vigil_fusion::magnetic::Wmm;
+use vigil_fusion::ownship::Ownship;
+use vigil_fusion::pipeline::{Fused, Pipeline, PipelineConfig};
+use vigil_fusion::time::aligner::AlignedSample;
+use vigil_monitor::{Monitor, MonitorParams};
+
+use crate::replay_aligned::AlignedReplay;
+use config::Port;
+use convert::PortReport;
+
+/// Where the service's payloads go (the bus in `vigil run`; a collector in tests).
+pub trait Outputs {
+    /// Publishes a payload. A failure is the sink's to count and log: it never stops the service.
+    fn publish<T: Payload>(&mut self, p: &T);
+}
+
+/// Counters of the service since start.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Chunks taken.
+    pub chunks: u64,
+    /// Bytes taken.
+    pub bytes: u64,
+    /// Attitude payloads published.
+    pub attitude: u64,
+    /// Ownship payloads published.
+    pub ownship: u64,
+    /// Traffic payloads published.
+    pub traffic: u64,
+    /// Integrity payloads published.
+    pub integrity: u64,
+    /// Alert payloads published.
+    pub alerts: u64,
+    /// Chunks of an unknown port index (a caller's mistake), ignored.
+    pub unknown_port: u64,
+    /// Processing errors (counted, the chunk's remaining output is lost).
+    pub errors: u64,
+}
+
+/// One port's supervision state.
+#[derive(Debug, Clone)]
+struct PortState {
+    port: Port,
+    open: bool,
+    /// A failure to open or a closure was reported.
+    closed_seen: bool,
+    opened_host_ns: Option<u64>,
+    opens: u64,
+    bytes: u64,
+    frames: u64,
+    last_message_host_ns: Option<u64>,
+}
+
+/// The processing path of `vigil run` (see the module documentation).
+pub struct Service {
+    ports: Vec<PortState>,
+    replay: AlignedReplay,
+    pipeline: Pipeline,
+    monitor: Monitor,
+    fused: Vec<Fused>,
+    traffic: Box<TrafficPayload>,
+    last_ownship: Option<Ownship>,
+    /// Newest output time and the host time it was produced at (ns, ns).
+    last_gps: Option<(i64, u64)>,
+    silence_ns: u64,
+    counters: Counters,
+}
+
+impl Service {
+    /// A service over `ports` (index order = the port numbers of [`Service::on_chunk`]).
+    pub fn new(
+        ports: &[Port],
+        pipeline: PipelineConfig,
+        monitor: MonitorParams,
+        silence_s: f64,
+    ) -> Result<Self> {
+        Ok(Self {
+            ports: ports
+                .iter()
+                .map(|p| PortState {
+                    port: p.clone(),
+                    open: false,
+                    closed_seen: false,
+                    opened_host_ns: None,
+                    opens: 0,
+                    bytes: 0,
+                    frames: 0,
+                    last_message_host_ns: None,
+                })
+                .collect(),
+            replay: AlignedReplay::new(),
+            pipeline: Pipeline::new(pipeline, Box::new(Wmm))
+                .map_err(|e| anyhow!("pipeline parameters: {e}"))?,
+            monitor: Monitor::new(monitor),
+            fused: Vec::new(),
+            traffic: Box::default(),
+            last_ownship: None,
+            last_gps: None,
+            silence_ns: (silence_s.max(0.0) * 1e9) as u64,
+            counters: Counters::default(),
+        })
+    }
+
+    /// Counters so far.
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// Port `port` opened (`open`), or closed or failed to open, at host time `t_host_ns`. Every
+    /// open after the first counts as a reconnect.
+    pub fn on_link(&mut self, port: usize, open: bool, t_host_ns: u64) {
+        if let Some(p) = self.ports.get_mut(port) {
+            if open && !p.open {
+                p.opens += 1;
+                p.opened_host_ns = Some(t_host_ns);
+            }
+            p.closed_seen |= !open;
+            p.open = open;
+        }
+    }
+
+    /// Takes one chunk read from port `port` at host monotonic time `t_host_ns` and publishes what
+    /// it completes.
+    pub fn on_chunk(&mut self, port: usize, t_host_ns: u64, bytes: &[u8], out: &mut impl Outputs) {
+        let Some(p) = self.ports.get_mut(port) else {
+            self.counters.unknown_port += 1;
+            return;
+        };
+        self.counters.chunks += 1;
+        self.counters.bytes += bytes.len() as u64;
+        p.bytes += bytes.len() as u64;
+        let (pipeline, fused) = (&mut self.pipeline, &mut self.fused);
+        let mut sink = |s: &AlignedSample| -> Result<()> {
+            pipeline.handle(s, fused);
+            Ok(())
+        };
+        let fed = self.replay.feed(
+            &p.port.device,
+            p.port.protocol.name(),
+            t_host_ns,
+            bytes,
+            &mut sink,
+        );
+        if fed.is_err() {
+            self.counters.errors += 1;
+        }
+        if let Some(s) = self.replay.port_stats(&p.port.device)
+            && s.frames_decoded > p.frames
+        {
+            p.frames = s.frames_decoded;
+            p.last_message_host_ns = Some(t_host_ns);
+        }
+        self.publish_fused(t_host_ns, out);
+    }
+
+    fn publish_fused(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
+        let mut fused = std::mem::take(&mut self.fused);
+        for f in fused.drain(..) {
+            self.last_gps = Some((f.t_gps_ns(), t_host_ns));
+            match &f {
+                Fused::Attitude(r) => {
+                    let p = convert::attitude(r);
+                    self.monitor.attitude(&p);
+                    out.publish(&p);
+                    self.counters.attitude += 1;
+                }
+                Fused::Ownship(o) => {
+                    self.last_ownship = Some(o.ownship);
+                    let p = convert::ownship(o);
+                    self.monitor.ownship(&p);
+                    out.publish(&p);
+                    self.counters.ownship += 1;
+                }
+                Fused::Traffic(pic) => {
+                    let own = self.last_ownship.filter(|o| o.t_gps_ns == pic.t_gps_ns);
+                    convert::traffic(pic, own.as_ref(), &mut self.traffic);
+                    self.monitor.traffic(&self.traffic);
+                    out.publish(&*self.traffic);
+                    self.counters.traffic += 1;
+                }
+            }
+        }
+        self.fused = fused;
+    }
+
+    /// Ends every stream (a recording's end: `vigil replay --publish`): releases what the
+    /// aligner and the pipeline still hold and publishes it. Not for a live service, whose
+    /// streams go on.
+    // Used by the tests now, and by `vigil replay --publish` (issue 11) next.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub fn finish(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
+        let (pipeline, fused) = (&mut self.pipeline, &mut self.fused);
+        let mut sink = |s: &AlignedSample| -> Result<()> {
+            pipeline.handle(s, fused);
+            Ok(())
+        };
+        if self.replay.finish(&mut sink).is_err() {
+            self.counters.errors += 1;
+        }
+        self.pipeline.finish(&mut self.fused);
+        self.publish_fused(t_host_ns, out);
+    }
+
+    /// GPS time at host time `t_host_ns`: from the host-clock model when it has one, else
+    /// extrapolated from the newest output; `None` before any.
+    pub fn gps_time(&self, t_host_ns: u64) -> Option<i64> {
+        let h = i64::try_from(t_host_ns).unwrap_or(i64::MAX);
+        if let Some((t, _)) = self.replay.aligner().host_clock().to_gps(h) {
+            return Some(t);
+        }
+        self.last_gps.map(|(t, at)| {
+            t.saturating_add(i64::try_from(t_host_ns.saturating_sub(at)).unwrap_or(0))
+        })
+    }
+
+    fn link_state(&self, p: &PortState, now: u64) -> u8 {
+        if !p.open {
+            // Not yet tried: unknown; failed to open or lost: disconnected (retried).
+            return if p.closed_seen {
+                integ::LINK_DISCONNECTED
+            } else {
+                integ::LINK_UNKNOWN
+            };
+        }
+        let since = p.last_message_host_ns.or(p.opened_host_ns).unwrap_or(now);
+        if now.saturating_sub(since) > self.silence_ns {
+            integ::LINK_SILENT
+        } else if p.last_message_host_ns.is_some() {
+            integ::LINK_OK
+        } else {
+            integ::LINK_UNKNOWN
+        }
+    }
+
+    /// The integrity report at host time `t_host_ns`.
+    pub fn integrity(&self, t_host_ns: u64) -> IntegrityPayload {
+        let reports: Vec<PortReport<'_>> = self
+            .ports
+            .iter()
+            .map(|p| PortReport {
+                name: &p.port.device,
+                protocol: p.port.protocol,
+                link_state: self.link_state(p, t_host_ns),
+                last_message_age_s: p
+                    .last_message_host_ns
+                    .map(|t| t_host_ns.saturating_sub(t) as f64 * 1e-9),
+                bytes_received: p.bytes,
+                stats: self.replay.port_stats(&p.port.device),
+                reconnects: p.opens.saturating_sub(1),
+            })
+            .collect();
+        let h = i64::try_from(t_host_ns).unwrap_or(i64::MAX);
+        let clocks = self.replay.aligner().clock_report(h);
+        let t_gps = self.gps_time(t_host_ns).unwrap_or(0);
+        let leap = self
+            .replay
+            .aligner()
+            .vn200()
+            .gps_minus_utc(t_gps)
+            .table_valid;
+        convert::integrity(&reports, &clocks, leap, t_gps)
+    }
+
+    /// Publishes the integrity report, evaluates the monitor and publishes its alerts (call
+    /// periodically, at host time `t_host_ns`).
+    pub fn tick(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
+        let p = self.integrity(t_host_ns);
+        self.monitor.integrity(&p);
+        out.publish(&p);
+        self.counters.integrity += 1;
+        if let Some(t) = self.gps_time(t_host_ns) {
+            for a in self.monitor.poll(t) {
+                out.publish::<AlertPayload>(&a);
+                self.counters.alerts += 1;
+            }
+        }
+    }
+
+    /// One line of status: per port its link, bytes, messages and bad frames (checksum failures,
+    /// malformed, unsupported version); outputs; tracks.
+    pub fn status_line(&self, t_host_ns: u64) -> String {
+        let link = |s: u8| match s {
+            integ::LINK_OK => "ok",
+            integ::LINK_SILENT => "silent",
+            integ::LINK_DISCONNECTED => "disconnected",
+            _ => "unknown",
+        };
+        let ports: Vec<String> = self
+            .ports
+            .iter()
+            .map(|p| {
+                let bad = self.replay.port_stats(&p.port.device).map_or(0, |s| {
+                    s.checksum_failures + s.malformed + s.unsupported_version
+                });
+                format!(
+                    "{}={} {}B/{}msg/{}bad",
+                    p.port.device,
+                    link(self.link_state(p, t_host_ns)),
+                    p.bytes,
+                    p.frames,
+                    bad
+                )
+            })
+            .collect();
+        let c = &self.counters;
+        format!(
+            "{} | attitude {} ownship {} traffic {} ({} tracks) alerts {} errors {}",
+            ports.join(" "),
+            c.attitude,
+            c.ownship,
+            c.traffic,
+            self.pipeline.tracks(),
+            c.alerts,
+            c.errors
+        )
+    }
+}
+
+/// Published payloads kept in memory (tests).
+#[cfg(test)]
+#[derive(Debug, Default)]
+pub struct Collected {
+    /// Attitude payloads.
+    pub attitude: Vec<AttitudePayload>,
+    /// Ownship payloads.
+    pub ownship: Vec<OwnshipPayload>,
+    /// Traffic payloads (count and the first targets only matter to tests; kept whole).
+    pub traffic: Vec<Box<TrafficPayload>>,
+    /// Integrity payloads.
+    pub integrity: Vec<IntegrityPayload>,
+    /// Alert payloads.
+    pub alerts: Vec<AlertPayload>,
+}
+
+#[cfg(test)]
+impl Outputs for Collected {
+    fn publish<T: Payload>(&mut self, p: &T) {
+        use std::any::Any;
+        let any = p as &dyn Any;
+        if let Some(p) = any.downcast_ref::<AttitudePayload>() {
+            self.attitude.push(*p);
+        } else if let Some(p) = any.downcast_ref::<OwnshipPayload>() {
+            self.ownship.push(*p);
+        } else if let Some(p) = any.downcast_ref::<TrafficPayload>() {
+            self.traffic.push(Box::new(*p));
+        } else if let Some(p) = any.downcast_ref::<IntegrityPayload>() {
+            self.integrity.push(*p);
+        } else if let Some(p) = any.downcast_ref::<AlertPayload>() {
+            self.alerts.push(*p);
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "service_tests.rs"]
+mod tests;
