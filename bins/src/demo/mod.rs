@@ -35,8 +35,9 @@ pub struct DemoArgs {
     /// How long to run, s.
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
-    /// Built-in scenario (or a scenario TOML file) to simulate.
-    #[arg(long, default_value = "nominal")]
+    /// Built-in scenario (or a scenario TOML file) to simulate; the default `demo` has traffic,
+    /// a head-on intruder and a BAHRS fault that rises and clears.
+    #[arg(long, default_value = "demo")]
     pub scenario: String,
     /// Seed of the simulation.
     #[arg(long, default_value_t = 1)]

@@ -437,9 +437,10 @@ impl AttitudeChecker {
         };
         let raw = IsolationRecord { joint, ..raw };
         // Transitions. Onset: a single failed pair waits (bounded) for another exceeding pair of
-        // the axis to settle. End of a magnetic disturbance: its failed pairs clear one by one
-        // (each after its own hysteresis); while every failed pair is only clearing (no longer
-        // exceeding), the axis stays "magnetic disturbance" instead of becoming a new fault.
+        // the axis to settle. End of a magnetic disturbance or of an isolated unit's fault: its
+        // failed pairs clear one by one (each after its own hysteresis); while every failed pair
+        // is only clearing (no longer exceeding), the axis keeps its classification instead of
+        // becoming "detected, not isolated" for the last pair's hysteresis.
         let exceeding = |verdict: PairVerdict, f: &dyn Fn(&PairRecord) -> (PairVerdict, bool)| {
             [&pairs.bahrs_vn200, &pairs.bahrs_watson, &pairs.vn200_watson]
                 .into_iter()
@@ -468,10 +469,16 @@ impl AttitudeChecker {
                         iso
                     }
                 } else if matches!(iso, Isolation::DetectedNotIsolated | Isolation::Isolated(_))
-                    && prev == Isolation::MagneticDisturbance
+                    && matches!(
+                        prev,
+                        Isolation::MagneticDisturbance | Isolation::Isolated(_)
+                    )
+                    && iso != prev
                     && !exceeding(PairVerdict::Fail, f)
                 {
-                    Isolation::MagneticDisturbance
+                    // Recovery: the failed pairs clear one by one; while none of them is
+                    // exceeding any more, the classification they led to stands.
+                    prev
                 } else {
                     iso
                 };

@@ -4,7 +4,7 @@
 use super::{Scenario, ScenarioError};
 
 /// Names of the built-in scenarios.
-pub const BUILTIN_NAMES: [&str; 10] = [
+pub const BUILTIN_NAMES: [&str; 11] = [
     "nominal",
     "headon",
     "crossing",
@@ -15,6 +15,7 @@ pub const BUILTIN_NAMES: [&str; 10] = [
     "link-errors",
     "magnetic-disturbance",
     "vn200-gnss-loss",
+    "demo",
 ];
 
 fn text(name: &str) -> Option<&'static str> {
@@ -29,6 +30,7 @@ fn text(name: &str) -> Option<&'static str> {
         "link-errors" => include_str!("../../scenarios/link-errors.toml"),
         "magnetic-disturbance" => include_str!("../../scenarios/magnetic-disturbance.toml"),
         "vn200-gnss-loss" => include_str!("../../scenarios/vn200-gnss-loss.toml"),
+        "demo" => include_str!("../../scenarios/demo.toml"),
         _ => return None,
     })
 }
