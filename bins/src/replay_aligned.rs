@@ -7,9 +7,10 @@
 //! `not_aligned` (the reason) with the three time fields null. Every message comes out once.
 //!
 //! BAHRS and Watson are decoded by `vigil_sim::replay::Replayer`; the VN-200 (binary and ASCII)
-//! and TT-Multi-RF ports, which it does not decode yet, are decoded here (channel protocol
-//! `vn200*` / `ttmrf-hex*` / `ttmrf*`, else the device name `vn200` / `ttmrf`; TT-Multi-RF text in
-//! auto mode). Each message's receive time is that of the read holding its last byte
+//! and TT-Multi-RF ports are decoded here, where each message's wire length is known (channel
+//! protocol `vn200*`, `ttmrf-hex*`, `ttmrf-mavlink`, `ttmrf-gdl90`, `ttmrf-asterix`, other
+//! `ttmrf*`: the text port with interleaved HEX lines, `ttmrf::mixed`; else the device name
+//! `vn200` / `ttmrf`). Each message's receive time is that of the read holding its last byte
 //! ([`ChunkClock`]); its wire length comes from re-encoding it (BAHRS, Watson) or from the decoder's
 //! offsets (the start of the next message bounds it; see `Port`).
 
@@ -20,10 +21,13 @@ use anyhow::Result;
 use bytes::BytesMut;
 use serde::Serialize;
 use tokio_util::codec::Decoder as _;
+use vigil_drivers::ttmrf::asterix::AsterixDecoder;
+use vigil_drivers::ttmrf::gdl90::{Gdl90Decoder, TrafficAltitude};
+use vigil_drivers::ttmrf::mavlink::MavlinkDecoder;
+use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
 use vigil_drivers::ttmrf::raw::hex::HexDecoder;
-use vigil_drivers::ttmrf::text::{TextDecoder, TextMode};
-use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
-use vigil_drivers::{Codec, DeviceDecoder};
+use vigil_drivers::vn200::Vn200Decoder;
+use vigil_drivers::{Codec, DecodeStats, DeviceDecoder};
 use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Sample};
 use vigil_fusion::time::host_timed::ChunkClock;
 use vigil_fusion::time::{ClockStatus, NotAligned, TimeSource};
@@ -120,67 +124,13 @@ impl<D: DeviceDecoder> Port<D> {
 
 enum OwnPort {
     Vn200(Box<Port<Vn200Decoder>>),
-    TtMixed(Box<TtMixed>),
+    /// The TT-Multi-RF text port, with raw HEX lines interleaved when raw output is on (manual:
+    /// both go out on the same UART).
+    TtMixed(Box<Port<MixedDecoder>>),
     TtHex(Port<HexDecoder>),
-}
-
-/// The TT-Multi-RF text port, which also carries raw HEX lines when raw output is on (manual:
-/// both go out on the same UART): a text and a HEX decoder each see every byte and skip the
-/// other's lines; their messages are merged in stream order, and each message's length runs to
-/// the next message of either kind, so the receive time of its last byte is right.
-struct TtMixed {
-    text: Port<TextDecoder>,
-    hex: Port<HexDecoder>,
-    queue: BTreeMap<u64, Sample>,
-}
-
-impl TtMixed {
-    fn new() -> Self {
-        Self {
-            text: Port::new(TextDecoder::new(TextMode::Auto)),
-            hex: Port::new(HexDecoder::new()),
-            queue: BTreeMap::new(),
-        }
-    }
-
-    /// No message of a port can start before this offset any more.
-    fn bound<D: DeviceDecoder>(p: &Port<D>) -> u64 {
-        p.pending
-            .as_ref()
-            .map_or(p.codec.0.stats().bytes_consumed, |(o, _)| *o)
-    }
-
-    fn feed(&mut self, bytes: &[u8], fed_end: u64, eof: bool) -> Samples {
-        for (o, _, m) in self.text.feed(bytes, fed_end, eof) {
-            self.queue.insert(o, Sample::TtText(Box::new(m)));
-        }
-        for (o, _, m) in self.hex.feed(bytes, fed_end, eof) {
-            self.queue.insert(o, Sample::TtRaw(Box::new(m)));
-        }
-        let bound = if eof {
-            u64::MAX
-        } else {
-            Self::bound(&self.text).min(Self::bound(&self.hex))
-        };
-        // Message starts known to be final: queued ones and the ports' pending ones.
-        let mut starts: Vec<u64> = self.queue.keys().copied().collect();
-        starts.extend(self.text.pending.as_ref().map(|(o, _)| *o));
-        starts.extend(self.hex.pending.as_ref().map(|(o, _)| *o));
-        starts.sort_unstable();
-        let mut out = Samples::new();
-        while let Some((&o, _)) = self.queue.first_key_value() {
-            let next = starts.iter().copied().find(|&s| s > o);
-            let end = match next {
-                Some(s) if s <= bound => s,
-                _ if eof => fed_end,
-                _ => break,
-            };
-            if let Some(sample) = self.queue.remove(&o) {
-                out.push((sample, o, end.saturating_sub(o) as usize));
-            }
-        }
-        out
-    }
+    TtMavlink(Box<Port<MavlinkDecoder>>),
+    TtGdl90(Box<Port<Gdl90Decoder>>),
+    TtAsterix(Box<Port<AsterixDecoder>>),
 }
 
 /// The aligned replay: the Replayer for BAHRS / Watson, own ports for VN-200 / TT-Multi-RF, one
@@ -212,15 +162,22 @@ impl AlignedReplay {
     }
 
     fn own_port(protocol: &str, device: &str) -> Option<OwnPort> {
-        if protocol.starts_with("vn200") || (protocol.is_empty() && device == "vn200") {
-            Some(OwnPort::Vn200(Box::new(Port::new(Vn200Decoder::new()))))
-        } else if protocol.starts_with("ttmrf-hex") {
-            Some(OwnPort::TtHex(Port::new(HexDecoder::new())))
-        } else if protocol.starts_with("ttmrf") || (protocol.is_empty() && device == "ttmrf") {
-            Some(OwnPort::TtMixed(Box::new(TtMixed::new())))
-        } else {
-            None
-        }
+        Some(match protocol {
+            p if p.starts_with("vn200") || (p.is_empty() && device == "vn200") => {
+                OwnPort::Vn200(Box::new(Port::new(Vn200Decoder::new())))
+            }
+            p if p.starts_with("ttmrf-hex") => OwnPort::TtHex(Port::new(HexDecoder::new())),
+            "ttmrf-mavlink" => OwnPort::TtMavlink(Box::new(Port::new(MavlinkDecoder::new()))),
+            // Barometric priority (the GDL90 definition; the simulator's setting).
+            "ttmrf-gdl90" => OwnPort::TtGdl90(Box::new(Port::new(Gdl90Decoder::new(
+                TrafficAltitude::Pressure,
+            )))),
+            "ttmrf-asterix" => OwnPort::TtAsterix(Box::new(Port::new(AsterixDecoder::default()))),
+            p if p.starts_with("ttmrf") || (p.is_empty() && device == "ttmrf") => {
+                OwnPort::TtMixed(Box::new(Port::new(MixedDecoder::new())))
+            }
+            _ => return None,
+        })
     }
 
     /// Feeds one read chunk; hands every finalised sample to `f`.
@@ -266,15 +223,9 @@ impl AlignedReplay {
 
     /// The decoder counters of `device` so far (as [`AlignedReplay::finish`] reports them), or
     /// `None` for a port without a decoder or not seen yet.
-    pub fn port_stats(&self, device: &str) -> Option<vigil_drivers::DecodeStats> {
+    pub fn port_stats(&self, device: &str) -> Option<DecodeStats> {
         match self.own.get(device) {
-            Some(OwnPort::Vn200(p)) => Some(*p.codec.0.stats()),
-            Some(OwnPort::TtMixed(p)) => {
-                let mut stats = *p.text.codec.0.stats();
-                stats.frames_decoded += p.hex.codec.0.stats().frames_decoded;
-                Some(stats)
-            }
-            Some(OwnPort::TtHex(p)) => Some(*p.codec.0.stats()),
+            Some(p) => Some(p.stats()),
             None => self.replayer.stats(device),
         }
     }
@@ -297,17 +248,7 @@ impl AlignedReplay {
         for (device, p) in &mut self.own {
             let fed_end = self.fed.get(device).copied().unwrap_or(0);
             rest.push((device.clone(), own_samples(p, &[], fed_end, true)));
-            let stats = match p {
-                OwnPort::Vn200(p) => *p.codec.0.stats(),
-                OwnPort::TtMixed(p) => {
-                    // Each decoder skips the other's lines: report the text decoder's counters
-                    // with the raw frames added to the decoded count.
-                    let mut stats = *p.text.codec.0.stats();
-                    stats.frames_decoded += p.hex.codec.0.stats().frames_decoded;
-                    stats
-                }
-                OwnPort::TtHex(p) => *p.codec.0.stats(),
-            };
+            let stats = p.stats();
             summary.insert(device.clone(), PortSummary::Decoded(stats));
         }
         for (device, samples) in rest {
@@ -359,18 +300,42 @@ fn own_samples(
     fed_end: u64,
     eof: bool,
 ) -> Vec<(Sample, u64, usize)> {
+    fn map<D: DeviceDecoder>(
+        p: &mut Port<D>,
+        bytes: &[u8],
+        fed_end: u64,
+        eof: bool,
+        f: impl Fn(D::Message) -> Sample,
+    ) -> Samples {
+        p.feed(bytes, fed_end, eof)
+            .into_iter()
+            .map(|(o, n, m)| (f(m), o, n))
+            .collect()
+    }
     match p {
-        OwnPort::Vn200(p) => p
-            .feed(bytes, fed_end, eof)
-            .into_iter()
-            .map(|(o, n, m): (u64, usize, Vn200Message)| (Sample::Vn200(Box::new(m)), o, n))
-            .collect(),
-        OwnPort::TtMixed(p) => p.feed(bytes, fed_end, eof),
-        OwnPort::TtHex(p) => p
-            .feed(bytes, fed_end, eof)
-            .into_iter()
-            .map(|(o, n, m)| (Sample::TtRaw(Box::new(m)), o, n))
-            .collect(),
+        OwnPort::Vn200(p) => map(p, bytes, fed_end, eof, |m| Sample::Vn200(Box::new(m))),
+        OwnPort::TtMixed(p) => map(p, bytes, fed_end, eof, |m| match m {
+            MixedMessage::Text(t) => Sample::TtText(Box::new(t)),
+            MixedMessage::Raw(r) => Sample::TtRaw(Box::new(r)),
+        }),
+        OwnPort::TtHex(p) => map(p, bytes, fed_end, eof, |m| Sample::TtRaw(Box::new(m))),
+        OwnPort::TtMavlink(p) => map(p, bytes, fed_end, eof, |m| Sample::TtMavlink(Box::new(m))),
+        OwnPort::TtGdl90(p) => map(p, bytes, fed_end, eof, |m| Sample::TtGdl90(Box::new(m))),
+        OwnPort::TtAsterix(p) => map(p, bytes, fed_end, eof, |m| Sample::TtAsterix(Box::new(m))),
+    }
+}
+
+impl OwnPort {
+    /// The port's decoder counters.
+    fn stats(&self) -> DecodeStats {
+        match self {
+            OwnPort::Vn200(p) => *p.codec.0.stats(),
+            OwnPort::TtMixed(p) => *p.codec.0.stats(),
+            OwnPort::TtHex(p) => *p.codec.0.stats(),
+            OwnPort::TtMavlink(p) => *p.codec.0.stats(),
+            OwnPort::TtGdl90(p) => *p.codec.0.stats(),
+            OwnPort::TtAsterix(p) => *p.codec.0.stats(),
+        }
     }
 }
 
