@@ -38,6 +38,10 @@ pub struct ListenArgs {
     /// Print receive latency statistics at the end instead of the samples.
     #[arg(long)]
     pub latency: bool,
+    /// Subscribe in the bus's lossless mode, to receive every sample of a `vigil replay
+    /// --publish --speed max` (see `BusConfig::lossless_wait_s`).
+    #[arg(long)]
+    pub lossless: bool,
 }
 
 /// Receive latency summary, us.
@@ -94,6 +98,7 @@ pub fn run(args: &ListenArgs) -> Result<()> {
         prefix: args.prefix.clone(),
         node_name: "vigil-listen".to_string(),
         handle_signals: true,
+        lossless_wait_s: args.lossless.then_some(5.0),
         ..BusConfig::default()
     })
     .context("connecting to the bus")?;
@@ -112,6 +117,11 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
     let mut sub = bus
         .subscriber::<T>()
         .with_context(|| format!("subscribing to {}", args.topic))?;
+    // On stderr, so a script (or test) can wait for it before starting the publisher.
+    eprintln!(
+        "vigil listen: subscribed to {}",
+        T::TOPIC.service_name(bus.prefix())
+    );
     let deadline = args
         .duration
         .map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0)));

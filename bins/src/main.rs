@@ -14,6 +14,8 @@ mod replay;
 mod replay_aligned;
 mod replay_fused;
 #[cfg(target_os = "linux")]
+mod replay_publish;
+#[cfg(target_os = "linux")]
 mod service;
 mod sim_cmd;
 #[cfg(target_os = "linux")]

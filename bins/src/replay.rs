@@ -36,9 +36,18 @@ use crate::progress::ProgressBar;
 pub struct ReplayArgs {
     /// The MCAP recording.
     pub input: PathBuf,
-    /// Pace the replay at this multiple of real time (default: as fast as possible).
+    /// Pace the replay at this multiple of real time (default: as fast as possible; with
+    /// --publish: 1, or `max` for as fast as the subscribers keep up).
     #[arg(long)]
-    pub speed: Option<f64>,
+    pub speed: Option<String>,
+    /// Publish the fused outputs on the iceoryx2 services, as `vigil run` does, paced by the
+    /// recorded times (`--speed X`, default 1) or as fast as subscribers keep up (`--speed max`,
+    /// lossless bus mode).
+    #[arg(long, conflicts_with_all = ["check", "emit"])]
+    pub publish: bool,
+    /// Bus prefix of the services (with --publish).
+    #[arg(long, default_value = "", requires = "publish")]
+    pub prefix: String,
     /// What to write: the decoded messages, every message on GPS time (`aligned`: see
     /// `replay_aligned`), or the fused outputs (`fused`: see `replay_fused`).
     #[arg(long, value_enum, default_value = "decoded")]
@@ -128,13 +137,38 @@ pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<
     })
 }
 
+#[cfg(target_os = "linux")]
+fn publish(args: &ReplayArgs, data: &[u8]) -> Result<()> {
+    let speed = crate::replay_publish::Speed::parse(args.speed.as_deref())?;
+    let s = crate::replay_publish::run(&args.input, data, &args.prefix, speed)?;
+    eprintln!(
+        "{{\"kind\":\"summary\",\"chunks\":{},\"attitude\":{},\"traffic\":{},\"alerts\":{}}}",
+        s.chunks, s.attitude, s.traffic, s.alerts
+    );
+    Ok(())
+}
+
+#[cfg(not(target_os = "linux"))]
+fn publish(_: &ReplayArgs, _: &[u8]) -> Result<()> {
+    Err(anyhow!(
+        "--publish needs Linux (iceoryx2 shared memory and vigil run's service)"
+    ))
+}
+
 /// Runs `vigil replay`.
 pub fn run(args: &ReplayArgs) -> Result<()> {
-    if args.speed.is_some_and(|x| !(x.is_finite() && x > 0.0)) {
-        return Err(anyhow!("--speed must be a positive number"));
-    }
     let data = std::fs::read(&args.input)
         .with_context(|| format!("cannot read {}", args.input.display()))?;
+    if args.publish {
+        return publish(args, &data);
+    }
+    let speed = match args.speed.as_deref() {
+        None => None,
+        Some(x) => match x.parse::<f64>() {
+            Ok(v) if v.is_finite() && v > 0.0 => Some(v),
+            _ => return Err(anyhow!("--speed must be a positive number")),
+        },
+    };
     if let Some(golden) = &args.check {
         if args.speed.is_some() {
             return Err(anyhow!("--speed does not apply to --check"));
@@ -144,7 +178,7 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
     let stdout = io::stdout();
     let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
     let result = match args.emit {
-        Emit::Decoded => replay(&data, &mut out, args.speed),
+        Emit::Decoded => replay(&data, &mut out, speed),
         Emit::Aligned => {
             if args.speed.is_some() {
                 return Err(anyhow!("--speed applies to --emit decoded only"));

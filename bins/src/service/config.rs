@@ -54,16 +54,25 @@ pub enum Protocol {
     TtmrfText,
     /// TT-Multi-RF raw HEX lines only.
     TtmrfHex,
+    /// TT-Multi-RF decoded output in MAVLink 2.
+    TtmrfMavlink,
+    /// TT-Multi-RF decoded output in GDL90 (barometric altitude priority).
+    TtmrfGdl90,
+    /// TT-Multi-RF decoded output in ASTERIX CAT021/023.
+    TtmrfAsterix,
 }
 
 impl Protocol {
     /// Every protocol.
-    pub const ALL: [Protocol; 5] = [
+    pub const ALL: [Protocol; 8] = [
         Protocol::Bahrs,
         Protocol::Watson,
         Protocol::Vn200,
         Protocol::TtmrfText,
         Protocol::TtmrfHex,
+        Protocol::TtmrfMavlink,
+        Protocol::TtmrfGdl90,
+        Protocol::TtmrfAsterix,
     ];
 
     /// The protocol's name in the configuration and in recordings' channel metadata (the names
@@ -75,6 +84,9 @@ impl Protocol {
             Protocol::Vn200 => "vn200-icd",
             Protocol::TtmrfText => "ttmrf-text",
             Protocol::TtmrfHex => "ttmrf-hex",
+            Protocol::TtmrfMavlink => "ttmrf-mavlink",
+            Protocol::TtmrfGdl90 => "ttmrf-gdl90",
+            Protocol::TtmrfAsterix => "ttmrf-asterix",
         }
     }
 
@@ -83,7 +95,12 @@ impl Protocol {
         match self {
             Protocol::Bahrs => 115_200,
             Protocol::Watson => 9600,
-            Protocol::Vn200 | Protocol::TtmrfText | Protocol::TtmrfHex => 921_600,
+            Protocol::Vn200
+            | Protocol::TtmrfText
+            | Protocol::TtmrfHex
+            | Protocol::TtmrfMavlink
+            | Protocol::TtmrfGdl90
+            | Protocol::TtmrfAsterix => 921_600,
         }
     }
 

@@ -333,7 +333,11 @@ fn device_code(p: Protocol) -> u8 {
         Protocol::Bahrs => integ::DEVICE_BAHRS,
         Protocol::Watson => integ::DEVICE_WATSON,
         Protocol::Vn200 => integ::DEVICE_VN200,
-        Protocol::TtmrfText | Protocol::TtmrfHex => integ::DEVICE_TTMRF,
+        Protocol::TtmrfText
+        | Protocol::TtmrfHex
+        | Protocol::TtmrfMavlink
+        | Protocol::TtmrfGdl90
+        | Protocol::TtmrfAsterix => integ::DEVICE_TTMRF,
     }
 }
 
