@@ -382,7 +382,8 @@ cleanup_period_s = 1.0
 # One [[ports]] table per serial port. device: port name (letters, digits, '-', '_'; at most
 # 16 bytes); path: serial device; baud: one of 4800 9600 19200 38400 57600 115200 230400 460800
 # 921600 (0: the protocol's usual rate); protocol: bahrs-2.0, watson-ahrs-e304, vn200-icd,
-# ttmrf-text or ttmrf-hex ("" infers it from the device names bahrs, watson, vn200, ttmrf).
+# ttmrf-text, ttmrf-hex, ttmrf-mavlink, ttmrf-gdl90 or ttmrf-asterix ("" infers it from the
+# device names bahrs, watson, vn200, ttmrf).
 [[ports]]
 device = "bahrs"
 path = "/dev/ttyUSB0"
