@@ -27,4 +27,6 @@ pub use payload::integrity::{DeviceIntegrity, IntegrityPayload};
 pub use payload::ownship::OwnshipPayload;
 pub use payload::traffic::{MAX_TARGETS, Target, TrafficPayload};
 pub use payload::{Header, Payload, SCHEMA_VERSION};
-pub use port::{Bus, BusConfig, BusError, CleanupReport, Publisher, Received, Subscriber};
+pub use port::{
+    Bus, BusConfig, BusError, CleanupReport, LOSSLESS_BUFFER, Publisher, Received, Subscriber,
+};

@@ -52,6 +52,9 @@ fn iox<E: core::fmt::Debug>(op: &'static str, service: &str) -> impl FnOnce(E) -
     }
 }
 
+/// Smallest subscriber buffer of the lossless mode, samples (see [`BusConfig::lossless_wait_s`]).
+pub const LOSSLESS_BUFFER: usize = 64;
+
 /// Bus settings of one process.
 #[derive(Debug, Clone)]
 pub struct BusConfig {
@@ -197,7 +200,7 @@ impl Bus {
             .enable_safe_overflow(
                 policy.overflow == Overflow::LatestWins && self.lossless_wait_ns.is_none(),
             )
-            .subscriber_max_buffer_size(policy.buffer_size)
+            .subscriber_max_buffer_size(self.buffer_size(&policy))
             .history_size(policy.history_size)
             .subscriber_max_borrowed_samples(policy.max_borrowed)
             .max_subscribers(policy.max_subscribers)
@@ -220,6 +223,19 @@ impl Bus {
             .open_or_create()
             .map_err(iox("open event service", &ename))?;
         Ok((pubsub, event))
+    }
+
+    /// A subscriber's buffer: the topic's, or in the lossless mode at least
+    /// [`LOSSLESS_BUFFER`] samples. Decision: iceoryx2 0.10 retries a full buffer (the wait of the
+    /// lossless mode) but drops a sample silently when the connection's list of chunks in use is
+    /// full, which a subscriber that lags while holding samples can cause (seen under heavy load);
+    /// a deep buffer keeps a lagging subscriber in the retried case.
+    fn buffer_size(&self, policy: &crate::policy::Policy) -> usize {
+        if self.lossless_wait_ns.is_some() {
+            policy.buffer_size.max(LOSSLESS_BUFFER)
+        } else {
+            policy.buffer_size
+        }
     }
 
     /// Creates a publisher of `T` on its topic's service.
@@ -261,6 +277,7 @@ impl Bus {
             next_seq: 1,
             failed,
             send_started,
+            lossless_wait_ns: self.lossless_wait_ns,
             notify_failures: 0,
         })
     }
@@ -272,7 +289,7 @@ impl Bus {
         let (pubsub, event) = self.services::<T>()?;
         let inner = pubsub
             .subscriber_builder()
-            .buffer_size(policy.buffer_size)
+            .buffer_size(self.buffer_size(&policy))
             .create()
             .map_err(iox("create subscriber", &name))?;
         let listener = event
@@ -301,6 +318,8 @@ pub struct Publisher<T: Payload> {
     failed: Arc<AtomicU64>,
     /// Host monotonic time the current send started, ns (for the lossless wait).
     send_started: Arc<AtomicU64>,
+    /// The lossless mode's bounded wait, ns (see [`BusConfig::lossless_wait_s`]).
+    lossless_wait_ns: Option<u64>,
     notify_failures: u64,
 }
 
@@ -316,7 +335,21 @@ impl<T: Payload> Publisher<T> {
     /// payload without building it elsewhere first. Returns the number of subscribers reached.
     pub fn publish_with(&mut self, fill: impl FnOnce(&mut T)) -> Result<usize, BusError> {
         let service = T::TOPIC.as_str();
-        let mut sample = self.inner.loan().map_err(iox("loan sample", service))?;
+        // In the lossless mode a slow subscriber can still hold every sample of the publisher's
+        // segment (its buffer plus what it has borrowed): the loan then fails until it releases
+        // one, so the loan is retried within the same bounded wait as a full buffer.
+        let loan_deadline = self
+            .lossless_wait_ns
+            .map(|w| monotonic_ns().saturating_add(w));
+        let mut sample = loop {
+            match self.inner.loan() {
+                Ok(s) => break s,
+                Err(_) if loan_deadline.is_some_and(|d| monotonic_ns() < d) => {
+                    std::thread::sleep(Duration::from_micros(50));
+                }
+                Err(e) => return Err(iox("loan sample", service)(e)),
+            }
+        };
         let payload = sample.payload_mut();
         fill(payload);
         let h = payload.header_mut();

@@ -201,9 +201,9 @@ fn lossless_mode_waits_for_a_slow_subscriber_and_loses_nothing() {
         let mut sub = b.subscriber::<AttitudePayload>().unwrap();
         ready_tx.send(()).unwrap();
         let mut seqs = Vec::new();
-        while seqs.len() < 50 {
-            // A slow consumer: 2 ms per sample, while the publisher sends as fast as it can.
-            std::thread::sleep(std::time::Duration::from_millis(2));
+        while seqs.len() < 150 {
+            // A slow consumer: 1 ms per sample, while the publisher sends as fast as it can.
+            std::thread::sleep(std::time::Duration::from_millis(1));
             if let Some(r) = sub.try_receive().unwrap() {
                 seqs.push(r.header.seq);
             }
@@ -211,12 +211,12 @@ fn lossless_mode_waits_for_a_slow_subscriber_and_loses_nothing() {
         (seqs, sub.missed())
     });
     ready_rx.recv().unwrap();
-    for _ in 0..50 {
+    for _ in 0..150 {
         publ.publish(&attitude()).unwrap();
     }
     let (seqs, missed) = reader.join().unwrap();
-    // 50 samples through a buffer of 8: every one arrives, in order, none overwritten.
-    assert_eq!(seqs, (1..=50).collect::<Vec<u64>>());
+    // 150 samples through a buffer of 64: every one arrives, in order, none overwritten.
+    assert_eq!(seqs, (1..=150).collect::<Vec<u64>>());
     assert_eq!(missed, 0);
     assert_eq!(publ.failed_deliveries(), 0);
 }
@@ -226,7 +226,7 @@ fn lossless_mode_gives_up_on_a_subscriber_that_never_reads() {
     let b = lossless_bus(&unique_prefix("lossless-dead"), "lossless-dead", 0.1);
     let mut publ = b.publisher::<AttitudePayload>().unwrap();
     let _sub = b.subscriber::<AttitudePayload>().unwrap();
-    let cap = Topic::Attitude.policy().buffer_size;
+    let cap = vigil_bus::LOSSLESS_BUFFER;
     for _ in 0..cap {
         publ.publish(&attitude()).unwrap();
     }
