@@ -255,6 +255,44 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
         "{compared} pictures compared of {}",
         pictures.len()
     );
+
+    // And it matches the simulator's truth: every published range against the true horizontal
+    // distance of that intruder at the picture's GPS time (the same scenario and seed give the
+    // same world). Tolerance: the position noise of the reports (NACp 9: < 30 m at 95 %) plus what
+    // 1 s of extrapolation of a turning target leaves (< 0.5 a t^2 with a = v^2 / r, 2 m for the
+    // 6 deg/s glider), and the WGS-84 tangent plane against the simulator's flat earth (0.2 %).
+    let sim =
+        vigil_sim::Simulator::new(&vigil_sim::scenario::builtin("nominal").unwrap(), 5).unwrap();
+    let world = sim.world();
+    let mut checked = 0;
+    let mut worst = 0.0f64;
+    for (t, targets) in &pictures {
+        let own = world.ownship(*t);
+        for (address, distance) in targets {
+            let i = (0..world.intruder_count())
+                .find(|&i| {
+                    u32::from_str_radix(&world.intruder(i, *t).unwrap().address, 16).ok()
+                        == Some(*address)
+                })
+                .unwrap_or_else(|| panic!("{address:06X} is not in the scenario"));
+            let x = world.intruder(i, *t).unwrap();
+            let truth = vigil_fusion::traffic::plausibility::horizontal_distance_m(
+                own.lat_deg,
+                own.lon_deg,
+                x.lat_deg,
+                x.lon_deg,
+            );
+            let tol = 40.0 + 0.002 * truth;
+            worst = worst.max((distance - truth).abs());
+            assert!(
+                (distance - truth).abs() < tol,
+                "{address:06X} at {t}: published {distance:.1} m, truth {truth:.1} m"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked} targets checked against truth");
+    println!("{checked} published ranges against truth: largest difference {worst:.1} m");
 }
 
 #[test]
