@@ -11,10 +11,9 @@
 //!   the comparison time itself for the BAHRS (the reference), 0 without values.
 //! - Isolation: one unit isolated (the record's `isolated`) -> ISOLATED; otherwise a declared
 //!   fault -> DETECTED_NOT_ISOLATED; no axis compared -> NOT_COMPARED; else NO_FAULT.
-//! - Traffic relative velocities (`rel_vel_north_mps`, `rel_vel_east_mps`, `rel_vel_up_mps`)
-//!   are NaN: the fusion's [`Target`] does not carry the intruder velocity nor the relative
-//!   state, only its consequences (range rate, CPA, tau). Filling them needs an additive field in
-//!   `vigil_fusion::traffic::Target` (left to the fusion's owner).
+//! - Traffic relative velocities (`rel_vel_north_mps`, `rel_vel_east_mps`, `rel_vel_up_mps`):
+//!   the intruder's velocity ([`Target::velocity_ned_mps`]) minus the ownship's (track, ground
+//!   speed, vertical rate); NaN when either is unknown.
 //! - A target without geometry (no comparable altitude): horizontal distance from the positions,
 //!   the other geometric quantities NaN.
 
@@ -262,6 +261,18 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
     };
     let (sin, cos) = t.bearing_true_deg.to_radians().sin_cos();
     let g = t.geometry.as_ref();
+    // Relative velocity, north / east / up.
+    let rel_vel = match (t.velocity_ned_mps, own) {
+        (Some(v), Some(o)) => {
+            let (s, c) = o.track_deg.to_radians().sin_cos();
+            [
+                v[0] - o.ground_speed_mps * c,
+                v[1] - o.ground_speed_mps * s,
+                -v[2] - o.vertical_rate_mps,
+            ]
+        }
+        _ => [nan; 3],
+    };
     tr::Target {
         address: t.key.address & 0x00FF_FFFF,
         address_type: address_type(t.key.space),
@@ -275,9 +286,9 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
         callsign,
         rel_north_m: distance * cos,
         rel_east_m: distance * sin,
-        rel_vel_north_mps: nan,
-        rel_vel_east_mps: nan,
-        rel_vel_up_mps: nan,
+        rel_vel_north_mps: rel_vel[0],
+        rel_vel_east_mps: rel_vel[1],
+        rel_vel_up_mps: rel_vel[2],
         horizontal_distance_m: distance,
         vertical_separation_m: g.map_or(nan, |g| g.vertical_separation_m),
         bearing_deg: t.bearing_true_deg.rem_euclid(360.0),

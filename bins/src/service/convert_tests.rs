@@ -259,6 +259,7 @@ fn fusion_target(address: u32, level: u8, geometry: Option<Geometry>) -> Target 
         lat_deg: 47.41,
         lon_deg: 8.5,
         alt_m: Some(770.0),
+        velocity_ned_mps: None,
         altitude_kind: AltitudeKind::Pressure,
         position_sigma_m: 10.0,
         bearing_true_deg: 90.0,
@@ -327,6 +328,17 @@ fn target_fields_and_units() {
     assert!(p.vertical_separation_m.is_nan() && p.range_rate_mps.is_nan());
     assert!(p.time_to_lowc_s.is_nan());
     assert_eq!(p.callsign, [0; tr::CALLSIGN_LEN]);
+
+    // Relative velocity: intruder (north 0, east -50, down -2: westbound, climbing 2 m/s) minus
+    // the ownship (track 30 deg at 40 m/s: north 34.641, east 20.0; vertical rate -1.5 m/s).
+    let mut t = fusion_target(3, 0, Some(geometry()));
+    t.velocity_ned_mps = Some([0.0, -50.0, -2.0]);
+    let p = target(&t, Some(&o));
+    assert!((p.rel_vel_north_mps - (0.0 - 34.641_016)).abs() < 1e-6);
+    assert!((p.rel_vel_east_mps - (-50.0 - 20.0)).abs() < 1e-9);
+    assert!((p.rel_vel_up_mps - (2.0 + 1.5)).abs() < 1e-9);
+    // Without the ownship it is unknown.
+    assert!(target(&t, None).rel_vel_north_mps.is_nan());
 }
 
 #[test]

@@ -97,6 +97,9 @@ pub struct Target {
     pub lon_deg: f64,
     /// Extrapolated altitude used, m.
     pub alt_m: Option<f64>,
+    /// The intruder's velocity (north, east, down), m/s, from its reported track, ground speed
+    /// and vertical rate (0 when none was reported); `None` without a reported velocity.
+    pub velocity_ned_mps: Option<[f64; 3]>,
     /// Which altitudes were compared.
     pub altitude_kind: AltitudeKind,
     /// 1-sigma horizontal position uncertainty at the fusion time (grows with age), m.
@@ -303,6 +306,10 @@ impl TrackManager {
                 lat_deg: lat,
                 lon_deg: lon,
                 alt_m: alt,
+                velocity_ned_mps: t.velocity.map(|_| {
+                    let (s, c) = track_deg.to_radians().sin_cos();
+                    [gs * c, gs * s, -vs]
+                }),
                 altitude_kind: kind,
                 position_sigma_m: sigma,
                 bearing_true_deg: bearing,

@@ -88,6 +88,12 @@ fn extrapolates_along_velocity() {
     );
     assert!((pic[0].lon_deg - 8.0).abs() < 1e-12);
     assert!((pic[0].age_s - 10.0).abs() < 1e-12);
+    // Its velocity: 100 kt = 51.444 m/s due south, level.
+    let v = pic[0].velocity_ned_mps.unwrap();
+    assert!(
+        (v[0] + 51.444).abs() < 1e-3 && v[1].abs() < 1e-9 && v[2] == 0.0,
+        "{v:?}"
+    );
 }
 
 #[test]
