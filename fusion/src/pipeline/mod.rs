@@ -231,8 +231,8 @@ impl Pipeline {
         self.drain_checker(out);
     }
 
-    /// Ends the stream: compares what the checker still holds and takes a last step at the
-    /// newest time seen.
+    /// Ends the stream: compares what the checker still holds (no further step is taken: a step
+    /// needs a sample at or after its time).
     pub fn finish(&mut self, out: &mut Vec<Fused>) {
         self.checker.finish();
         self.drain_checker(out);
@@ -251,21 +251,24 @@ impl Pipeline {
         let gap = (self.cfg.max_step_gap_s.max(self.cfg.step_s) * NS_PER_S) as i64;
         let next = match self.next_step_ns {
             // The first step is the first grid point at or after the first sample.
-            None => {
-                t.div_euclid(step)
-                    .saturating_add(i64::from(t.rem_euclid(step) != 0))
-                    * step
-            }
+            None => t
+                .div_euclid(step)
+                .saturating_add(i64::from(t.rem_euclid(step) != 0))
+                .saturating_mul(step),
             Some(n) if t.saturating_sub(n) > gap => {
                 // A jump (outage, or a replay with a gap): restart the grid at the new time.
-                t.div_euclid(step) * step
+                t.div_euclid(step).saturating_mul(step)
             }
             Some(n) => n,
         };
         let mut n = next;
         while n <= t {
             self.step(n, out);
-            n += step;
+            match n.checked_add(step) {
+                Some(x) => n = x,
+                // The end of the timebase: no later step exists.
+                None => break,
+            }
         }
         self.next_step_ns = Some(n);
     }

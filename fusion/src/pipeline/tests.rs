@@ -209,3 +209,35 @@ fn the_picture_holds_the_json_target_with_its_geometry() {
         g.horizontal_distance_m
     );
 }
+
+#[test]
+fn extreme_and_disordered_times_do_not_panic() {
+    let mut p = pipeline();
+    let mut out = Vec::new();
+    let times = [
+        T0,
+        i64::MAX,
+        i64::MIN,
+        0,
+        -1,
+        T0 - 100 * S,
+        i64::MAX - 1,
+        T0 + 1,
+        i64::MIN + 1,
+    ];
+    for (i, &t) in times.iter().enumerate() {
+        for status in [
+            ClockStatus::Locked,
+            ClockStatus::Coasting,
+            ClockStatus::Locking,
+        ] {
+            p.handle(&sample(i as u64, Some(t), status), &mut out);
+        }
+    }
+    p.finish(&mut out);
+    // Every step the pipeline took lies on the 1 s grid.
+    assert!(
+        out.iter()
+            .all(|o| o.t_gps_ns().rem_euclid(S) == 0 || matches!(o, Fused::Attitude(_)))
+    );
+}

@@ -65,8 +65,8 @@ impl AlertFilter {
             self.below_since_ns = None;
         } else if evidence < self.level {
             let since = *self.below_since_ns.get_or_insert(t_ns);
-            let held = (t_ns - self.raised_at_ns) as f64 * 1e-9 >= p.persistence_s;
-            let below = (t_ns - since) as f64 * 1e-9 >= p.hysteresis_s;
+            let held = t_ns.saturating_sub(self.raised_at_ns) as f64 * 1e-9 >= p.persistence_s;
+            let below = t_ns.saturating_sub(since) as f64 * 1e-9 >= p.hysteresis_s;
             if held && below {
                 self.level = evidence;
                 self.below_since_ns = None;

@@ -214,7 +214,7 @@ impl TrackManager {
             .min_by_key(|t| (t.last_update_ns, t.key))
             .map(|t| (t.key, t.last_update_ns));
         let victim = match oldest {
-            Some((key, last)) if t_ns - last > stale_ns => Some(key),
+            Some((key, last)) if t_ns.saturating_sub(last) > stale_ns => Some(key),
             _ => {
                 let own = self.ownship;
                 self.tracks
@@ -243,7 +243,7 @@ impl TrackManager {
         let timeout_ns = (self.params.timeout_s * 1e9) as i64;
         let before = self.tracks.len();
         self.tracks
-            .retain(|_, t| t_ns - t.last_update_ns <= timeout_ns);
+            .retain(|_, t| t_ns.saturating_sub(t.last_update_ns) <= timeout_ns);
         self.stats.tracks_timed_out += (before - self.tracks.len()) as u64;
         let hold_ns = (self.params.flag_hold_s * 1e9) as i64;
         let p = self.params;
@@ -254,13 +254,14 @@ impl TrackManager {
         let mut out: Vec<Target> = Vec::with_capacity(self.tracks.len());
         for t in self.tracks.values_mut() {
             let Some(pos) = t.position else { continue };
-            let dt_pos = (t_ns - pos.t_gps_ns) as f64 * 1e-9;
+            let dt_pos = t_ns.saturating_sub(pos.t_gps_ns) as f64 * 1e-9;
             let (track_deg, gs) = t.velocity.map_or((0.0, 0.0), |v| v.value);
             let (lat, lon) =
                 extrapolate(pos.value.lat_deg, pos.value.lon_deg, track_deg, gs, dt_pos);
             let vs = t.vertical_rate.map_or(0.0, |v| v.value);
-            let alt_at =
-                |a: Option<Timed<f64>>| a.map(|a| a.value + vs * (t_ns - a.t_gps_ns) as f64 * 1e-9);
+            let alt_at = |a: Option<Timed<f64>>| {
+                a.map(|a| a.value + vs * t_ns.saturating_sub(a.t_gps_ns) as f64 * 1e-9)
+            };
             let (kind, alt, frame) = match (
                 alt_at(t.alt_pressure),
                 frame_baro,
@@ -300,7 +301,7 @@ impl TrackManager {
                 sources: t
                     .sources
                     .iter()
-                    .map(|s| (s.value.0, (t_ns - s.t_gps_ns) as f64 * 1e-9))
+                    .map(|s| (s.value.0, t_ns.saturating_sub(s.t_gps_ns) as f64 * 1e-9))
                     .collect(),
                 age_s: t.age_s(t_ns),
                 lat_deg: lat,
@@ -369,7 +370,7 @@ fn check_and_merge(
     if let (Some(lat), Some(lon)) = (r.lat_deg, r.lon_deg) {
         let sigma = report_sigma_m(r);
         if let Some(prev) = track.position {
-            let dt = ((t - prev.t_gps_ns) as f64 * 1e-9).abs();
+            let dt = (t.saturating_sub(prev.t_gps_ns) as f64 * 1e-9).abs();
             let d = horizontal_distance_m(prev.value.lat_deg, prev.value.lon_deg, lat, lon);
             let allowed = p.max_speed_mps * dt
                 + p.consistency_sigmas
@@ -406,7 +407,7 @@ fn check_and_merge(
     ] {
         if let Some(a) = new {
             if let Some(prev) = *slot {
-                let dt = ((t - prev.t_gps_ns) as f64 * 1e-9).abs();
+                let dt = (t.saturating_sub(prev.t_gps_ns) as f64 * 1e-9).abs();
                 // 50 m covers altitude quantisation (25/100 ft) and source differences.
                 if (a - prev.value).abs() > p.max_vertical_rate_mps * dt + 50.0 {
                     track.findings.altitude_jump = Some(t);

@@ -129,7 +129,7 @@ impl PlausibilityFlags {
 impl Findings {
     /// The flags active at `t_ns`, for findings held `hold_ns`.
     pub fn active(&self, t_ns: i64, hold_ns: i64) -> PlausibilityFlags {
-        let on = |f: Option<i64>| f.is_some_and(|seen| t_ns - seen <= hold_ns);
+        let on = |f: Option<i64>| f.is_some_and(|seen| t_ns.saturating_sub(seen) <= hold_ns);
         PlausibilityFlags {
             impossible_speed: on(self.impossible_speed),
             position_jump: on(self.position_jump),
@@ -216,6 +216,6 @@ impl Track {
 
     /// Age of the latest report at `t_ns`, s.
     pub fn age_s(&self, t_ns: i64) -> f64 {
-        (t_ns - self.last_update_ns) as f64 * 1e-9
+        t_ns.saturating_sub(self.last_update_ns) as f64 * 1e-9
     }
 }
