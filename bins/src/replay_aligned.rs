@@ -339,14 +339,13 @@ impl OwnPort {
     }
 }
 
-/// Replays `mcap` into `out` as aligned JSON lines.
-pub fn replay_aligned<W: Write>(mcap: &[u8], out: &mut W) -> Result<ReplaySummary> {
+/// Replays `mcap` through decoding and alignment, handing every aligned sample to `f` in the
+/// order the aligner finalises them (also the front half of `vigil replay --emit fused`).
+pub fn replay_aligned_with(
+    mcap: &[u8],
+    mut f: impl FnMut(&AlignedSample) -> Result<()>,
+) -> Result<ReplaySummary> {
     let mut r = AlignedReplay::new();
-    let mut write = |s: &AlignedSample| -> Result<()> {
-        serde_json::to_writer(&mut *out, &AlignedLine::of(s))?;
-        out.write_all(b"\n")?;
-        Ok(())
-    };
     let outcome = read_recording(mcap, |m| -> Result<()> {
         let Recorded::Raw {
             device,
@@ -357,14 +356,23 @@ pub fn replay_aligned<W: Write>(mcap: &[u8], out: &mut W) -> Result<ReplaySummar
         else {
             return Ok(());
         };
-        r.feed(device, protocol, t_host_ns, bytes, &mut write)
+        r.feed(device, protocol, t_host_ns, bytes, &mut f)
     })?;
-    let devices = r.finish(&mut write)?;
+    let devices = r.finish(&mut f)?;
     Ok(ReplaySummary {
         kind: "summary",
         mcap_messages: outcome.messages,
         damage: outcome.damage,
         devices,
+    })
+}
+
+/// Replays `mcap` into `out` as aligned JSON lines.
+pub fn replay_aligned<W: Write>(mcap: &[u8], out: &mut W) -> Result<ReplaySummary> {
+    replay_aligned_with(mcap, |s| {
+        serde_json::to_writer(&mut *out, &AlignedLine::of(s))?;
+        out.write_all(b"\n")?;
+        Ok(())
     })
 }
 

@@ -16,11 +16,9 @@ use std::io::Write;
 use anyhow::{Result, anyhow};
 use vigil_fusion::magnetic::Wmm;
 use vigil_fusion::pipeline::{Fused, Pipeline, PipelineConfig};
-use vigil_fusion::time::aligner::AlignedSample;
-use vigil_sim::record::{Recorded, read_recording};
 
 use crate::replay::ReplaySummary;
-use crate::replay_aligned::AlignedReplay;
+use crate::replay_aligned::replay_aligned_with;
 
 /// Replays `mcap` through alignment and fusion, handing every output to `f` in order.
 pub fn replay_fused_with(
@@ -28,40 +26,16 @@ pub fn replay_fused_with(
     cfg: PipelineConfig,
     mut f: impl FnMut(&Fused) -> Result<()>,
 ) -> Result<ReplaySummary> {
-    let mut r = AlignedReplay::new();
     let mut pipeline =
         Pipeline::new(cfg, Box::new(Wmm)).map_err(|e| anyhow!("pipeline parameters: {e}"))?;
     let mut buf: Vec<Fused> = Vec::new();
-    let mut sink = |s: &AlignedSample| -> Result<()> {
+    let summary = replay_aligned_with(mcap, |s| {
         pipeline.handle(s, &mut buf);
-        for o in buf.drain(..) {
-            f(&o)?;
-        }
-        Ok(())
-    };
-    let outcome = read_recording(mcap, |m| -> Result<()> {
-        let Recorded::Raw {
-            device,
-            protocol,
-            t_host_ns,
-            bytes,
-        } = m
-        else {
-            return Ok(());
-        };
-        r.feed(device, protocol, t_host_ns, bytes, &mut sink)
+        buf.drain(..).try_for_each(|o| f(&o))
     })?;
-    let devices = r.finish(&mut sink)?;
     pipeline.finish(&mut buf);
-    for o in buf.drain(..) {
-        f(&o)?;
-    }
-    Ok(ReplaySummary {
-        kind: "summary",
-        mcap_messages: outcome.messages,
-        damage: outcome.damage,
-        devices,
-    })
+    buf.drain(..).try_for_each(|o| f(&o))?;
+    Ok(summary)
 }
 
 /// Replays `mcap` into `out` as fused JSON lines.
