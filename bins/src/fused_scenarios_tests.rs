@@ -125,7 +125,7 @@ fn attitude(name: &str, seconds: i64) -> (i64, Vec<Att>, Vec<(i64, PositionSourc
     let (t0, _) = run(name, seconds, 7, |o| match o {
         Fused::Attitude(r) => att.push(Att::of(r)),
         Fused::Ownship(o) => own.push((o.ownship.t_gps_ns, o.ownship.source)),
-        Fused::Traffic(_) => {}
+        Fused::Traffic(_) | Fused::Prompt(_) => {}
     });
     (t0, att, own)
 }

@@ -20,11 +20,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow, bail};
 use vigil_bus::{Bus, BusConfig};
-use vigil_fusion::pipeline::PipelineConfig;
 use vigil_monitor::MonitorParams;
 use vigil_sim::record::{Recorded, read_recording};
 
-use crate::service::config::{Port, Protocol};
+use crate::service::config::{PipelineSection, Port, Protocol};
 use crate::service::live::BusOutputs;
 use crate::service::{Outputs, Service};
 
@@ -104,9 +103,10 @@ pub fn replay_into(
     mut pace: impl FnMut(u64) -> Result<()>,
 ) -> Result<crate::service::Counters> {
     let ports = ports(mcap)?;
+    // `vigil run`'s default fusion parameters (prompt attitude outputs included).
     let mut service = Service::new(
         &ports,
-        PipelineConfig::default(),
+        PipelineSection::default().pipeline_config(),
         MonitorParams::default(),
         2.0,
     )?;

@@ -229,6 +229,21 @@ pub struct PipelineSection {
     /// Altitude of GDL90 traffic: `"pressure"` or `"geometric_preferred"` (the module's
     /// altitude priority setting).
     pub gdl90_altitude: Gdl90Altitude,
+    /// What `vigil/attitude` carries: `"prompt"` or `"checks"`.
+    pub attitude_output: AttitudeOutput,
+}
+
+/// What the `vigil/attitude` service publishes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AttitudeOutput {
+    /// One voted attitude per sample of any attitude unit (the VN-200's rate), as soon as the
+    /// sample arrives, with the verdicts of the newest cross-check (default).
+    #[default]
+    Prompt,
+    /// One per cross-check (per BAHRS navigation sample), once the other units have samples
+    /// around it: up to a Watson period (84 ms) later.
+    Checks,
 }
 
 /// Configuration form of [`TrafficAltitudeKind`].
@@ -249,6 +264,7 @@ impl Default for PipelineSection {
             step_s: d.step_s,
             max_step_gap_s: d.max_step_gap_s,
             gdl90_altitude: Gdl90Altitude::Pressure,
+            attitude_output: AttitudeOutput::Prompt,
         }
     }
 }
@@ -263,6 +279,7 @@ impl PipelineSection {
                 Gdl90Altitude::Pressure => TrafficAltitudeKind::Pressure,
                 Gdl90Altitude::GeometricPreferred => TrafficAltitudeKind::GeometricPreferred,
             },
+            prompt_attitude: self.attitude_output == AttitudeOutput::Prompt,
             ..PipelineConfig::default()
         }
     }
@@ -432,6 +449,10 @@ step_s = 1.0
 max_step_gap_s = 10.0
 # Altitude carried by GDL90 traffic: "pressure" or "geometric_preferred".
 gdl90_altitude = "pressure"
+# What vigil/attitude carries: "prompt" (the voted attitude at every attitude sample, VN-200
+# rate, published as each arrives, with the newest cross-check's verdicts) or "checks" (one per
+# cross-check, per BAHRS navigation sample, up to a Watson period later).
+attitude_output = "prompt"
 
 [link]
 # A port with no decoded message for this long is reported silent, s.

@@ -180,7 +180,10 @@ impl Service {
         for f in fused.drain(..) {
             self.last_gps = Some((f.t_gps_ns(), t_host_ns));
             match &f {
-                Fused::Attitude(r) => {
+                // With prompt outputs on, the check records reach the bus inside them (their
+                // verdicts), and the topic's times increase; without, each check is published.
+                Fused::Attitude(_) if self.pipeline.config().prompt_attitude => {}
+                Fused::Attitude(r) | Fused::Prompt(r) => {
                     let p = convert::attitude(r);
                     self.monitor.attitude(&p);
                     out.publish(&p);

@@ -16,6 +16,10 @@ fn simulate(seconds: i64) -> MemorySink {
 }
 
 fn service_for(sink: &MemorySink) -> Service {
+    service_with(sink, PipelineConfig::default())
+}
+
+fn service_with(sink: &MemorySink, pipeline: PipelineConfig) -> Service {
     let ports: Vec<Port> = sink
         .info
         .as_ref()
@@ -30,13 +34,7 @@ fn service_for(sink: &MemorySink) -> Service {
             setup: None,
         })
         .collect();
-    Service::new(
-        &ports,
-        PipelineConfig::default(),
-        MonitorParams::default(),
-        2.0,
-    )
-    .unwrap()
+    Service::new(&ports, pipeline, MonitorParams::default(), 2.0).unwrap()
 }
 
 #[test]
@@ -135,6 +133,70 @@ fn a_closed_port_is_disconnected_then_silent_data_counts_reconnects() {
     assert!(d.bytes_received > d.bytes_consumed || d.bytes_skipped >= 300);
 }
 
+/// `vigil run`'s default: one attitude payload per VN-200 message, published in the very call
+/// that took the message's last byte, at the message's own time (the simulator's truth says
+/// where each message ends in the port's byte stream, and its sample time).
+#[test]
+fn prompt_attitude_follows_every_vn200_message_at_once() {
+    let sink = simulate(12);
+    let cfg = super::config::PipelineSection::default().pipeline_config();
+    assert!(cfg.prompt_attitude);
+    let mut s = service_with(&sink, cfg);
+    let mut out = Collected::default();
+    let ports = &sink.info.as_ref().unwrap().ports;
+    let vn200 = ports.iter().position(|p| p.device == "vn200").unwrap();
+    // (end offset in the port's stream, GPS time) of every VN-200 message, in stream order.
+    let mut ends: std::collections::VecDeque<(u64, i64)> = sink
+        .truth
+        .iter()
+        .filter(|r| r.device == "vn200")
+        .map(|r| (r.rx_offset + r.wire.len() as u64, r.t_gps_ns))
+        .collect();
+    let messages = ends.len();
+    let (mut written, mut at_once, mut late) = (0u64, 0usize, Vec::new());
+    for c in &sink.chunks {
+        let before = out.attitude.len();
+        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
+        if usize::from(c.port) != vn200 {
+            continue;
+        }
+        written += c.bytes.len() as u64;
+        let published = &out.attitude[before..];
+        while let Some(&(_, t)) = ends.front().filter(|(end, _)| *end <= written) {
+            ends.pop_front();
+            if published.iter().any(|a| a.header.gps_time_ns == t) {
+                at_once += 1;
+            } else {
+                late.push(t);
+            }
+        }
+    }
+    let att = &out.attitude;
+    assert!(
+        att.windows(2)
+            .all(|w| w[0].header.gps_time_ns < w[1].header.gps_time_ns)
+    );
+    // Every VN-200 message (its GPS time is its own: no clock to lock first).
+    assert!(messages > 2000, "{messages}");
+    assert_eq!(at_once, messages, "late: {:?}", &late[..late.len().min(5)]);
+    // The others come from BAHRS or Watson samples newer than the newest VN-200 sample.
+    assert!(
+        att.len() <= messages + messages / 2,
+        "{} for {messages}",
+        att.len()
+    );
+    let half = &att[att.len() / 2..];
+    let valid = half.iter().filter(|a| a.valid == 1).count();
+    assert_eq!(valid, half.len(), "all valid in the second half");
+    // Nominal: all three units agree; the verdicts, those of the checks, say so.
+    let last = att.last().unwrap();
+    assert_eq!(
+        last.isolation,
+        vigil_bus::payload::attitude::ISOLATION_NO_FAULT
+    );
+    assert!(last.units.iter().all(|u| u.valid == 1));
+}
+
 /// The outputs are a function of (bytes, host times) only: the same chunks twice, the same
 /// payloads (compared as JSON, where NaN reads `null`).
 #[test]
@@ -192,7 +254,7 @@ fn service_and_fused_replay_agree() {
     let mut last_own = None;
     crate::replay_fused::replay_fused_with(&mcap, PipelineConfig::default(), |f| {
         match f {
-            Fused::Attitude(r) => att.push(json(&convert::attitude(r))),
+            Fused::Attitude(r) | Fused::Prompt(r) => att.push(json(&convert::attitude(r))),
             Fused::Ownship(o) => {
                 last_own = Some(o.ownship);
                 own.push(json(&convert::ownship(o)));

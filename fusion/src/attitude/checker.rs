@@ -27,6 +27,9 @@ use super::vertical::{VerticalChannel, Vn200Vertical};
 use super::vote::vote;
 use crate::magnetic::{Declination, DeclinationModel, MagneticZone};
 
+#[path = "prompt.rs"]
+mod prompt;
+
 const DEG: f64 = std::f64::consts::PI / 180.0;
 /// History kept per unit, samples (bounded memory).
 const MAX_HISTORY: usize = 256;
@@ -52,6 +55,9 @@ struct Prepared {
     sigma_ns: f64,
     age_s: Option<f64>,
     rates: Option<[f64; 3]>,
+    /// Time from the sample used to the comparison time when no later sample brackets that
+    /// time (the value is held), s; 0 when interpolated, and for the BAHRS at its own time.
+    held_s: f64,
 }
 
 struct DeclinationCache {
@@ -83,6 +89,13 @@ pub struct AttitudeChecker {
     prev_isolation: [Isolation; 4],
     vertical: VerticalChannel,
     finished: bool,
+    /// The newest BAHRS sample compared, with its frozen verdict (the prompt output's BAHRS
+    /// when none is pending).
+    last_bahrs: Option<(BahrsSample, bool)>,
+    /// Verdicts of the newest record (the prompt output's).
+    last_verdicts: Option<prompt::Verdicts>,
+    /// GPS time of the newest prompt output, ns.
+    last_prompt_ns: Option<i64>,
 }
 
 impl AttitudeChecker {
@@ -110,6 +123,9 @@ impl AttitudeChecker {
             prev_isolation: [Isolation::NoFault; 4],
             vertical: VerticalChannel::default(),
             finished: false,
+            last_bahrs: None,
+            last_verdicts: None,
+            last_prompt_ns: None,
         })
     }
 
@@ -245,42 +261,8 @@ impl AttitudeChecker {
         };
         self.last_t_ns = Some(t);
         let decl = self.declination(t);
-        let mag_gate = match decl {
-            None => Some(GateReason::NoDeclination),
-            Some(d) if d.zone != MagneticZone::Normal => Some(GateReason::MagneticPole),
-            Some(_) => None,
-        };
-        let d_rad = decl.map(|d| d.declination_rad).unwrap_or(0.0);
-        let rz = UnitQuaternion::from_euler_angles(0.0, 0.0, d_rad);
-
-        // BAHRS.
-        let bq = unmount(
-            &(rz * from_ypr(b.heading_mag_rad, b.pitch_rad, b.roll_rad)),
-            &p.mounting_bahrs,
-        );
-        let mut bg = gates::bahrs_source(b);
-        if frozen {
-            bg = bg.map(|g| g.or(Some(GateReason::Frozen)));
-        }
-        bg[2] = bg[2].or(mag_gate);
-        let (sn, se, sh) = match b.accuracy_rad {
-            Some([n, e, h]) => (n.unwrap_or(0.0), e.unwrap_or(0.0), h.unwrap_or(0.0)),
-            None => (
-                p.bahrs_default_sigma.tilt_deg * DEG,
-                p.bahrs_default_sigma.tilt_deg * DEG,
-                p.bahrs_default_sigma.heading_deg * DEG,
-            ),
-        };
-        let (vr, vp) = tilt_variances(sn, se, b.heading_mag_rad + d_rad);
-        let bahrs = Prepared {
-            values: Some(ypr_to_rph(&bq)),
-            heading_mag: Some(b.heading_mag_rad),
-            var: [vr, vp, sh * sh],
-            gates: bg,
-            sigma_ns: b.sigma_ns,
-            age_s: None,
-            rates: b.rates_radps,
-        };
+        let (mag_gate, rz, d_rad) = magnetic_frame(decl);
+        let bahrs = self.prepare_bahrs(b, frozen, &rz, mag_gate, d_rad);
 
         // VN-200.
         let (vn, vn_healthy, vn_vertical) = self.prepare_vn200(t);
@@ -527,19 +509,10 @@ impl AttitudeChecker {
             isolated = None;
         }
         // The vote: units open on the axis and not isolated on it.
-        let iso_axis = [isolation.roll, isolation.pitch, isolation.heading];
-        let names = [Unit::Bahrs, Unit::Vn200, Unit::Watson];
-        let mut voted = [None, None, None];
-        for (ai, v) in voted.iter_mut().enumerate() {
-            let cands: Vec<(Unit, f64)> = units
-                .iter()
-                .zip(names)
-                .filter(|(u, n)| u.gates[ai].is_none() && iso_axis[ai] != Isolation::Isolated(*n))
-                .filter_map(|(u, n)| u.values.map(|x| (n, x[ai])))
-                .collect();
-            *v = vote(&cands, ai == 2);
-        }
-        let [vr, vpi, vh] = voted;
+        let voted = vote_units(
+            [&bahrs, &vn, &watson],
+            [isolation.roll, isolation.pitch, isolation.heading],
+        );
         let vertical = self.vertical.update(b, &vn_vertical, dt_s, self.k_axis, &p);
         let h = b.health;
         let bahrs_integrity_risk = [
@@ -550,7 +523,7 @@ impl AttitudeChecker {
             h.pressure_height(),
         ]
         .contains(&vigil_drivers::bahrs::Health::IntegrityRisk);
-        AttitudeRecord {
+        let rec = AttitudeRecord {
             kind: KIND,
             t_gps_ns: t,
             fault,
@@ -570,12 +543,51 @@ impl AttitudeChecker {
             }),
             pairs,
             isolation,
-            voted: Voted {
-                roll: vr,
-                pitch: vpi,
-                heading: vh,
-            },
+            voted,
             vertical,
+        };
+        self.last_verdicts = Some(prompt::Verdicts::of(&rec));
+        self.last_bahrs = Some((*b, frozen));
+        rec
+    }
+
+    /// The BAHRS sample `b` ready to compare (`rz`: the declination rotation, `d_rad` its angle).
+    fn prepare_bahrs(
+        &self,
+        b: &BahrsSample,
+        frozen: bool,
+        rz: &UnitQuaternion<f64>,
+        mag_gate: Gate,
+        d_rad: f64,
+    ) -> Prepared {
+        let p = &self.params;
+        let bq = unmount(
+            &(*rz * from_ypr(b.heading_mag_rad, b.pitch_rad, b.roll_rad)),
+            &p.mounting_bahrs,
+        );
+        let mut bg = gates::bahrs_source(b);
+        if frozen {
+            bg = bg.map(|g| g.or(Some(GateReason::Frozen)));
+        }
+        bg[2] = bg[2].or(mag_gate);
+        let (sn, se, sh) = match b.accuracy_rad {
+            Some([n, e, h]) => (n.unwrap_or(0.0), e.unwrap_or(0.0), h.unwrap_or(0.0)),
+            None => (
+                p.bahrs_default_sigma.tilt_deg * DEG,
+                p.bahrs_default_sigma.tilt_deg * DEG,
+                p.bahrs_default_sigma.heading_deg * DEG,
+            ),
+        };
+        let (vr, vp) = tilt_variances(sn, se, b.heading_mag_rad + d_rad);
+        Prepared {
+            values: Some(ypr_to_rph(&bq)),
+            heading_mag: Some(b.heading_mag_rad),
+            var: [vr, vp, sh * sh],
+            gates: bg,
+            sigma_ns: b.sigma_ns,
+            age_s: None,
+            rates: b.rates_radps,
+            held_s: 0.0,
         }
     }
 
@@ -593,6 +605,7 @@ impl AttitudeChecker {
                     sigma_ns: 0.0,
                     age_s: None,
                     rates: None,
+                    held_s: 0.0,
                 },
                 false,
                 Vn200Vertical {
@@ -607,6 +620,11 @@ impl AttitudeChecker {
             return none(GateReason::NoData);
         };
         let age_ns = t.saturating_sub(s0.t_gps_ns);
+        let held_s = if next.is_none() {
+            age_ns as f64 * 1e-9
+        } else {
+            0.0
+        };
         let (q, frozen, gate_src, lin) = match next {
             Some(&(s1, f1)) => {
                 let span = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64;
@@ -680,6 +698,7 @@ impl AttitudeChecker {
                 sigma_ns: s0.sigma_ns,
                 age_s: Some(age_ns as f64 * 1e-9),
                 rates: s0.rates_radps,
+                held_s,
             },
             healthy,
             vertical,
@@ -699,10 +718,16 @@ impl AttitudeChecker {
                 sigma_ns: 0.0,
                 age_s: None,
                 rates: None,
+                held_s: 0.0,
             };
         };
         let q_of = |s: &WatsonSample| from_ypr(s.heading_mag_rad, s.pitch_rad, s.roll_rad);
         let age_ns = t.saturating_sub(s0.t_gps_ns);
+        let held_s = if next.is_none() {
+            age_ns as f64 * 1e-9
+        } else {
+            0.0
+        };
         let (q, frozen, gate_src) = match next {
             Some(&(s1, f1)) => {
                 let span = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64;
@@ -744,7 +769,44 @@ impl AttitudeChecker {
             sigma_ns: s0.sigma_ns,
             age_s: Some(age_ns as f64 * 1e-9),
             rates: Some(s0.rates_radps),
+            held_s,
         }
+    }
+}
+
+/// The declination's gate on magnetic headings, its rotation about the vertical, and its angle
+/// (rad; 0 without a declination).
+fn magnetic_frame(decl: Option<Declination>) -> (Gate, UnitQuaternion<f64>, f64) {
+    let mag_gate = match decl {
+        None => Some(GateReason::NoDeclination),
+        Some(d) if d.zone != MagneticZone::Normal => Some(GateReason::MagneticPole),
+        Some(_) => None,
+    };
+    let d_rad = decl.map(|d| d.declination_rad).unwrap_or(0.0);
+    (
+        mag_gate,
+        UnitQuaternion::from_euler_angles(0.0, 0.0, d_rad),
+        d_rad,
+    )
+}
+
+/// The vote per axis over the units open on the axis and not isolated on it (`iso_axis`: roll,
+/// pitch, heading).
+fn vote_units(units: [&Prepared; 3], iso_axis: [Isolation; 3]) -> Voted {
+    let names = [Unit::Bahrs, Unit::Vn200, Unit::Watson];
+    let axis = |ai: usize| {
+        let cands: Vec<(Unit, f64)> = units
+            .iter()
+            .zip(names)
+            .filter(|(u, n)| u.gates[ai].is_none() && iso_axis[ai] != Isolation::Isolated(*n))
+            .filter_map(|(u, n)| u.values.map(|x| (n, x[ai])))
+            .collect();
+        vote(&cands, ai == 2)
+    };
+    Voted {
+        roll: axis(0),
+        pitch: axis(1),
+        heading: axis(2),
     }
 }
 

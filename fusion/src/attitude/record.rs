@@ -12,6 +12,9 @@ use crate::magnetic::MagneticZone;
 
 /// The record's `kind`.
 pub const KIND: &str = "attitude_check";
+/// The `kind` of a prompt output (the voted attitude at a unit's sample time, with the verdicts
+/// of the newest check; see [`super::checker::AttitudeChecker::prompt`]).
+pub const PROMPT_KIND: &str = "attitude_prompt";
 
 /// Per-axis gates of one unit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -64,6 +64,9 @@ pub struct PipelineConfig {
     pub max_step_gap_s: f64,
     /// Altitude kind of GDL90 traffic reports (set from the module's configuration).
     pub gdl90_altitude: TrafficAltitudeKind,
+    /// Also emit a prompt attitude ([`Fused::Prompt`]) at every attitude sample. Default off:
+    /// the replays and their golden files hold the check records; `vigil run` turns it on.
+    pub prompt_attitude: bool,
 }
 
 /// Which altitude GDL90 traffic reports carry (the module's "altitude priority" setting).
@@ -87,6 +90,7 @@ impl Default for PipelineConfig {
             step_s: 1.0,
             max_step_gap_s: 10.0,
             gdl90_altitude: TrafficAltitudeKind::Pressure,
+            prompt_attitude: false,
         }
     }
 }
@@ -114,13 +118,17 @@ pub enum Fused {
     Ownship(Box<OwnshipSolution>),
     /// The traffic picture at a fusion step.
     Traffic(TrafficPicture),
+    /// The voted attitude at the time of an attitude sample, as soon as it arrives, with the
+    /// verdicts of the newest check record (only with [`PipelineConfig::prompt_attitude`]; see
+    /// [`AttitudeChecker::prompt`]).
+    Prompt(Box<AttitudeRecord>),
 }
 
 impl Fused {
     /// GPS time of the output, ns.
     pub fn t_gps_ns(&self) -> i64 {
         match self {
-            Fused::Attitude(r) => r.t_gps_ns,
+            Fused::Attitude(r) | Fused::Prompt(r) => r.t_gps_ns,
             Fused::Ownship(o) => o.ownship.t_gps_ns,
             Fused::Traffic(p) => p.t_gps_ns,
         }
@@ -227,8 +235,15 @@ impl Pipeline {
         if matches!(time.status, ClockStatus::Locked | ClockStatus::Coasting) {
             self.advance(time.t_gps_ns, out);
         }
-        self.take(&s.aligned.message, &time);
+        let attitude = self.take(&s.aligned.message, &time);
         self.drain_checker(out);
+        // After the checks this sample completed, so the prompt carries their verdicts.
+        if attitude
+            && self.cfg.prompt_attitude
+            && let Some(r) = self.checker.prompt(time.t_gps_ns)
+        {
+            out.push(Fused::Prompt(Box::new(r)));
+        }
     }
 
     /// Ends the stream: compares what the checker still holds (no further step is taken: a step
@@ -287,8 +302,11 @@ impl Pipeline {
         }));
     }
 
-    fn take(&mut self, msg: &Sample, time: &AlignedTime) {
+    /// Feeds one sample to the parts that use it; true when it was an attitude sample (for the
+    /// prompt output).
+    fn take(&mut self, msg: &Sample, time: &AlignedTime) -> bool {
         let t = time.t_gps_ns;
+        let mut attitude = false;
         match msg {
             Sample::Bahrs(m) => match m {
                 bahrs::Message::Inertial(i) => self.last_inertial = Some(*i),
@@ -303,6 +321,7 @@ impl Pipeline {
                     self.ownship.update_bahrs(&b);
                     self.checker.set_fallback_position(self.ownship.position(t));
                     self.checker.push_bahrs(b);
+                    attitude = true;
                 }
                 _ => {}
             },
@@ -312,9 +331,13 @@ impl Pipeline {
                 {
                     self.ownship.update_vn200(&v);
                     self.checker.push_vn200(v);
+                    attitude = true;
                 }
             }
-            Sample::Watson(l) => self.checker.push_watson(WatsonSample::new(time, l)),
+            Sample::Watson(l) => {
+                self.checker.push_watson(WatsonSample::new(time, l));
+                attitude = true;
+            }
             Sample::TtText(m) => {
                 match m.as_ref() {
                     TextMessage::Json(j) => {
@@ -357,6 +380,7 @@ impl Pipeline {
                 }
             }
         }
+        attitude
     }
 
     fn take_nmea(&mut self, t: i64, n: &NmeaSentence) {

@@ -108,7 +108,7 @@ fn steps_fall_on_the_grid_once_a_locked_sample_reaches_them() {
         .map(|o| match o {
             Fused::Ownship(_) => 'o',
             Fused::Traffic(_) => 't',
-            Fused::Attitude(_) => 'a',
+            Fused::Attitude(_) | Fused::Prompt(_) => 'a',
         })
         .collect();
     assert_eq!(kinds, ['o', 't'].repeat(5));

@@ -1,0 +1,362 @@
+//! The prompt output (issue 10: a fused attitude for every VN-200 message, published as soon as
+//! the message arrives): the voted attitude at the time of each new attitude sample.
+//!
+//! A cross-check record waits until the other units have passed the BAHRS sample time (up to a
+//! Watson period, 84 ms): right for the comparison, too late for a consumer flying on the
+//! attitude. [`AttitudeChecker::prompt`] votes at the newest sample's time over the three units as
+//! they are at that moment: the unit that just reported at its own time, and each other unit's
+//! newest sample propagated to that time with its own body rates (Euler-angle rates times the
+//! time since the sample: milliseconds for the BAHRS and the VN-200, at most the staleness limit
+//! for the Watson). A unit past its staleness limit is gated exactly as in the check.
+//!
+//! The verdicts, the isolation and the health flags are those of the newest check record, so a
+//! unit isolated there is left out of this vote too. Nothing here touches the statistics of the
+//! check (the persistence counters, the CUSUMs): a prompt output only reads them.
+//!
+//! Decision: the propagation uses each unit's body rates as aircraft body rates. The mounting
+//! rotations are a few degrees at most, and over the few milliseconds propagated the difference
+//! is far below the units' noise.
+
+use super::*;
+use crate::attitude::angles::wrap_2pi;
+use crate::attitude::compare::euler_rates;
+use crate::attitude::vertical::{VerticalComparison, VerticalRecord};
+
+/// The parts of a check record that a prompt output repeats (all `Copy`: stored per record).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Verdicts {
+    fault: bool,
+    isolated: Option<Unit>,
+    multiple_fault: bool,
+    magnetic_disturbance: bool,
+    bahrs_integrity_risk: bool,
+    vn200_healthy: bool,
+    declination: Option<DeclinationRecord>,
+    pairs: PairsRecord,
+    isolation: IsolationRecord,
+    vertical: VerticalRecord,
+}
+
+impl Verdicts {
+    /// The verdicts of `r`.
+    pub(super) fn of(r: &AttitudeRecord) -> Self {
+        Self {
+            fault: r.fault,
+            isolated: r.isolated,
+            multiple_fault: r.multiple_fault,
+            magnetic_disturbance: r.magnetic_disturbance,
+            bahrs_integrity_risk: r.bahrs_integrity_risk,
+            vn200_healthy: r.vn200_healthy,
+            declination: r.declination,
+            pairs: r.pairs,
+            isolation: r.isolation,
+            vertical: r.vertical,
+        }
+    }
+
+    /// Before the first check: nothing compared, nothing declared.
+    fn none() -> Self {
+        let pair = PairRecord {
+            roll: not_compared_pair(),
+            pitch: not_compared_pair(),
+            heading: not_compared_pair(),
+            joint: JointTest {
+                chi2: None,
+                ratio: None,
+                verdict: PairVerdict::NotCompared,
+            },
+        };
+        let vertical = VerticalComparison {
+            bahrs_mps: None,
+            vn200_mps: None,
+            diff_mps: None,
+            sigma_mps: None,
+            stat_ratio: None,
+            verdict: PairVerdict::NotCompared,
+            gate: Some(GateReason::NoData),
+        };
+        Self {
+            fault: false,
+            isolated: None,
+            multiple_fault: false,
+            magnetic_disturbance: false,
+            bahrs_integrity_risk: false,
+            vn200_healthy: false,
+            declination: None,
+            pairs: PairsRecord {
+                bahrs_vn200: pair,
+                bahrs_watson: pair,
+                vn200_watson: pair,
+            },
+            isolation: IsolationRecord {
+                roll: Isolation::NotCompared,
+                pitch: Isolation::NotCompared,
+                heading: Isolation::NotCompared,
+                joint: Isolation::NotCompared,
+            },
+            vertical: VerticalRecord {
+                velocity_down: vertical,
+                height_rate: vertical,
+            },
+        }
+    }
+}
+
+impl AttitudeChecker {
+    /// The voted attitude at GPS time `t` (ns), the time of the attitude sample just pushed, with
+    /// the verdicts of the newest check record (see the module documentation). `None` when `t`
+    /// is not later than the previous prompt output's time, so the outputs' times increase.
+    /// The record's `kind` is [`PROMPT_KIND`]; each unit's `age_s` is the time since the sample
+    /// its values were propagated from.
+    pub fn prompt(&mut self, t: i64) -> Option<AttitudeRecord> {
+        if self.last_prompt_ns.is_some_and(|p| t <= p) {
+            return None;
+        }
+        self.last_prompt_ns = Some(t);
+        let decl = self.declination(t);
+        let (mag_gate, rz, d_rad) = magnetic_frame(decl);
+        let bahrs_horizon = self.horizon_ns(self.params.bahrs_period_s);
+        let newest_bahrs = self.pending.back().copied().or(self.last_bahrs);
+        let bahrs = match newest_bahrs {
+            Some((b, frozen)) => {
+                let mut u = self.prepare_bahrs(&b, frozen, &rz, mag_gate, d_rad);
+                let age_ns = t.saturating_sub(b.t_gps_ns);
+                u.age_s = Some(age_ns as f64 * 1e-9);
+                u.held_s = age_ns as f64 * 1e-9;
+                if age_ns > bahrs_horizon {
+                    u.gates = u.gates.map(|g| g.or(Some(GateReason::Stale)));
+                }
+                u
+            }
+            None => Prepared {
+                values: None,
+                heading_mag: None,
+                var: [0.0; 3],
+                gates: [Some(GateReason::NoData); 3],
+                sigma_ns: 0.0,
+                age_s: None,
+                rates: None,
+                held_s: 0.0,
+            },
+        };
+        let (vn, _, _) = self.prepare_vn200(t);
+        let watson = self.prepare_watson(t, &rz, mag_gate);
+        let [bahrs, vn, watson] = [bahrs, vn, watson].map(propagate);
+        let v = self.last_verdicts.unwrap_or_else(Verdicts::none);
+        let i = &v.isolation;
+        Some(AttitudeRecord {
+            kind: PROMPT_KIND,
+            t_gps_ns: t,
+            fault: v.fault,
+            isolated: v.isolated,
+            multiple_fault: v.multiple_fault,
+            magnetic_disturbance: v.magnetic_disturbance,
+            bahrs_integrity_risk: v.bahrs_integrity_risk,
+            vn200_healthy: v.vn200_healthy,
+            bahrs: unit_values(&bahrs),
+            vn200: unit_values(&vn),
+            watson: unit_values(&watson),
+            declination: v.declination,
+            pairs: v.pairs,
+            isolation: v.isolation,
+            voted: vote_units([&bahrs, &vn, &watson], [i.roll, i.pitch, i.heading]),
+            vertical: v.vertical,
+        })
+    }
+}
+
+/// A held unit's values carried forward (or back) by `held_s` with its body rates; a unit
+/// without rates keeps its values.
+fn propagate(mut u: Prepared) -> Prepared {
+    if let (Some(v), Some(r)) = (u.values, u.rates)
+        && u.held_s != 0.0
+    {
+        let e = euler_rates(r, v[0], v[1]);
+        let dt = u.held_s;
+        u.values = Some([
+            v[0] + e[0] * dt,
+            v[1] + e[1] * dt,
+            wrap_2pi(v[2] + e[2] * dt),
+        ]);
+        u.heading_mag = u.heading_mag.map(|h| wrap_2pi(h + e[2] * dt));
+    }
+    u
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attitude::synthetic::{Event, Scenario, Stream, truth};
+    use crate::magnetic::FixedDeclination;
+
+    fn checker() -> AttitudeChecker {
+        // Zero declination: magnetic and true headings are the same number.
+        let model = Box::new(FixedDeclination(Declination {
+            declination_rad: 0.0,
+            sigma_rad: 0.3 * DEG,
+            horizontal_nt: 20_000.0,
+            zone: MagneticZone::Normal,
+        }));
+        AttitudeChecker::new(CheckParams::default(), model).unwrap()
+    }
+
+    /// One sample of each unit from the synthetic stream, to edit.
+    fn samples() -> (BahrsSample, Vn200Sample, WatsonSample) {
+        let (mut b, mut v, mut w) = (None, None, None);
+        for e in Stream::new(Scenario::default()) {
+            match e {
+                Event::Bahrs(x) => b = b.or(Some(x)),
+                Event::Vn200(x) => v = v.or(Some(x)),
+                Event::Watson(x) => w = w.or(Some(x)),
+            }
+            if b.is_some() && v.is_some() && w.is_some() {
+                break;
+            }
+        }
+        (b.unwrap(), v.unwrap(), w.unwrap())
+    }
+
+    #[test]
+    fn held_units_are_carried_to_the_prompt_time_with_their_rates_and_the_median_is_voted() {
+        // Level, heading 90 deg, rolling right at 20 deg/s (body p; q = r = 0, so the Euler roll
+        // rate is p and heading and pitch stay). At t = T:
+        // - BAHRS sampled 5 ms before at 10.0 deg: 10.0 + 20 x 0.005 = 10.1 deg;
+        // - Watson sampled 45 ms before at 9.0 deg: 9.0 + 20 x 0.045 = 9.9 deg;
+        // - VN-200 sampled at T: 10.3 deg.
+        // Median of 9.9, 10.1, 10.3: the BAHRS's 10.1 deg.
+        let (mut b, mut v, mut w) = samples();
+        let t = v.t_gps_ns + 1_000_000_000;
+        let p = [20.0 * DEG, 0.0, 0.0];
+        b.t_gps_ns = t - 5_000_000;
+        (b.roll_rad, b.pitch_rad, b.heading_mag_rad) = (10.0 * DEG, 0.0, 90.0 * DEG);
+        b.rates_radps = Some(p);
+        w.t_gps_ns = t - 45_000_000;
+        (w.roll_rad, w.pitch_rad, w.heading_mag_rad) = (9.0 * DEG, 0.0, 90.0 * DEG);
+        w.rates_radps = p;
+        v.t_gps_ns = t;
+        v.attitude = from_ypr(90.0 * DEG, 0.0, 10.3 * DEG);
+        v.rates_radps = Some(p);
+        let mut c = checker();
+        c.push_watson(w);
+        c.push_bahrs(b);
+        c.push_vn200(v);
+        let r = c.prompt(t).unwrap();
+        assert_eq!((r.kind, r.t_gps_ns), (PROMPT_KIND, t));
+        let close = |x: Option<f64>, want: f64| (x.unwrap() - want).abs() < 1e-6;
+        assert!(close(r.bahrs.roll_deg, 10.1), "{:?}", r.bahrs.roll_deg);
+        assert!(close(r.watson.roll_deg, 9.9), "{:?}", r.watson.roll_deg);
+        assert!(close(r.vn200.roll_deg, 10.3), "{:?}", r.vn200.roll_deg);
+        assert!(close(r.bahrs.age_s, 0.005) && close(r.watson.age_s, 0.045));
+        assert!(close(r.vn200.age_s, 0.0));
+        for u in [&r.bahrs, &r.vn200, &r.watson] {
+            assert!(close(u.heading_deg, 90.0) && close(u.pitch_deg, 0.0));
+        }
+        let roll = r.voted.roll.unwrap();
+        assert!((roll.value_deg - 10.1).abs() < 1e-6);
+        assert_eq!(roll.selected, Some(Unit::Bahrs));
+        // No check yet: nothing compared, nothing declared.
+        assert_eq!(r.isolation.roll, Isolation::NotCompared);
+        assert_eq!(r.pairs.bahrs_vn200.roll.verdict, PairVerdict::NotCompared);
+        // Times only increase: the same time again gives nothing.
+        assert!(c.prompt(t).is_none() && c.prompt(t - 1).is_none());
+        // 0.3 s later nothing new arrived: every unit is past its staleness limit (3 periods)
+        // and gated; no vote.
+        let r = c.prompt(t + 300_000_000).unwrap();
+        assert_eq!(r.bahrs.gates.roll, Some(GateReason::Stale));
+        assert_eq!(r.watson.gates.roll, Some(GateReason::Stale));
+        assert_eq!(r.vn200.gates.roll, Some(GateReason::Stale));
+        assert!(r.voted.roll.is_none());
+    }
+
+    #[test]
+    fn prompts_follow_the_truth_and_carry_the_checks_isolation() {
+        // BAHRS roll bias ramping at 0.5 deg/s from 60 s (isolated by the check about 65 s).
+        let sc = Scenario {
+            duration_s: 80.0,
+            roll_ramp: Some((60.0, 0.5)),
+            ..Default::default()
+        };
+        let t0 = sc.t0_gps_ns;
+        let mut c = checker_with_wmm_off(sc.declination_deg);
+        let mut prompts = Vec::new();
+        let mut last_check = None;
+        for e in Stream::new(sc) {
+            let t = match e {
+                Event::Bahrs(b) => {
+                    c.push_bahrs(b);
+                    b.t_gps_ns
+                }
+                Event::Vn200(v) => {
+                    c.push_vn200(v);
+                    v.t_gps_ns
+                }
+                Event::Watson(w) => {
+                    c.push_watson(w);
+                    w.t_gps_ns
+                }
+            };
+            while let Some(r) = c.next_record() {
+                last_check = Some(r);
+            }
+            if let Some(p) = c.prompt(t) {
+                prompts.push((p, last_check.clone()));
+            }
+        }
+        assert!(
+            prompts
+                .windows(2)
+                .all(|w| w[0].0.t_gps_ns < w[1].0.t_gps_ns)
+        );
+        // Every VN-200 sample (50 Hz) gives one at least: 80 s x 50.
+        assert!(prompts.len() >= 4000, "{}", prompts.len());
+        let mut worst = [0.0f64; 3];
+        let mut isolated_seen = 0;
+        for (p, check) in &prompts {
+            let s = (p.t_gps_ns - t0) as f64 * 1e-9;
+            // The verdicts are the newest check's.
+            let check = check.as_ref();
+            assert_eq!(p.isolated, check.and_then(|c| c.isolated));
+            assert_eq!(
+                p.isolation.roll,
+                check.map_or(Isolation::NotCompared, |c| c.isolation.roll)
+            );
+            let (Some(r), Some(pi), Some(h)) = (&p.voted.roll, &p.voted.pitch, &p.voted.heading)
+            else {
+                continue;
+            };
+            if p.isolated == Some(Unit::Bahrs) {
+                isolated_seen += 1;
+                assert!(!r.used.contains(&Unit::Bahrs), "at {s} s");
+            }
+            // Against the truth, before the BAHRS fault or once the BAHRS is out of the vote.
+            if s < 60.0 || p.isolated == Some(Unit::Bahrs) {
+                let ([yaw, pitch, roll], _, _, _) = truth(s);
+                let err = [
+                    r.value_deg - roll / DEG,
+                    pi.value_deg - pitch / DEG,
+                    crate::attitude::angles::angle_diff(h.value_deg * DEG, yaw) / DEG,
+                ];
+                for (w, e) in worst.iter_mut().zip(err) {
+                    *w = w.max(e.abs());
+                }
+            }
+        }
+        assert!(isolated_seen > 500, "{isolated_seen}");
+        // Noise (1 sigma): VN-200 0.05 deg tilt and 0.2 deg heading, BAHRS 0.15 / 0.5, Watson
+        // 0.3 / 0.8 (0.1 deg steps): the median stays within a few of the middle unit's sigmas.
+        assert!(
+            worst[0] < 0.6 && worst[1] < 0.6 && worst[2] < 2.0,
+            "{worst:?}"
+        );
+    }
+
+    fn checker_with_wmm_off(decl_deg: f64) -> AttitudeChecker {
+        let model = Box::new(FixedDeclination(Declination {
+            declination_rad: decl_deg * DEG,
+            sigma_rad: 0.3 * DEG,
+            horizontal_nt: 20_000.0,
+            zone: MagneticZone::Normal,
+        }));
+        AttitudeChecker::new(CheckParams::default(), model).unwrap()
+    }
+}
