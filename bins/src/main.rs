@@ -7,6 +7,8 @@ mod demo;
 mod geometry;
 mod golden;
 mod listen;
+#[cfg(target_os = "linux")]
+mod measure;
 mod monitor_cmd;
 mod progress;
 mod record_cmd;
@@ -58,6 +60,10 @@ enum Command {
     /// Print an example configuration (`--example`) or validate one (`--check FILE`).
     #[cfg(target_os = "linux")]
     Config(service::live::ConfigArgs),
+    /// Measure `vigil run` on simulated ports: VN-200 byte to fused attitude latency at a
+    /// subscriber in another process, CPU and memory.
+    #[cfg(target_os = "linux")]
+    Measure(measure::MeasureArgs),
 }
 
 fn main() -> ExitCode {
@@ -76,6 +82,8 @@ fn main() -> ExitCode {
         Command::Run(args) => service::live::run(&args),
         #[cfg(target_os = "linux")]
         Command::Config(args) => service::live::config(&args),
+        #[cfg(target_os = "linux")]
+        Command::Measure(args) => measure::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

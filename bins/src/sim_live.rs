@@ -59,13 +59,50 @@ pub fn link_ports(dir: &Path, names: &[&str], ptys: &[Pty]) -> Result<()> {
     Ok(())
 }
 
+/// Write stamps of one device's messages (`vigil measure`): when the last byte of each of its
+/// messages has been written to the terminal.
+pub struct Stamper {
+    device: &'static str,
+    port: u16,
+    /// Bytes of the port written so far (the messages' `rx_offset` counts in the same stream).
+    written: u64,
+    /// (offset just past the message's last byte, the message's GPS time ns), in stream order.
+    pending: std::collections::VecDeque<(u64, i64)>,
+    tx: std::sync::mpsc::Sender<Stamp>,
+}
+
+/// One message's write stamp.
+#[derive(Debug, Clone, Copy)]
+pub struct Stamp {
+    /// The message's GPS time (its sample time), ns.
+    pub t_gps_ns: i64,
+    /// `CLOCK_MONOTONIC` just before the write of its last byte, ns.
+    pub written_mono_ns: u64,
+}
+
+impl Stamper {
+    /// Stamps the messages of `device` on port `port`, sending each stamp to `tx`.
+    pub fn new(device: &'static str, port: u16, tx: std::sync::mpsc::Sender<Stamp>) -> Self {
+        Self {
+            device,
+            port,
+            written: 0,
+            pending: Default::default(),
+            tx,
+        }
+    }
+}
+
 /// A sink writing chunks to the terminals at their (scaled) host times.
 pub struct LiveSink {
     ptys: Vec<Pty>,
     speed: f64,
     start: Option<(u64, Instant)>,
+    stamper: Option<Stamper>,
     /// Bytes dropped because a terminal was full (nobody reading).
     pub dropped_bytes: u64,
+    /// Chunks written (one write each).
+    pub chunks: u64,
 }
 
 impl LiveSink {
@@ -75,8 +112,16 @@ impl LiveSink {
             ptys,
             speed,
             start: None,
+            stamper: None,
             dropped_bytes: 0,
+            chunks: 0,
         }
+    }
+
+    /// Stamps the writes of one device's messages (see [`Stamper`]).
+    pub fn with_stamper(mut self, stamper: Stamper) -> Self {
+        self.stamper = Some(stamper);
+        self
     }
 }
 
@@ -97,6 +142,10 @@ impl Sink for LiveSink {
             .ptys
             .get(usize::from(chunk.port))
             .ok_or("chunk of an unknown port")?;
+        // Stamped just before the write: the bytes are in the terminal no earlier than this, and
+        // a stamp taken after could come later than the reader's reaction (2 cores).
+        let before_write = vigil_bus::clock::monotonic_ns();
+        self.chunks += 1;
         let mut rest = &chunk.bytes[..];
         while !rest.is_empty() {
             match rustix::io::write(&pty.master, rest) {
@@ -109,10 +158,33 @@ impl Sink for LiveSink {
                 Err(e) => return Err(Box::new(std::io::Error::from(e))),
             }
         }
+        if let Some(st) = self.stamper.as_mut().filter(|st| st.port == chunk.port) {
+            // Dropped bytes count too: the offsets are those of the stream the device sent.
+            st.written += chunk.bytes.len() as u64;
+            while let Some(&(end, t)) = st.pending.front() {
+                if end > st.written {
+                    break;
+                }
+                st.pending.pop_front();
+                // A receiver that has gone is no reason to stop the simulation.
+                let _ = st.tx.send(Stamp {
+                    t_gps_ns: t,
+                    written_mono_ns: before_write,
+                });
+            }
+        }
         Ok(())
     }
 
-    fn truth(&mut self, _record: &TruthRecord, _t_host_ns: u64) -> Result<(), SinkError> {
+    fn truth(&mut self, record: &TruthRecord, _t_host_ns: u64) -> Result<(), SinkError> {
+        if let Some(st) = self
+            .stamper
+            .as_mut()
+            .filter(|st| st.device == record.device)
+        {
+            let end = record.rx_offset + record.wire.len() as u64;
+            st.pending.push_back((end, record.t_gps_ns));
+        }
         Ok(())
     }
 

@@ -48,18 +48,18 @@ pub struct DemoArgs {
 const DEVICES: [&str; 4] = ["bahrs", "vn200", "watson", "ttmrf"];
 
 /// A child process that is stopped (SIGTERM, then SIGKILL after a grace period) when dropped.
-struct Guard {
+pub(crate) struct Guard {
     name: &'static str,
-    child: Child,
+    pub(crate) child: Child,
 }
 
 impl Guard {
-    fn running(&mut self) -> bool {
+    pub(crate) fn running(&mut self) -> bool {
         matches!(self.child.try_wait(), Ok(None))
     }
 
     /// SIGTERM, wait up to `grace`, then SIGKILL; returns whether it exited on its own.
-    fn stop(&mut self, grace: Duration) -> bool {
+    pub(crate) fn stop(&mut self, grace: Duration) -> bool {
         if !self.running() {
             return true;
         }
@@ -85,11 +85,11 @@ impl Drop for Guard {
 }
 
 /// The `vigil run` configuration for the simulator's terminals.
-fn run_config(prefix: &str, ports: &[(&str, PathBuf)]) -> String {
+pub(crate) fn run_config(prefix: &str, ports: &[(&str, PathBuf)]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "# Written by `vigil demo`.\n[bus]\nprefix = \"{prefix}\"\n"
+        "# Written by `vigil demo` / `vigil measure`.\n[bus]\nprefix = \"{prefix}\"\n"
     );
     for (device, path) in ports {
         let _ = writeln!(
@@ -101,7 +101,7 @@ fn run_config(prefix: &str, ports: &[(&str, PathBuf)]) -> String {
     s
 }
 
-fn spawn(name: &'static str, args: &[&str], log: &Path) -> Result<Guard> {
+pub(crate) fn spawn(name: &'static str, args: &[&str], log: &Path) -> Result<Guard> {
     let exe = std::env::current_exe().context("locating the vigil executable")?;
     let log_file =
         std::fs::File::create(log).with_context(|| format!("cannot create {}", log.display()))?;
@@ -115,7 +115,7 @@ fn spawn(name: &'static str, args: &[&str], log: &Path) -> Result<Guard> {
     Ok(Guard { name, child })
 }
 
-fn tail(path: &Path, lines: usize) -> String {
+pub(crate) fn tail(path: &Path, lines: usize) -> String {
     let text = std::fs::read_to_string(path).unwrap_or_default();
     let v: Vec<&str> = text.lines().collect();
     v[v.len().saturating_sub(lines)..].join("\n")

@@ -1,0 +1,278 @@
+//! `vigil measure`: the figures issue 10 asks of `vigil run`, measured on simulated ports.
+//!
+//! - **Latency**: from the moment the write of the last byte of a VN-200 message to its
+//!   pseudo-terminal returns, to the moment its fused attitude (the prompt output at the
+//!   message's GPS time) is received here, in another process than `vigil run`. Both stamps are
+//!   `CLOCK_MONOTONIC`, one clock for every process of the host. The path in between is the
+//!   whole service: the kernel's terminal, tokio-serial, decode, alignment, fusion, iceoryx2
+//!   publication and the event that wakes this subscriber.
+//! - **CPU and memory** of the `vigil run` process over the measured window: user + system time
+//!   from `/proc/PID/stat` divided by the wall time (percent of one core), and its resident set
+//!   (`VmRSS`, and the peak `VmHWM`) from `/proc/PID/status`.
+//!
+//! The simulator runs in this process (its writes are stamped), `vigil run` is a child process
+//! (this executable) on the terminals, with a unique bus prefix. The first `--warmup` seconds
+//! (clock locking, device set-up) are left out of every figure. The default scenario is
+//! `tests/data/full-rates.toml`: VN-200 at 400 Hz, BAHRS at 100 Hz, the Watson, and 300
+//! intruders on the TT-Multi-RF.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+use serde::Serialize;
+use vigil_bus::clock::monotonic_ns;
+use vigil_bus::payload::attitude::AttitudePayload;
+use vigil_bus::{Bus, BusConfig};
+use vigil_sim::Simulator;
+use vigil_sim::scenario::Scenario;
+
+use crate::listen::LatencyStats;
+use crate::sim_live::{LiveSink, Stamp, Stamper, link_ports, open_pty};
+
+/// The default scenario: full simulated rates.
+const FULL_RATES: &str = include_str!("../../tests/data/full-rates.toml");
+
+/// Arguments of `vigil measure`.
+#[derive(Debug, Args)]
+pub struct MeasureArgs {
+    /// Scenario (built-in name or TOML file); default: full rates (VN-200 400 Hz, BAHRS
+    /// 100 Hz, 300 intruders).
+    #[arg(long)]
+    pub scenario: Option<String>,
+    /// Measured time, s (after the warm-up).
+    #[arg(long, default_value_t = 30.0)]
+    pub duration: f64,
+    /// Time left out at the start, s.
+    #[arg(long, default_value_t = 5.0)]
+    pub warmup: f64,
+    /// Seed of the simulation.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Override the scenario's `host.max_chunk_bytes`: the largest read a simulated USB
+    /// adapter returns (reads are uniform in 1 ..= this, and end when the line goes idle). The
+    /// default 64 is a stress case: about 5 reads per VN-200 message.
+    #[arg(long)]
+    pub max_chunk_bytes: Option<u32>,
+}
+
+/// CPU time and memory of a process at one moment.
+#[derive(Debug, Clone, Copy)]
+struct ProcSample {
+    at: Instant,
+    /// User CPU time, s.
+    user_s: f64,
+    /// System (kernel) CPU time, s.
+    system_s: f64,
+    /// Resident set, kB.
+    rss_kb: u64,
+    /// Peak resident set, kB.
+    hwm_kb: u64,
+}
+
+fn proc_sample(pid: u32) -> Result<ProcSample> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat"))?;
+    // The command name (field 2) is in parentheses and may hold spaces: fields after the last
+    // ')' start at field 3 (state); utime and stime are fields 14 and 15.
+    let rest = stat
+        .rsplit_once(')')
+        .map(|x| x.1)
+        .ok_or_else(|| anyhow!("unreadable /proc/{pid}/stat"))?;
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| -> Result<f64> {
+        Ok(f.get(i)
+            .ok_or_else(|| anyhow!("short /proc/{pid}/stat"))?
+            .parse::<u64>()? as f64)
+    };
+    let hz = rustix::param::clock_ticks_per_second() as f64;
+    let (user_s, system_s) = (ticks(11)? / hz, ticks(12)? / hz);
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status"))?;
+    let kb = |key: &str| {
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|v| v.split_whitespace().next()?.parse().ok())
+            .unwrap_or(0)
+    };
+    Ok(ProcSample {
+        at: Instant::now(),
+        user_s,
+        system_s,
+        rss_kb: kb("VmRSS:"),
+        hwm_kb: kb("VmHWM:"),
+    })
+}
+
+/// What `vigil measure` prints (one JSON object).
+#[derive(Debug, Serialize)]
+pub struct Report {
+    /// Scenario simulated.
+    pub scenario: String,
+    /// Measured window, s.
+    pub window_s: f64,
+    /// VN-200 messages whose last byte was written in the window.
+    pub vn200_messages: usize,
+    /// Of those, the ones whose fused attitude was received.
+    pub matched: usize,
+    /// Latency, last byte written to fused attitude received, us.
+    pub latency: Option<LatencyStats>,
+    /// CPU of `vigil run` in the window, percent of one core (user + system).
+    pub cpu_percent_of_one_core: f64,
+    /// Of which in the kernel (reads, waits, wake-ups, notifications), percent of one core.
+    pub cpu_system_percent: f64,
+    /// Read chunks the simulator wrote to all terminals, per second (each can wake the
+    /// service: the simulated USB adapters return 1 .. `max_chunk_bytes` bytes per read).
+    pub chunks_per_s: f64,
+    /// Resident set of `vigil run` at the end, MB.
+    pub rss_mb: f64,
+    /// Its peak resident set, MB.
+    pub peak_rss_mb: f64,
+    /// Attitude payloads the subscriber missed (overflow).
+    pub missed: u64,
+}
+
+/// Runs `vigil measure`.
+pub fn run(args: &MeasureArgs) -> Result<()> {
+    if !(args.duration.is_finite() && args.duration > 0.0) {
+        bail!("--duration must be a positive number of seconds");
+    }
+    if !(args.warmup.is_finite() && args.warmup >= 0.0) {
+        bail!("--warmup must be a number of seconds, 0 or more");
+    }
+    let pid = std::process::id();
+    let dir = std::env::temp_dir().join(format!("vigil-measure-{pid}"));
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let result = measure(args, &dir, &format!("measure{pid}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let report = result?;
+    println!("{}", serde_json::to_string_pretty(&report)?);
+    Ok(())
+}
+
+fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
+    let (name, mut scenario) = match &args.scenario {
+        Some(s) => (s.clone(), crate::sim_cmd::load_scenario(s)?),
+        None => (
+            "full-rates".to_string(),
+            Scenario::from_toml(FULL_RATES).context("the built-in full-rates scenario")?,
+        ),
+    };
+    if let Some(n) = args.max_chunk_bytes {
+        scenario.host.max_chunk_bytes = n;
+    }
+    let mut sim = Simulator::new(&scenario, args.seed)?;
+    let ports = sim.ports();
+    let vn200 = ports
+        .iter()
+        .position(|p| p.device == "vn200")
+        .ok_or_else(|| anyhow!("scenario {name} has no VN-200"))?;
+    let ptys = ports
+        .iter()
+        .map(|_| open_pty())
+        .collect::<Result<Vec<_>>>()?;
+    let names: Vec<&str> = ports.iter().map(|p| p.device).collect();
+    let pty_dir = dir.join("ports");
+    link_ports(&pty_dir, &names, &ptys)?;
+    let links: Vec<(&str, PathBuf)> = names.iter().map(|d| (*d, pty_dir.join(d))).collect();
+    let config = dir.join("vigil.toml");
+    std::fs::write(&config, crate::demo::run_config(prefix, &links))?;
+    let log = dir.join("run.log");
+
+    let bus = Bus::new(&BusConfig {
+        prefix: prefix.to_string(),
+        handle_signals: true,
+        ..BusConfig::default()
+    })
+    .context("connecting to the bus")?;
+    let mut sub = bus.subscriber::<AttitudePayload>()?;
+    let mut run = crate::demo::spawn(
+        "run",
+        &["run", "--config", config.to_str().context("config path")?],
+        &log,
+    )?;
+    let run_pid = run.child.id();
+
+    // The simulator writes in its own thread, from now on, in real time.
+    let total_s = args.warmup + args.duration + 0.5;
+    let (tx, stamps) = mpsc::channel::<Stamp>();
+    let vn_port = u16::try_from(vn200)?;
+    let writer = std::thread::spawn(move || -> Result<(u64, u64)> {
+        let mut sink = LiveSink::new(ptys, 1.0).with_stamper(Stamper::new("vn200", vn_port, tx));
+        sim.run((total_s * 1e9) as i64, &mut sink)
+            .map_err(|e| anyhow!("simulation: {e}"))?;
+        Ok((sink.dropped_bytes, sink.chunks))
+    });
+
+    let start = Instant::now();
+    let warm_end = start + Duration::from_secs_f64(args.warmup);
+    let end = warm_end + Duration::from_secs_f64(args.duration);
+    let mut received: HashMap<i64, u64> = HashMap::new();
+    let mut first: Option<(ProcSample, u64)> = None;
+    let mut last = None;
+    while Instant::now() < end + Duration::from_millis(300) {
+        if !run.running() {
+            bail!("vigil run stopped:\n{}", crate::demo::tail(&log, 10));
+        }
+        if bus.termination_requested() {
+            bail!("interrupted");
+        }
+        sub.wait(Duration::from_millis(50))?;
+        while let Some(r) = sub.try_receive()? {
+            let now = monotonic_ns();
+            received.insert(r.payload().header.gps_time_ns, now);
+        }
+        let now = Instant::now();
+        if first.is_none() && now >= warm_end {
+            first = Some((proc_sample(run_pid)?, monotonic_ns()));
+        }
+        if last.is_none() && now >= end {
+            last = Some(proc_sample(run_pid)?);
+        }
+    }
+    let clean = run.stop(Duration::from_secs(5));
+    let (dropped, chunks) = writer
+        .join()
+        .map_err(|_| anyhow!("the simulator thread panicked"))??;
+    if dropped > 0 {
+        eprintln!("vigil measure: {dropped} bytes dropped by the terminals");
+    }
+    if !clean {
+        eprintln!(
+            "vigil measure: vigil run did not stop cleanly:\n{}",
+            crate::demo::tail(&log, 10)
+        );
+    }
+    let ((p0, warm_mono), p1) = first
+        .zip(last)
+        .ok_or_else(|| anyhow!("the measurement window did not complete"))?;
+    let window_s = p1.at.duration_since(p0.at).as_secs_f64();
+    let end_mono = warm_mono + (window_s * 1e9) as u64;
+    let mut latencies = Vec::new();
+    let mut messages = 0;
+    for s in stamps.try_iter() {
+        if !(warm_mono..end_mono).contains(&s.written_mono_ns) {
+            continue;
+        }
+        messages += 1;
+        if let Some(&at) = received.get(&s.t_gps_ns) {
+            latencies.push(at.saturating_sub(s.written_mono_ns));
+        }
+    }
+    Ok(Report {
+        scenario: name,
+        window_s,
+        vn200_messages: messages,
+        matched: latencies.len(),
+        latency: LatencyStats::from_ns(latencies, sub.missed()),
+        cpu_percent_of_one_core: 100.0 * (p1.user_s + p1.system_s - p0.user_s - p0.system_s)
+            / window_s.max(1e-9),
+        cpu_system_percent: 100.0 * (p1.system_s - p0.system_s) / window_s.max(1e-9),
+        chunks_per_s: chunks as f64 / total_s,
+        rss_mb: p1.rss_kb as f64 / 1024.0,
+        peak_rss_mb: p1.hwm_kb as f64 / 1024.0,
+        missed: sub.missed(),
+    })
+}
