@@ -119,6 +119,11 @@ pub struct Report {
     pub matched: usize,
     /// Latency, last byte written to fused attitude received, us.
     pub latency: Option<LatencyStats>,
+    /// Its first part, last byte written to the payload's send stamp (`header.send_mono_ns`):
+    /// the terminal, the read, decode, alignment, fusion and the publication, us.
+    pub write_to_send: Option<LatencyStats>,
+    /// Its second part, send stamp to reception: iceoryx2 and the subscriber's wake-up, us.
+    pub send_to_receive: Option<LatencyStats>,
     /// CPU of `vigil run` in the window, percent of one core (user + system).
     pub cpu_percent_of_one_core: f64,
     /// Of which in the kernel (reads, waits, wake-ups, notifications), percent of one core.
@@ -209,7 +214,8 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let start = Instant::now();
     let warm_end = start + Duration::from_secs_f64(args.warmup);
     let end = warm_end + Duration::from_secs_f64(args.duration);
-    let mut received: HashMap<i64, u64> = HashMap::new();
+    // GPS time -> (send stamp, receive time), ns.
+    let mut received: HashMap<i64, (u64, u64)> = HashMap::new();
     let mut first: Option<(ProcSample, u64)> = None;
     let mut last = None;
     while Instant::now() < end + Duration::from_millis(300) {
@@ -222,7 +228,8 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         sub.wait(Duration::from_millis(50))?;
         while let Some(r) = sub.try_receive()? {
             let now = monotonic_ns();
-            received.insert(r.payload().header.gps_time_ns, now);
+            let h = &r.payload().header;
+            received.insert(h.gps_time_ns, (h.send_mono_ns, now));
         }
         let now = Instant::now();
         if first.is_none() && now >= warm_end {
@@ -250,15 +257,18 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         .ok_or_else(|| anyhow!("the measurement window did not complete"))?;
     let window_s = p1.at.duration_since(p0.at).as_secs_f64();
     let end_mono = warm_mono + (window_s * 1e9) as u64;
-    let mut latencies = Vec::new();
+    let (mut latencies, mut first_part, mut second_part) = (Vec::new(), Vec::new(), Vec::new());
     let mut messages = 0;
     for s in stamps.try_iter() {
         if !(warm_mono..end_mono).contains(&s.written_mono_ns) {
             continue;
         }
         messages += 1;
-        if let Some(&at) = received.get(&s.t_gps_ns) {
+        if let Some(at) = received.get(&s.t_gps_ns) {
+            let (sent, at) = *at;
             latencies.push(at.saturating_sub(s.written_mono_ns));
+            first_part.push(sent.saturating_sub(s.written_mono_ns));
+            second_part.push(at.saturating_sub(sent));
         }
     }
     Ok(Report {
@@ -267,6 +277,8 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         vn200_messages: messages,
         matched: latencies.len(),
         latency: LatencyStats::from_ns(latencies, sub.missed()),
+        write_to_send: LatencyStats::from_ns(first_part, sub.missed()),
+        send_to_receive: LatencyStats::from_ns(second_part, sub.missed()),
         cpu_percent_of_one_core: 100.0 * (p1.user_s + p1.system_s - p0.user_s - p0.system_s)
             / window_s.max(1e-9),
         cpu_system_percent: 100.0 * (p1.system_s - p0.system_s) / window_s.max(1e-9),
