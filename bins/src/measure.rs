@@ -147,12 +147,7 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     if !(args.warmup.is_finite() && args.warmup >= 0.0) {
         bail!("--warmup must be a number of seconds, 0 or more");
     }
-    let pid = std::process::id();
-    let dir = std::env::temp_dir().join(format!("vigil-measure-{pid}"));
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let result = measure(args, &dir, &format!("measure{pid}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    let report = result?;
+    let report = crate::demo::in_temp_dir("measure", |dir, prefix| measure(args, dir, prefix))?;
     println!("{}", serde_json::to_string_pretty(&report)?);
     Ok(())
 }

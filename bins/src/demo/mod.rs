@@ -126,10 +126,16 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     if !(args.duration.is_finite() && args.duration > 0.0) {
         bail!("--duration must be a positive number of seconds");
     }
+    in_temp_dir("demo", |dir, prefix| demo(args, dir, prefix))
+}
+
+/// Runs `f` with a temporary directory `vigil-KIND-PID` (removed afterwards, whatever the
+/// outcome) and a bus prefix `KINDPID` unique on the host.
+pub(crate) fn in_temp_dir<T>(kind: &str, f: impl FnOnce(&Path, &str) -> Result<T>) -> Result<T> {
     let pid = std::process::id();
-    let dir = std::env::temp_dir().join(format!("vigil-demo-{pid}"));
+    let dir = std::env::temp_dir().join(format!("vigil-{kind}-{pid}"));
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let result = demo(args, &dir, &format!("demo{pid}"));
+    let result = f(&dir, &format!("{kind}{pid}"));
     let _ = std::fs::remove_dir_all(&dir);
     result
 }

@@ -60,6 +60,22 @@ struct Prepared {
     held_s: f64,
 }
 
+impl Prepared {
+    /// A unit with nothing to compare, for the reason `g`.
+    fn missing(g: GateReason) -> Self {
+        Self {
+            values: None,
+            heading_mag: None,
+            var: [0.0; 3],
+            gates: [Some(g); 3],
+            sigma_ns: 0.0,
+            age_s: None,
+            rates: None,
+            held_s: 0.0,
+        }
+    }
+}
+
 struct DeclinationCache {
     t_ns: i64,
     lat_deg: f64,
@@ -597,16 +613,7 @@ impl AttitudeChecker {
         let (prev, next) = bracket(&self.vn, t, |x| x.0.t_gps_ns);
         let none = |g: GateReason| {
             (
-                Prepared {
-                    values: None,
-                    heading_mag: None,
-                    var: [0.0; 3],
-                    gates: [Some(g); 3],
-                    sigma_ns: 0.0,
-                    age_s: None,
-                    rates: None,
-                    held_s: 0.0,
-                },
+                Prepared::missing(g),
                 false,
                 Vn200Vertical {
                     vel_down_mps: None,
@@ -710,16 +717,7 @@ impl AttitudeChecker {
         let horizon = self.horizon_ns(p.watson_period_s);
         let (prev, next) = bracket(&self.watson, t, |x| x.0.t_gps_ns);
         let Some(&(s0, f0)) = prev else {
-            return Prepared {
-                values: None,
-                heading_mag: None,
-                var: [0.0; 3],
-                gates: [Some(GateReason::NoData); 3],
-                sigma_ns: 0.0,
-                age_s: None,
-                rates: None,
-                held_s: 0.0,
-            };
+            return Prepared::missing(GateReason::NoData);
         };
         let q_of = |s: &WatsonSample| from_ypr(s.heading_mag_rad, s.pitch_rad, s.roll_rad);
         let age_ns = t.saturating_sub(s0.t_gps_ns);

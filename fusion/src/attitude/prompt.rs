@@ -128,16 +128,7 @@ impl AttitudeChecker {
                 }
                 u
             }
-            None => Prepared {
-                values: None,
-                heading_mag: None,
-                var: [0.0; 3],
-                gates: [Some(GateReason::NoData); 3],
-                sigma_ns: 0.0,
-                age_s: None,
-                rates: None,
-                held_s: 0.0,
-            },
+            None => Prepared::missing(GateReason::NoData),
         };
         let (vn, _, _) = self.prepare_vn200(t);
         let watson = self.prepare_watson(t, &rz, mag_gate);
