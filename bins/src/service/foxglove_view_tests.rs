@@ -464,3 +464,49 @@ fn foxglove_a_port_in_use_is_an_error_and_the_service_goes_on() {
     };
     assert!(super::super::live_view::start(&section).is_none());
 }
+
+#[test]
+fn foxglove_attitude_and_traffic_are_rate_limited_on_the_way_to_the_view() {
+    let mut view = FoxgloveView::start(0).unwrap();
+    let mut ws = connect(view.port(), "foxglove.sdk.v1").unwrap();
+    let channels = advertised(&mut ws, &[TOPIC_ATTITUDE, TOPIC_TRAFFIC]);
+    let sub = json!({ "op": "subscribe", "subscriptions": [
+        { "id": 1, "channelId": channels[TOPIC_ATTITUDE]["id"] },
+        { "id": 2, "channelId": channels[TOPIC_TRAFFIC]["id"] },
+    ]});
+    ws.send(Message::text(sub.to_string())).unwrap();
+    // Wait until both subscriptions are live: a payload of each passes (times far in the past,
+    // so the rate limits restart at the test's own times below).
+    let end = Instant::now() + Duration::from_secs(10);
+    let (mut att, mut tr) = (AttitudePayload::default(), TrafficPayload::default());
+    let mut probe = 0;
+    loop {
+        let before = view.queued();
+        probe += 10 * TRAFFIC_MIN_INTERVAL_NS;
+        att.header.gps_time_ns = probe;
+        tr.header.gps_time_ns = probe;
+        view.publish(&att);
+        let att_live = view.queued() > before;
+        view.publish(&tr);
+        if att_live && view.queued() == before + 2 {
+            break;
+        }
+        assert!(Instant::now() < end, "subscriptions never seen");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    // 2 s of attitude at 400 Hz (2.5 ms steps) and of traffic at 4 Hz: at most 10 Hz and
+    // 1 Hz pass, i.e. 20 attitude (t = 0, 100, ..., 1900 ms) and 2 traffic (t = 0, 1000 ms).
+    let t0 = probe + 10 * TRAFFIC_MIN_INTERVAL_NS;
+    let before = view.queued() + view.dropped();
+    for i in 0..800 {
+        att.header.gps_time_ns = t0 + i * 2_500_000;
+        view.publish(&att);
+    }
+    let attitude_passed = view.queued() + view.dropped() - before;
+    for i in 0..8 {
+        tr.header.gps_time_ns = t0 + i * 250_000_000;
+        view.publish(&tr);
+    }
+    let traffic_passed = view.queued() + view.dropped() - before - attitude_passed;
+    assert_eq!((attitude_passed, traffic_passed), (20, 2));
+}
