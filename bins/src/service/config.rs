@@ -17,6 +17,7 @@ use vigil_monitor::MonitorParams;
 use serde::{Deserialize, Serialize};
 use vigil_fusion::pipeline::{PipelineConfig, TrafficAltitudeKind};
 
+use super::live_view::LiveViewSection;
 use super::setup::{Setup, TtText, VN200_IMU_HZ};
 
 /// A configuration value that failed validation, with its key.
@@ -346,6 +347,8 @@ pub struct Config {
     pub status: StatusSection,
     /// Monitor thresholds and rule timings.
     pub monitor: MonitorParams,
+    /// Foxglove live view (cargo feature `foxglove`; see [`super::live_view`]).
+    pub live_view: LiveViewSection,
 }
 
 impl Default for Config {
@@ -364,6 +367,7 @@ impl Default for Config {
             link: LinkSection::default(),
             status: StatusSection::default(),
             monitor: MonitorParams::default(),
+            live_view: LiveViewSection::default(),
         }
     }
 }
@@ -471,10 +475,14 @@ integrity_period_s = 1.0
 
 "#;
 
-/// The commented example printed by `vigil config --example`: [`EXAMPLE`] and the monitor's own
-/// commented section; it parses to [`Config::default`].
+/// The commented example printed by `vigil config --example`: [`EXAMPLE`], the live view's and
+/// the monitor's own commented sections; it parses to [`Config::default`].
 pub fn example() -> String {
-    format!("{EXAMPLE}{}", MonitorParams::example_toml())
+    format!(
+        "{EXAMPLE}{}{}",
+        LiveViewSection::EXAMPLE,
+        MonitorParams::example_toml()
+    )
 }
 
 fn positive(key: &str, v: f64) -> Result<(), ConfigError> {
@@ -636,6 +644,7 @@ impl Config {
         }
         positive("status.period_s", self.status.period_s)?;
         positive("status.integrity_period_s", self.status.integrity_period_s)?;
+        self.live_view.validate(super::live_view::AVAILABLE)?;
         self.monitor.validate().map_err(|e| {
             invalid(
                 format!("monitor.{}", e.key),

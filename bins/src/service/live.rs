@@ -234,7 +234,11 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         lossless_wait_s: None,
     })
     .context("connecting to the bus")?;
-    let mut out = BusOutputs::new(&bus).context("creating the publishers")?;
+    // The bus, and the optional live view (off the safety path; see `live_view`).
+    let mut out = super::live_view::Tee(
+        BusOutputs::new(&bus).context("creating the publishers")?,
+        super::live_view::start(&config.live_view),
+    );
     let mut recorder = match &config.record.path {
         Some(p) => Some(open_recorder(p, &ports)?),
         None => None,
@@ -329,7 +333,7 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
                 }
             }
             _ = status.tick() => {
-                info!("status: {} | publish errors {}", service.status_line(monotonic_ns()), out.errors());
+                info!("status: {} | publish errors {}", service.status_line(monotonic_ns()), out.0.errors());
             }
             _ = &mut ctrl_c => break "SIGINT",
             _ = sigterm.recv() => break "SIGTERM",
@@ -371,7 +375,7 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         service.status_line(monotonic_ns()),
         c.chunks,
         c.bytes,
-        out.errors()
+        out.0.errors()
     );
     Ok(())
 }

@@ -12,7 +12,10 @@
 
 pub mod config;
 pub mod convert;
+#[cfg(feature = "foxglove")]
+pub mod foxglove_view;
 pub mod live;
+pub mod live_view;
 pub mod setup;
 
 use anyhow::{Result, anyhow};
