@@ -3,8 +3,10 @@
 
 mod common;
 
+use common::Guard;
+
 use std::io::{BufRead, BufReader, Read};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use vigil_bus::payload::alerts::{SEVERITY_CAUTION, STATE_CLEARED, STATE_RAISED};
@@ -18,18 +20,6 @@ fn bus(prefix: &str) -> Bus {
         ..BusConfig::default()
     })
     .unwrap()
-}
-
-/// Kills the monitor if the test fails before it ends it.
-struct Guard(Child);
-
-impl Drop for Guard {
-    fn drop(&mut self) {
-        if self.0.try_wait().ok().flatten().is_none() {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
 }
 
 /// Publishes `att` (stamped with a GPS time advancing 20 ms per sample from `*t_ns`) every 20 ms

@@ -8,7 +8,6 @@ use std::process::{Command, Stdio};
 
 use serde_json::Value;
 
-#[allow(dead_code)]
 mod common;
 
 fn replay_and_listen(prefix: &str) -> (Vec<Value>, String) {

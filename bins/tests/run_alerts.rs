@@ -4,52 +4,21 @@
 //! cross-check isolates the BAHRS at about 10 s and clears at about 18 s (persistence and
 //! hysteresis of the pairs).
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 
 use serde_json::Value;
 
-#[allow(dead_code)]
 mod common;
 
-struct Guard(Child);
-
-impl Drop for Guard {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use common::Guard;
 
 #[test]
 fn listen_alerts_sees_the_bahrs_fault_raised_and_cleared() {
     let dir = common::tmp("run_alerts", "pty");
     let prefix = format!("vigil-test-{}-run-alerts", std::process::id());
-    let mut sim = Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args([
-            "sim",
-            "--scenario",
-            "demo",
-            "--duration",
-            "40",
-            "--seed",
-            "2",
-        ])
-        .arg("--pty-dir")
-        .arg(&dir)
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("start vigil sim");
-    let mut lines = BufReader::new(sim.stdout.take().unwrap()).lines();
-    for _ in 0..4 {
-        lines.next().expect("port line").unwrap();
-    }
-    let _sim = Guard(sim);
+    let _sim = Guard(common::start_sim(&dir, "demo", "40", "2"));
     let config = common::tmp("run_alerts", "run.toml");
-    let mut text = format!("[bus]\nprefix = \"{prefix}\"\n");
-    for d in ["bahrs", "watson", "vn200", "ttmrf"] {
-        text += &format!("[[ports]]\ndevice = \"{d}\"\npath = {:?}\n", dir.join(d));
-    }
+    let mut text = common::run_config(&prefix, &dir);
     text += "[status]\nintegrity_period_s = 0.25\n";
     std::fs::write(&config, text).unwrap();
     let _run = Guard(

@@ -5,8 +5,9 @@
 
 mod common;
 
+use common::Guard;
+
 use std::io::{BufRead, BufReader};
-use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -15,40 +16,6 @@ use vigil_bus::payload::read_text;
 use vigil_bus::{
     AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, TrafficPayload,
 };
-
-fn start_sim(dir: &Path, seconds: &str) -> Child {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args([
-            "sim",
-            "--scenario",
-            "nominal",
-            "--duration",
-            seconds,
-            "--seed",
-            "5",
-        ])
-        .arg("--pty-dir")
-        .arg(dir)
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("start vigil sim");
-    // The four port lines; read them all (the simulator exits when one cannot be written).
-    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-    for _ in 0..4 {
-        lines.next().expect("port line").unwrap();
-    }
-    child
-}
-
-/// Kills the child if the test fails before it ends.
-struct Guard(Child);
-
-impl Drop for Guard {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 fn sigterm(child: &Child) {
     // The `kill` program: no signal API among the test's dependencies.
@@ -80,17 +47,12 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
     let _ = std::fs::remove_file(&mcap);
     let prefix = format!("vigil-test-{}-run-e2e", std::process::id());
     let config = common::tmp("run_e2e", "run.toml");
-    let mut text = format!(
-        "[bus]\nprefix = \"{prefix}\"\n[record]\npath = {:?}\n",
-        mcap
-    );
-    for d in ["bahrs", "watson", "vn200", "ttmrf"] {
-        text += &format!("[[ports]]\ndevice = \"{d}\"\npath = {:?}\n", dir.join(d));
-    }
+    let mut text = common::run_config(&prefix, &dir);
+    text += &format!("[record]\npath = {mcap:?}\n");
     text += "[status]\nintegrity_period_s = 0.25\n";
     std::fs::write(&config, text).unwrap();
 
-    let _sim = Guard(start_sim(&dir, "30"));
+    let _sim = Guard(common::start_sim(&dir, "nominal", "30", "5"));
     let bus = Bus::new(&BusConfig {
         prefix: prefix.clone(),
         node_name: "run-e2e-test".to_string(),
@@ -328,15 +290,11 @@ fn run_configures_the_vn200_and_ttmrf_when_asked_and_keeps_decoding() {
     let dir = common::tmp("run_setup", "pty");
     let prefix = format!("vigil-test-{}-run-setup", std::process::id());
     let config = common::tmp("run_setup", "run.toml");
-    let mut text = format!(
-        "[bus]\nprefix = \"{prefix}\"\n[configure]\nvn200_binary_outputs = true\n\
-         vn200_rate_hz = 100\nttmrf_protocol = true\nttmrf_decoded = \"json\"\n"
-    );
-    for d in ["bahrs", "watson", "vn200", "ttmrf"] {
-        text += &format!("[[ports]]\ndevice = \"{d}\"\npath = {:?}\n", dir.join(d));
-    }
+    let mut text = common::run_config(&prefix, &dir);
+    text += "[configure]\nvn200_binary_outputs = true\nvn200_rate_hz = 100\nttmrf_protocol = true\n\
+             ttmrf_decoded = \"json\"\n";
     std::fs::write(&config, text).unwrap();
-    let _sim = Guard(start_sim(&dir, "30"));
+    let _sim = Guard(common::start_sim(&dir, "nominal", "30", "5"));
     let bus = Bus::new(&BusConfig {
         prefix,
         node_name: "run-setup-test".to_string(),

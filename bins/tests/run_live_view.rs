@@ -5,8 +5,6 @@
 //! the feature, the key is refused at start.
 #![cfg(target_os = "linux")]
 
-// With the feature, only `tmp` is used.
-#[cfg_attr(feature = "foxglove", allow(dead_code))]
 mod common;
 
 #[cfg(not(feature = "foxglove"))]
@@ -36,10 +34,8 @@ fn live_view_enabled_without_the_feature_is_refused_naming_the_key() {
 #[cfg(feature = "foxglove")]
 mod with_feature {
     use std::collections::BTreeMap;
-    use std::io::{BufRead, BufReader};
     use std::net::TcpStream;
-    use std::path::Path;
-    use std::process::{Child, Command, Stdio};
+    use std::process::{Command, Stdio};
     use std::time::{Duration, Instant};
 
     use serde_json::{Value, json};
@@ -48,39 +44,7 @@ mod with_feature {
     use tungstenite::{Message, WebSocket};
     use vigil_bus::{Bus, BusConfig, OwnshipPayload};
 
-    use super::common;
-
-    struct Guard(Child);
-
-    impl Drop for Guard {
-        fn drop(&mut self) {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
-
-    fn start_sim(dir: &Path) -> Child {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
-            .args([
-                "sim",
-                "--scenario",
-                "nominal",
-                "--duration",
-                "30",
-                "--seed",
-                "5",
-            ])
-            .arg("--pty-dir")
-            .arg(dir)
-            .stdout(Stdio::piped())
-            .spawn()
-            .expect("start vigil sim");
-        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-        for _ in 0..4 {
-            lines.next().expect("port line").unwrap();
-        }
-        child
-    }
+    use super::common::{self, Guard};
 
     fn connect(port: u16, until: Instant) -> WebSocket<TcpStream> {
         loop {
@@ -129,14 +93,11 @@ mod with_feature {
             .unwrap()
             .port();
         let config = common::tmp("run_live_view", "run.toml");
-        let mut text =
-            format!("[bus]\nprefix = \"{prefix}\"\n[live_view]\nenabled = true\nport = {port}\n");
-        for d in ["bahrs", "watson", "vn200", "ttmrf"] {
-            text += &format!("[[ports]]\ndevice = \"{d}\"\npath = {:?}\n", dir.join(d));
-        }
+        let mut text = common::run_config(&prefix, &dir);
+        text += &format!("[live_view]\nenabled = true\nport = {port}\n");
         std::fs::write(&config, text).unwrap();
 
-        let _sim = Guard(start_sim(&dir));
+        let _sim = Guard(common::start_sim(&dir, "nominal", "30", "5"));
         let bus = Bus::new(&BusConfig {
             prefix,
             node_name: "live-view-test".to_string(),

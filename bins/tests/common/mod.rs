@@ -1,7 +1,11 @@
 //! Helpers shared by the `vigil` command-line tests.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+// Each test binary uses some of them.
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
 
 /// Runs the `vigil` binary under test with `args`.
 pub fn vigil(args: &[&str]) -> Output {
@@ -17,4 +21,51 @@ pub fn tmp(group: &str, name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(group);
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
+}
+
+/// Kills the child process when dropped, so a test that fails early leaves none behind.
+pub struct Guard(pub Child);
+
+impl Drop for Guard {
+    fn drop(&mut self) {
+        if self.0.try_wait().ok().flatten().is_none() {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+}
+
+/// Starts `vigil sim --pty-dir DIR` on `scenario` for `seconds` with `seed`, and reads its four
+/// port lines (all of them: the simulator stops when one cannot be written).
+pub fn start_sim(dir: &Path, scenario: &str, seconds: &str, seed: &str) -> Child {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args([
+            "sim",
+            "--scenario",
+            scenario,
+            "--duration",
+            seconds,
+            "--seed",
+            seed,
+        ])
+        .arg("--pty-dir")
+        .arg(dir)
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("start vigil sim");
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    for _ in 0..4 {
+        lines.next().expect("port line").unwrap();
+    }
+    child
+}
+
+/// The `[bus]` prefix and the four `[[ports]]` of a `vigil run` configuration for the
+/// simulator's terminals in `dir`.
+pub fn run_config(prefix: &str, dir: &Path) -> String {
+    let mut text = format!("[bus]\nprefix = \"{prefix}\"\n");
+    for d in ["bahrs", "watson", "vn200", "ttmrf"] {
+        text += &format!("[[ports]]\ndevice = \"{d}\"\npath = {:?}\n", dir.join(d));
+    }
+    text
 }
