@@ -181,7 +181,10 @@ impl Service {
     fn publish_fused(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
         let mut fused = std::mem::take(&mut self.fused);
         for f in fused.drain(..) {
-            self.last_gps = Some((f.t_gps_ns(), t_host_ns));
+            // The newest output time (a check record is older than the prompts around it).
+            if self.last_gps.is_none_or(|(t, _)| f.t_gps_ns() > t) {
+                self.last_gps = Some((f.t_gps_ns(), t_host_ns));
+            }
             match &f {
                 // With prompt outputs on, the check records reach the bus inside them (their
                 // verdicts), and the topic's times increase; without, each check is published.

@@ -22,6 +22,9 @@ use crate::attitude::angles::wrap_2pi;
 use crate::attitude::compare::euler_rates;
 use crate::attitude::vertical::{VerticalComparison, VerticalRecord};
 
+/// A prompt time this far (or further) behind the newest one starts a new timeline, ns.
+const NEW_TIMELINE_NS: i64 = 1_000_000_000;
+
 /// The parts of a check record that a prompt output repeats (all `Copy`: stored per record).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Verdicts {
@@ -109,7 +112,13 @@ impl AttitudeChecker {
     /// The record's `kind` is [`PROMPT_KIND`]; each unit's `age_s` is the time since the sample
     /// its values were propagated from.
     pub fn prompt(&mut self, t: i64) -> Option<AttitudeRecord> {
-        if self.last_prompt_ns.is_some_and(|p| t <= p) {
+        // A sample up to a second older than the newest output is late: skipped, so the times
+        // increase. A jump further back is a new timeline (a device or clock reset): followed,
+        // or the outputs would stop until the clock caught up with the old one.
+        if self
+            .last_prompt_ns
+            .is_some_and(|p| t <= p && p.saturating_sub(t) <= NEW_TIMELINE_NS)
+        {
             return None;
         }
         self.last_prompt_ns = Some(t);
@@ -248,8 +257,10 @@ mod tests {
         // No check yet: nothing compared, nothing declared.
         assert_eq!(r.isolation.roll, Isolation::NotCompared);
         assert_eq!(r.pairs.bahrs_vn200.roll.verdict, PairVerdict::NotCompared);
-        // Times only increase: the same time again gives nothing.
+        // Times only increase: the same time again, or a little older, gives nothing; a jump
+        // back by more than a second is followed (a new timeline).
         assert!(c.prompt(t).is_none() && c.prompt(t - 1).is_none());
+        assert!(c.prompt(t - 1_000_000_000).is_none());
         // 0.3 s later nothing new arrived: every unit is past its staleness limit (3 periods)
         // and gated; no vote.
         let r = c.prompt(t + 300_000_000).unwrap();
@@ -257,6 +268,8 @@ mod tests {
         assert_eq!(r.watson.gates.roll, Some(GateReason::Stale));
         assert_eq!(r.vn200.gates.roll, Some(GateReason::Stale));
         assert!(r.voted.roll.is_none());
+        let back = t + 300_000_000 - 5_000_000_000;
+        assert_eq!(c.prompt(back).map(|r| r.t_gps_ns), Some(back));
     }
 
     #[test]
