@@ -94,7 +94,8 @@ pub struct UnitAttitude {
 /// `vigil run` publishes one at every attitude sample by default (the VN-200's rate, as soon as
 /// the sample's last byte is read: the reporting unit at its own time, the others propagated
 /// to it; verdicts of the newest cross-check), or one per cross-check (per BAHRS navigation
-/// sample) with `[pipeline] attitude_output = "checks"`. Times increase in either mode.
+/// sample) with `[pipeline] attitude_output = "checks"`. Times increase in either mode (a
+/// prompt time more than 1 s behind the newest is a clock reset, and followed).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
 #[type_name("vigil.Attitude.v1")]
