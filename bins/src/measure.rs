@@ -57,6 +57,10 @@ pub struct MeasureArgs {
     /// default 64 is a stress case: about 5 reads per VN-200 message.
     #[arg(long)]
     pub max_chunk_bytes: Option<u32>,
+    /// Run `vigil run` with `[realtime] cpu_wakeup_latency_us` set to this (Linux PM QoS,
+    /// needs root; 0 keeps idle CPUs polling).
+    #[arg(long)]
+    pub cpu_wakeup_latency_us: Option<u32>,
 }
 
 /// CPU time and memory of a process at one moment.
@@ -178,7 +182,11 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     link_ports(&pty_dir, &names, &ptys)?;
     let links: Vec<(&str, PathBuf)> = names.iter().map(|d| (*d, pty_dir.join(d))).collect();
     let config = dir.join("vigil.toml");
-    std::fs::write(&config, crate::demo::run_config(prefix, &links))?;
+    let mut text = crate::demo::run_config(prefix, &links);
+    if let Some(us) = args.cpu_wakeup_latency_us {
+        text += &format!("[realtime]\ncpu_wakeup_latency_us = {us}\n");
+    }
+    std::fs::write(&config, text)?;
     let log = dir.join("run.log");
 
     let bus = Bus::new(&BusConfig {

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use vigil_fusion::pipeline::{PipelineConfig, TrafficAltitudeKind};
 
 use super::live_view::LiveViewSection;
+use super::realtime::RealtimeSection;
 use super::setup::{Setup, TtText, VN200_IMU_HZ};
 
 /// A configuration value that failed validation, with its key.
@@ -349,6 +350,8 @@ pub struct Config {
     pub monitor: MonitorParams,
     /// Foxglove live view (cargo feature `foxglove`; see [`super::live_view`]).
     pub live_view: LiveViewSection,
+    /// CPU wake-up latency (see [`super::realtime`]).
+    pub realtime: RealtimeSection,
 }
 
 impl Default for Config {
@@ -368,6 +371,7 @@ impl Default for Config {
             status: StatusSection::default(),
             monitor: MonitorParams::default(),
             live_view: LiveViewSection::default(),
+            realtime: RealtimeSection::default(),
         }
     }
 }
@@ -475,12 +479,13 @@ integrity_period_s = 1.0
 
 "#;
 
-/// The commented example printed by `vigil config --example`: [`EXAMPLE`], the live view's and
-/// the monitor's own commented sections; it parses to [`Config::default`].
+/// The commented example printed by `vigil config --example`: [`EXAMPLE`], the live view's, the
+/// real-time and the monitor's own commented sections; it parses to [`Config::default`].
 pub fn example() -> String {
     format!(
-        "{EXAMPLE}{}{}",
+        "{EXAMPLE}{}{}{}",
         LiveViewSection::EXAMPLE,
+        RealtimeSection::EXAMPLE,
         MonitorParams::example_toml()
     )
 }
@@ -645,6 +650,7 @@ impl Config {
         positive("status.period_s", self.status.period_s)?;
         positive("status.integrity_period_s", self.status.integrity_period_s)?;
         self.live_view.validate(super::live_view::AVAILABLE)?;
+        self.realtime.validate()?;
         self.monitor.validate().map_err(|e| {
             invalid(
                 format!("monitor.{}", e.key),

@@ -226,6 +226,8 @@ fn open_recorder(path: &PathBuf, ports: &[Port]) -> Result<Recorder> {
 }
 
 async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result<()> {
+    // Held (when configured) until the service ends.
+    let _wakeup_latency = config.realtime.hold();
     let mut bus = Bus::new(&BusConfig {
         prefix: config.bus.prefix.clone(),
         node_name: config.bus.node_name.clone(),

@@ -16,6 +16,7 @@ pub mod convert;
 pub mod foxglove_view;
 pub mod live;
 pub mod live_view;
+pub mod realtime;
 pub mod setup;
 
 use anyhow::{Result, anyhow};
