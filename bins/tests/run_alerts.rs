@@ -21,15 +21,7 @@ fn listen_alerts_sees_the_bahrs_fault_raised_and_cleared() {
     let mut text = common::run_config(&prefix, &dir);
     text += "[status]\nintegrity_period_s = 0.25\n";
     std::fs::write(&config, text).unwrap();
-    let _run = Guard(
-        Command::new(env!("CARGO_BIN_EXE_vigil"))
-            .args(["run", "--config"])
-            .arg(&config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start vigil run"),
-    );
+    let _run = Guard(common::spawn_run(&config, Stdio::null()));
     let listen = Command::new(env!("CARGO_BIN_EXE_vigil"))
         .args(["listen", "alerts", "--prefix", &prefix, "--duration", "24"])
         .stdout(Stdio::piped())

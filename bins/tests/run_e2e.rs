@@ -63,15 +63,7 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
     let mut ownship = bus.subscriber::<OwnshipPayload>().unwrap();
     let mut attitude = bus.subscriber::<AttitudePayload>().unwrap();
     let mut integrity = bus.subscriber::<IntegrityPayload>().unwrap();
-    let mut run = Guard(
-        Command::new(env!("CARGO_BIN_EXE_vigil"))
-            .args(["run", "--config"])
-            .arg(&config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start vigil run"),
-    );
+    let mut run = Guard(common::spawn_run(&config, Stdio::piped()));
 
     // Collect until a traffic picture holds the scenario's five intruders (the clocks lock
     // within ~2 s, the tracks form at the next 1 s steps).
@@ -302,15 +294,7 @@ fn run_configures_the_vn200_and_ttmrf_when_asked_and_keeps_decoding() {
     })
     .unwrap();
     let mut traffic = bus.subscriber::<TrafficPayload>().unwrap();
-    let mut run = Guard(
-        Command::new(env!("CARGO_BIN_EXE_vigil"))
-            .args(["run", "--config"])
-            .arg(&config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start vigil run"),
-    );
+    let mut run = Guard(common::spawn_run(&config, Stdio::piped()));
     let stderr = run.0.stderr.take().unwrap();
     let (tx, rx) = std::sync::mpsc::channel::<String>();
     std::thread::spawn(move || {

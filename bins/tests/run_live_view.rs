@@ -35,7 +35,7 @@ fn live_view_enabled_without_the_feature_is_refused_naming_the_key() {
 mod with_feature {
     use std::collections::BTreeMap;
     use std::net::TcpStream;
-    use std::process::{Command, Stdio};
+    use std::process::Stdio;
     use std::time::{Duration, Instant};
 
     use serde_json::{Value, json};
@@ -105,15 +105,7 @@ mod with_feature {
         })
         .unwrap();
         let mut bus_ownship = bus.subscriber::<OwnshipPayload>().unwrap();
-        let _run = Guard(
-            Command::new(env!("CARGO_BIN_EXE_vigil"))
-                .args(["run", "--config"])
-                .arg(&config)
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn()
-                .expect("start vigil run"),
-        );
+        let _run = Guard(common::spawn_run(&config, Stdio::null()));
 
         let deadline = Instant::now() + Duration::from_secs(20);
         let mut ws = connect(port, deadline);

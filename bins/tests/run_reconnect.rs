@@ -155,15 +155,7 @@ fn run_reconnects_a_port_that_disappears_and_comes_back() {
     })
     .unwrap();
     let mut sub = bus.subscriber::<IntegrityPayload>().unwrap();
-    let run = Guard(Some(
-        Command::new(env!("CARGO_BIN_EXE_vigil"))
-            .args(["run", "--config"])
-            .arg(&config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start vigil run"),
-    ));
+    let run = Guard(Some(common::spawn_run(&config, Stdio::null())));
 
     let before = feed_until(Some(&pty), &mut sub, "messages", |d| {
         d.link_state == LINK_OK && d.messages >= 3
@@ -215,15 +207,7 @@ fn a_killed_run_leaves_a_recording_readable_up_to_its_last_flush() {
     })
     .unwrap();
     let mut sub = bus.subscriber::<IntegrityPayload>().unwrap();
-    let mut run = Guard(Some(
-        Command::new(env!("CARGO_BIN_EXE_vigil"))
-            .args(["run", "--config"])
-            .arg(&config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start vigil run"),
-    ));
+    let mut run = Guard(Some(common::spawn_run(&config, Stdio::null())));
     // Lines for about 2.5 s: at least two flushes have happened by then.
     let first = feed_until(Some(&pty), &mut sub, "messages", |d| d.messages >= 1);
     let start = Instant::now();
@@ -279,15 +263,7 @@ fn a_killed_subscriber_does_not_disturb_run_or_other_subscribers() {
     })
     .unwrap();
     let mut sub = bus.subscriber::<IntegrityPayload>().unwrap();
-    let run = Guard(Some(
-        Command::new(env!("CARGO_BIN_EXE_vigil"))
-            .args(["run", "--config"])
-            .arg(&config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start vigil run"),
-    ));
+    let run = Guard(Some(common::spawn_run(&config, Stdio::null())));
     feed_until(Some(&pty), &mut sub, "messages", |d| d.messages >= 1);
     // A second-process subscriber (asking for more samples than will come), killed with SIGKILL
     // while subscribed: its ports stay registered until a cleanup finds the dead node.

@@ -69,3 +69,14 @@ pub fn run_config(prefix: &str, dir: &Path) -> String {
     }
     text
 }
+
+/// Starts `vigil run --config CONFIG` (stdout discarded; stderr as given).
+pub fn spawn_run(config: &Path, stderr: Stdio) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["run", "--config"])
+        .arg(config)
+        .stdout(Stdio::null())
+        .stderr(stderr)
+        .spawn()
+        .expect("start vigil run")
+}
