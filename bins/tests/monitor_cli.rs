@@ -128,25 +128,8 @@ fn monitor_raises_and_clears_the_bahrs_integrity_risk_alert() {
     );
 
     // SIGTERM ends it cleanly, with its summary line.
-    let pid = guard.0.id().to_string();
-    assert!(
-        Command::new("kill")
-            .args(["-TERM", &pid])
-            .status()
-            .unwrap()
-            .success()
-    );
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = guard.0.try_wait().unwrap() {
-            break s;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(10),
-            "no exit after SIGTERM"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    common::signal(&guard.0, "TERM");
+    let status = common::wait_exit(&mut guard.0, Duration::from_secs(10));
     let mut stderr = String::new();
     guard
         .0
@@ -197,24 +180,8 @@ fn sigint_ends_it_cleanly() {
             p = prefix
         )
     );
-    assert!(
-        Command::new("kill")
-            .args(["-INT", &guard.0.id().to_string()])
-            .status()
-            .unwrap()
-            .success()
-    );
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = guard.0.try_wait().unwrap() {
-            break s;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(10),
-            "no exit after SIGINT"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    common::signal(&guard.0, "INT");
+    let status = common::wait_exit(&mut guard.0, Duration::from_secs(10));
     let mut stderr = String::new();
     err.read_to_string(&mut stderr).unwrap();
     assert!(status.success(), "{status:?}\n{stderr}");

@@ -8,7 +8,7 @@ mod common;
 use common::Guard;
 
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use vigil_bus::payload::integrity::LINK_OK;
@@ -16,29 +16,6 @@ use vigil_bus::payload::read_text;
 use vigil_bus::{
     AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, TrafficPayload,
 };
-
-fn sigterm(child: &Child) {
-    // The `kill` program: no signal API among the test's dependencies.
-    let ok = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .expect("run kill");
-    assert!(ok.success());
-}
-
-fn wait_exit(child: &mut Child, limit: Duration) -> std::process::ExitStatus {
-    let start = Instant::now();
-    loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            return s;
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            panic!("process did not exit within {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
 
 #[test]
 fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
@@ -148,8 +125,8 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
         assert_eq!(d.link_state, LINK_OK, "{}", read_text(&d.name));
     }
 
-    sigterm(&run.0);
-    let status = wait_exit(&mut run.0, Duration::from_secs(5));
+    common::signal(&run.0, "TERM");
+    let status = common::wait_exit(&mut run.0, Duration::from_secs(5));
     let mut log = String::new();
     std::io::Read::read_to_string(run.0.stderr.as_mut().unwrap(), &mut log).unwrap();
     assert!(status.success(), "vigil run: {status}\n{log}");
@@ -339,8 +316,8 @@ fn run_configures_the_vn200_and_ttmrf_when_asked_and_keeps_decoding() {
         }
     }
     assert!(seen > 0, "no traffic after the set-up");
-    sigterm(&run.0);
-    assert!(wait_exit(&mut run.0, Duration::from_secs(5)).success());
+    common::signal(&run.0, "TERM");
+    assert!(common::wait_exit(&mut run.0, Duration::from_secs(5)).success());
 }
 
 #[test]

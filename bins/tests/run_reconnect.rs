@@ -114,17 +114,8 @@ fn stop(mut guard: Guard) {
     let Some(mut child) = guard.0.take() else {
         return;
     };
-    let _ = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(5) {
-            let _ = child.kill();
-            panic!("vigil run did not stop on SIGTERM");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    common::signal(&child, "TERM");
+    common::wait_exit(&mut child, Duration::from_secs(5));
 }
 
 #[test]

@@ -5,7 +5,8 @@
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, Command, ExitStatus, Output, Stdio};
+use std::time::{Duration, Instant};
 
 /// Runs the `vigil` binary under test with `args`.
 pub fn vigil(args: &[&str]) -> Output {
@@ -79,4 +80,29 @@ pub fn spawn_run(config: &Path, stderr: Stdio) -> Child {
         .stderr(stderr)
         .spawn()
         .expect("start vigil run")
+}
+
+/// Sends `signal` (`"TERM"`, `"INT"`, ...) to `child` with the `kill` program (no signal API
+/// among the tests' dependencies).
+pub fn signal(child: &Child, signal: &str) {
+    let ok = Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(ok.success());
+}
+
+/// Waits for `child` to exit; kills it and fails the test after `limit`.
+pub fn wait_exit(child: &mut Child, limit: Duration) -> ExitStatus {
+    let start = Instant::now();
+    loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            return s;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("process did not exit within {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
