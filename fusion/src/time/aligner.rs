@@ -173,6 +173,8 @@ struct Held {
 /// Puts the samples of every device on GPS time.
 pub struct Aligner {
     cfg: AlignerConfig,
+    /// The configuration as given (`cfg` adds the ports' read intervals to it).
+    base: AlignerConfig,
     host: HostClock,
     bahrs: BahrsAligner<(u64, bahrs::Message)>,
     vn200: Vn200Aligner,
@@ -189,6 +191,7 @@ impl Aligner {
     pub fn new(cfg: AlignerConfig) -> Self {
         Self {
             cfg,
+            base: cfg,
             host: HostClock::new(cfg.host),
             bahrs: BahrsAligner::new(cfg.bahrs),
             vn200: Vn200Aligner::new(cfg.vn200),
@@ -368,6 +371,20 @@ impl Aligner {
                 },
             })
             .collect()
+    }
+
+    /// `device`'s port is read every `interval_ns` (0: as its bytes arrive): its host-timed
+    /// samples get the wait in their delay and sigma ([`HostTimedLink::with_read_interval`]).
+    /// Only the Watson and the TT-Multi-RF are host-timed; for the BAHRS and the VN-200 the wait
+    /// is not modelled, so their ports must be read on arrival (`vigil run` refuses pacing them).
+    pub fn set_read_interval(&mut self, device: Device, interval_ns: u64) {
+        match device {
+            Device::Watson => self.cfg.watson = self.base.watson.with_read_interval(interval_ns),
+            Device::Ttmrf => {
+                self.cfg.ttmrf.link = self.base.ttmrf.link.with_read_interval(interval_ns);
+            }
+            Device::Bahrs | Device::Vn200 => {}
+        }
     }
 
     fn vn200_link(&self) -> HostTimedLink {

@@ -51,6 +51,23 @@ impl HostTimedLink {
     };
 }
 
+impl HostTimedLink {
+    /// This link read every `interval_ns` instead of as its bytes arrive (a paced port): a
+    /// message's last byte then waits between 0 and the interval before its read stamps it.
+    /// Taken as uniform, the wait adds half the interval to the output delay and
+    /// `interval / sqrt(12)` (root-sum-square) to its sigma. 0 leaves the link as it is.
+    pub fn with_read_interval(self, interval_ns: u64) -> Self {
+        let i = interval_ns as f64;
+        Self {
+            output_delay_ns: self
+                .output_delay_ns
+                .saturating_add(i64::try_from(interval_ns / 2).unwrap_or(i64::MAX)),
+            output_delay_sigma_ns: (self.output_delay_sigma_ns.powi(2) + i * i / 12.0).sqrt(),
+            ..self
+        }
+    }
+}
+
 /// GPS time of a host-timed sample, or why there is none.
 pub fn host_timed(
     host: &HostClock,
@@ -149,6 +166,57 @@ mod tests {
         );
         assert_eq!(c.time_of(15), Some(300));
         assert_eq!(c.time_of(1_000), Some(300));
+    }
+
+    #[test]
+    fn a_read_interval_adds_half_its_length_and_its_uniform_sigma() {
+        // Watson, read every 10 ms: delay 1 ms + 5 ms; sigma sqrt(0.5^2 + 10^2 / 12) ms
+        // = sqrt(0.25 + 8.3333) = 2.9297 ms.
+        let l = HostTimedLink::WATSON.with_read_interval(10 * MS as u64);
+        assert_eq!(l.output_delay_ns, 6 * MS);
+        assert!((l.output_delay_sigma_ns - 2_929_733.0).abs() < 1.0);
+        assert_eq!(l.baud, HostTimedLink::WATSON.baud);
+        assert_eq!(
+            HostTimedLink::WATSON.with_read_interval(0),
+            HostTimedLink::WATSON
+        );
+    }
+
+    #[test]
+    fn paced_watson_lines_are_unbiased_and_within_their_sigma() {
+        // As below, but each line waits uniform 0..10 ms for its read (a port drained every
+        // 10 ms): the errors average out and stay inside the stated sigma.
+        let mut host = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(11);
+        let off = 3 * S;
+        for k in 0..2_000 {
+            let gps = 500 * S + k * 10 * MS;
+            host.add(gps + off + MS / 2 + (rng.unit() * MS as f64) as i64, gps);
+        }
+        let link = HostTimedLink::WATSON.with_read_interval(10 * MS as u64);
+        let (mut sum, mut sum2, mut outside_2sigma, n) = (0.0, 0.0, 0, 500);
+        for k in 0..n {
+            let sample = 505 * S + k * 20 * MS;
+            let wait = (rng.unit() * 10.0 * MS as f64) as i64;
+            let rx = Rx {
+                host_ns: sample + off + MS + 66_666_666 + MS + wait,
+                wire_len: 64,
+            };
+            let a = host_timed(&host, rx, link).unwrap();
+            let e = (a.t_gps_ns - sample) as f64;
+            sum += e;
+            sum2 += e * e;
+            if e.abs() > 2.0 * a.sigma_ns {
+                outside_2sigma += 1;
+            }
+        }
+        let mean = sum / n as f64;
+        let sd = (sum2 / n as f64 - mean * mean).sqrt();
+        // Mean error well under the 5 ms the wait averages; spread about 10 ms / sqrt(12).
+        assert!(mean.abs() < 0.4 * MS as f64, "mean {mean}");
+        assert!((sd - 2_887_000.0).abs() < 400_000.0, "sd {sd}");
+        // A uniform error is inside 2 sigma always (its half-width is sqrt(3) sigma).
+        assert_eq!(outside_2sigma, 0);
     }
 
     #[test]
