@@ -38,6 +38,7 @@ fn replay(mcap: &[u8]) -> u64 {
             protocol,
             t_host_ns,
             bytes,
+            ..
         } => r.feed(device, protocol, t_host_ns, bytes, &mut emit),
         _ => Ok(()),
     })

@@ -55,8 +55,13 @@ pub struct MeasureArgs {
     /// Override the scenario's `host.max_chunk_bytes`: the largest read a simulated USB
     /// adapter returns (reads are uniform in 1 ..= this, and end when the line goes idle). The
     /// default 64 is a stress case: about 5 reads per VN-200 message.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "usb_packets")]
     pub max_chunk_bytes: Option<u32>,
+    /// Model the USB adapters as FTDI full-speed ones instead: reads of 62 bytes (a 64-byte
+    /// packet less its 2 status bytes) while the line is busy, and the rest when it goes idle
+    /// (the scenario's `host.full_chunks`, `host.max_chunk_bytes = 62`).
+    #[arg(long)]
+    pub usb_packets: bool,
     /// Run `vigil run` with `[realtime] cpu_wakeup_latency_us` set to this (Linux PM QoS,
     /// needs root; 0 keeps idle CPUs polling).
     #[arg(long)]
@@ -143,6 +148,9 @@ pub struct Report {
     pub missed: u64,
 }
 
+/// Data bytes of an FTDI full-speed USB packet (64 bytes, of which 2 are modem status).
+const FTDI_PACKET_DATA_BYTES: u32 = 62;
+
 /// Runs `vigil measure`.
 pub fn run(args: &MeasureArgs) -> Result<()> {
     if !(args.duration.is_finite() && args.duration > 0.0) {
@@ -166,6 +174,10 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     };
     if let Some(n) = args.max_chunk_bytes {
         scenario.host.max_chunk_bytes = n;
+    }
+    if args.usb_packets {
+        scenario.host.max_chunk_bytes = FTDI_PACKET_DATA_BYTES;
+        scenario.host.full_chunks = true;
     }
     let mut sim = Simulator::new(&scenario, args.seed)?;
     let ports = sim.ports();

@@ -109,6 +109,7 @@ pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<
             protocol,
             t_host_ns,
             bytes,
+            ..
         } = m
         else {
             return Ok(());

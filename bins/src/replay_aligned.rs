@@ -28,7 +28,7 @@ use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
 use vigil_drivers::ttmrf::raw::hex::HexDecoder;
 use vigil_drivers::vn200::Vn200Decoder;
 use vigil_drivers::{Codec, DecodeStats, DeviceDecoder};
-use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Sample};
+use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Device, Sample};
 use vigil_fusion::time::host_timed::ChunkClock;
 use vigil_fusion::time::{ClockStatus, NotAligned, TimeSource};
 use vigil_sim::record::{Recorded, read_recording};
@@ -208,6 +208,22 @@ impl AlignedReplay {
         self.align(device, samples, f)
     }
 
+    /// Port `device` (wire `protocol`) is read every `interval_ns` (0: as its bytes arrive): the
+    /// aligner adds the wait to its host-timed samples ([`Aligner::set_read_interval`]). Ports of
+    /// the BAHRS and the VN-200 are not host-timed and stay as they are.
+    pub fn set_read_interval(&mut self, device: &str, protocol: &str, interval_ns: u64) {
+        let named =
+            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
+        let kind = if named("watson") {
+            Device::Watson
+        } else if named("ttmrf") {
+            Device::Ttmrf
+        } else {
+            return;
+        };
+        self.aligner.set_read_interval(kind, interval_ns);
+    }
+
     /// The aligner (its clock models, for the live service's integrity report).
     pub fn aligner(&self) -> &Aligner {
         &self.aligner
@@ -337,10 +353,13 @@ pub fn replay_aligned_with(
             protocol,
             t_host_ns,
             bytes,
+            read_interval_ns,
         } = m
         else {
             return Ok(());
         };
+        // The live service's pacing, as it modelled it (the same for every chunk of a channel).
+        r.set_read_interval(device, protocol, read_interval_ns);
         r.feed(device, protocol, t_host_ns, bytes, &mut f)
     })?;
     let devices = r.finish(&mut f)?;

@@ -73,7 +73,10 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
     let mut ports: Vec<Port> = Vec::new();
     read_recording(mcap, |m| -> Result<()> {
         if let Recorded::Raw {
-            device, protocol, ..
+            device,
+            protocol,
+            read_interval_ns,
+            ..
         } = m
             && !ports.iter().any(|p| p.device == device)
         {
@@ -86,6 +89,7 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
                 baud: protocol.default_baud(),
                 protocol,
                 setup: None,
+                read_interval_ns,
             });
         }
         Ok(())

@@ -3,7 +3,8 @@
 //!
 //! - A message starts when it is ready and the line is free; byte `i` has fully arrived at the
 //!   adapter `(i + 1) x 10 / baud` s after the start.
-//! - The host read returns chunks of 1 ..= `max_chunk_bytes` bytes (uniform). A chunk ends early
+//! - The host read returns chunks of 1 ..= `max_chunk_bytes` bytes (uniform; with `full_chunks`,
+//!   always `max_chunk_bytes`, as a USB adapter sending full packets). A chunk ends early
 //!   when the line goes idle (a gap before the next message), as a USB adapter flushes on idle.
 //!   Its receive time is the host-clock time of its last byte plus a latency uniform in
 //!   `latency_ms +- latency_jitter_ms`, never earlier than the previous chunk of the same port.
@@ -162,7 +163,11 @@ impl Link {
                 last_done_ns: done,
             });
             if open.target == 0 {
-                open.target = self.rng.one_to(self.host.max_chunk_bytes) as usize;
+                open.target = if self.host.full_chunks {
+                    self.host.max_chunk_bytes as usize
+                } else {
+                    self.rng.one_to(self.host.max_chunk_bytes) as usize
+                };
             }
             open.bytes.push(byte);
             self.rx_bytes += 1;
@@ -253,6 +258,26 @@ mod tests {
         // t0; the host sees it 0.5 .. 1.5 ms later. Host time at t0 is 6 s (offset 5 s + 1 s).
         let last = out.last().unwrap().t_host_ns as f64 - 6.0e9;
         assert!((77.583e6..=78.584e6).contains(&last), "{last}");
+    }
+
+    #[test]
+    fn full_chunks_are_whole_packets_but_for_the_one_the_idle_line_ends() {
+        let (w, f, clock) = setup(vec![]);
+        let host = HostConfig {
+            max_chunk_bytes: 62,
+            full_chunks: true,
+            ..HostConfig::default()
+        };
+        let mut link = Link::new("vn200", 0, 921_600, &host, w.start_gps_ns, 1);
+        let mut out = Vec::new();
+        let t0 = w.start_gps_ns + 1_000_000_000;
+        // 150 bytes, then 100 bytes 2.5 ms later (the line idle in between): 62 + 62 + 26, then
+        // 62 + 38.
+        link.transmit(&emission(t0, 150), &f, &clock, &mut out);
+        link.transmit(&emission(t0 + 2_500_000, 100), &f, &clock, &mut out);
+        link.close(&clock, &mut out);
+        let sizes: Vec<usize> = out.iter().map(|c| c.bytes.len()).collect();
+        assert_eq!(sizes, [62, 62, 26, 62, 38]);
     }
 
     #[test]

@@ -43,6 +43,17 @@ impl<W: Write + Seek> RawRecorder<W> {
     /// A recorder writing to `w` with a `/<device>/raw` channel per port, given as
     /// (device, protocol, baud) in port-index order.
     pub fn new(w: W, ports: &[(&str, &str, u32)]) -> Result<Self, mcap::McapError> {
+        Self::with_read_intervals(w, ports, &[])
+    }
+
+    /// As [`RawRecorder::new`], with each port's read interval, ns (0 or absent: read as the
+    /// bytes arrive), kept as channel metadata `read_interval_ns` when not 0 so that a replay
+    /// models the wait as the live service did ([`Recorded::Raw::read_interval_ns`]).
+    pub fn with_read_intervals(
+        w: W,
+        ports: &[(&str, &str, u32)],
+        read_intervals_ns: &[u64],
+    ) -> Result<Self, mcap::McapError> {
         let mut writer = WriteOptions::new()
             .compression(None)
             .chunk_size(Some(CHUNK_BYTES))
@@ -50,12 +61,15 @@ impl<W: Write + Seek> RawRecorder<W> {
             .library("vigil")
             .create(w)?;
         let mut port_channels = Vec::with_capacity(ports.len());
-        for (device, protocol, baud) in ports {
-            let meta = BTreeMap::from([
+        for (i, (device, protocol, baud)) in ports.iter().enumerate() {
+            let mut meta = BTreeMap::from([
                 ("device".to_string(), device.to_string()),
                 ("protocol".to_string(), protocol.to_string()),
                 ("baud".to_string(), baud.to_string()),
             ]);
+            if let Some(&ns) = read_intervals_ns.get(i).filter(|&&ns| ns > 0) {
+                meta.insert("read_interval_ns".to_string(), ns.to_string());
+            }
             port_channels.push(writer.add_channel(
                 0,
                 &raw_topic(device),
@@ -257,6 +271,9 @@ pub enum Recorded<'a> {
         t_host_ns: u64,
         /// The bytes.
         bytes: &'a [u8],
+        /// How often the port was read, ns (channel metadata `read_interval_ns`); 0: as its
+        /// bytes arrived (also when absent, and when unreadable).
+        read_interval_ns: u64,
     },
     /// A truth record (JSON).
     Truth {
@@ -337,6 +354,12 @@ pub fn read_recording<E>(
                     .map_or("", |p| p.as_str()),
                 t_host_ns: m.log_time,
                 bytes: &m.data,
+                read_interval_ns: m
+                    .channel
+                    .metadata
+                    .get("read_interval_ns")
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(0),
             }
         } else {
             Recorded::Other { topic }

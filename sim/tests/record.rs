@@ -140,3 +140,36 @@ fn recorded_span_is_the_first_and_last_log_time() {
     // A truncated file has no summary: no span.
     assert_eq!(recorded_span(&bytes[..bytes.len() / 2]), None);
 }
+
+#[test]
+fn read_intervals_are_kept_per_channel_and_read_back() {
+    use vigil_sim::record::RawRecorder;
+    let ports = [
+        ("vn200", "vn200-icd", 921_600),
+        ("ttmrf", "ttmrf-text", 921_600),
+    ];
+    let mut rec =
+        RawRecorder::with_read_intervals(Cursor::new(Vec::new()), &ports, &[0, 10_000_000])
+            .unwrap();
+    rec.write_raw(0, 100, b"ab").unwrap();
+    rec.write_raw(1, 200, b"cd").unwrap();
+    let bytes = rec.finish().unwrap().into_inner();
+    let mut got = Vec::new();
+    read_recording::<()>(&bytes, |m| {
+        if let Recorded::Raw {
+            device,
+            read_interval_ns,
+            ..
+        } = m
+        {
+            got.push((device.to_string(), read_interval_ns));
+        }
+        Ok(())
+    })
+    .unwrap();
+    // 0 is not written (a recording without the key reads as "on arrival").
+    assert_eq!(
+        got,
+        [("vn200".to_string(), 0), ("ttmrf".to_string(), 10_000_000)]
+    );
+}

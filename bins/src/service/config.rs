@@ -38,6 +38,10 @@ fn invalid(key: impl Into<String>, reason: impl Into<String>) -> ConfigError {
     }
 }
 
+/// The Linux line discipline's input buffer, bytes (`N_TTY_BUF_SIZE`): what a paced port may
+/// hold between two reads before the line is throttled.
+pub const READ_BUFFER_BYTES: usize = super::reader::READ_BYTES;
+
 /// Baud rates a port may use (the standard UART rates the four devices support).
 pub const BAUD_RATES: [u32; 9] = [
     4800, 9600, 19_200, 38_400, 57_600, 115_200, 230_400, 460_800, 921_600,
@@ -106,6 +110,30 @@ impl Protocol {
         }
     }
 
+    /// How often a port of this protocol is read by default, ms; 0: as its bytes arrive.
+    /// Decision: the TT-Multi-RF's traffic is paced at 10 ms. Its ~2900 reads a second at full
+    /// rates were half of `vigil run`'s wake-ups, and traffic is published once a second; 10 ms
+    /// of waiting is 2.5 m at a 250 m/s closing speed, and the aligner adds it to the host-timed
+    /// outputs' sigma (JSON and raw HEX carry their own times). Attitude sources are read on
+    /// arrival.
+    pub const fn default_read_interval_ms(self) -> f64 {
+        match self {
+            Protocol::Bahrs | Protocol::Watson | Protocol::Vn200 => 0.0,
+            Protocol::TtmrfText
+            | Protocol::TtmrfHex
+            | Protocol::TtmrfMavlink
+            | Protocol::TtmrfGdl90
+            | Protocol::TtmrfAsterix => 10.0,
+        }
+    }
+
+    /// Whether a port of this protocol may be paced: its host-timed samples carry the wait in
+    /// their stated sigma. Not the VN-200 (the host clock's reference, and the latency-critical
+    /// attitude) nor the BAHRS (its pulse and service-message times have no such term).
+    pub const fn pacing_allowed(self) -> bool {
+        !matches!(self, Protocol::Bahrs | Protocol::Vn200)
+    }
+
     /// The protocol of a port: named explicitly, or (empty) implied by the standard device
     /// names `bahrs`, `watson`, `vn200`, `ttmrf`.
     pub fn resolve(protocol: &str, device: &str) -> Option<Protocol> {
@@ -159,6 +187,10 @@ pub struct PortConfig {
     /// Wire protocol (see [`Protocol::name`]); empty (default) infers it from the device name.
     #[serde(default)]
     pub protocol: String,
+    /// Read the port every this many ms instead of as its bytes arrive, ms; absent: the
+    /// protocol's default ([`Protocol::default_read_interval_ms`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub read_interval_ms: Option<f64>,
 }
 
 impl PortConfig {
@@ -168,6 +200,7 @@ impl PortConfig {
             path: PathBuf::from(path),
             baud: protocol.default_baud(),
             protocol: protocol.name().to_string(),
+            read_interval_ms: None,
         }
     }
 }
@@ -389,6 +422,8 @@ pub struct Port {
     pub protocol: Protocol,
     /// Device set-up to run each time the port opens.
     pub setup: Option<Setup>,
+    /// Read every this many ns (0: as the bytes arrive); see [`super::reader`].
+    pub read_interval_ns: u64,
 }
 
 /// The service's part of the example configuration (see [`example`]).
@@ -408,7 +443,9 @@ cleanup_period_s = 1.0
 # 16 bytes); path: serial device; baud: one of 4800 9600 19200 38400 57600 115200 230400 460800
 # 921600 (0: the protocol's usual rate); protocol: bahrs-2.0, watson-ahrs-e304, vn200-icd,
 # ttmrf-text, ttmrf-hex, ttmrf-mavlink, ttmrf-gdl90 or ttmrf-asterix ("" infers it from the
-# device names bahrs, watson, vn200, ttmrf).
+# device names bahrs, watson, vn200, ttmrf); read_interval_ms: read the port every this many ms
+# instead of as its bytes arrive, saving wake-ups (default 10 for ttmrf-*, 0 otherwise; not for
+# bahrs-2.0 or vn200-icd; the wait enters the host-timed samples' sigma).
 [[ports]]
 device = "bahrs"
 path = "/dev/ttyUSB0"
@@ -606,12 +643,38 @@ impl Config {
                 }
                 _ => None,
             };
+            let interval_ms = p
+                .read_interval_ms
+                .unwrap_or(protocol.default_read_interval_ms());
+            // Half the line discipline's 4 KiB buffer per interval at the port's baud rate: the
+            // rest is room for a late drain, so the line is never throttled.
+            let max_ms = READ_BUFFER_BYTES as f64 / 2.0 * 10.0 / f64::from(baud) * 1e3;
+            if !(interval_ms.is_finite() && (0.0..=max_ms).contains(&interval_ms)) {
+                return Err(invalid(
+                    key("read_interval_ms"),
+                    format!(
+                        "must be 0 to {:.1} ms at {baud} baud (2 KiB of input), got {interval_ms}",
+                        (max_ms * 10.0).floor() / 10.0
+                    ),
+                ));
+            }
+            if interval_ms > 0.0 && !protocol.pacing_allowed() {
+                return Err(invalid(
+                    key("read_interval_ms"),
+                    format!(
+                        "must be 0 for {}: it is read as its bytes arrive (its times would \
+                         carry the wait unmodelled)",
+                        protocol.name()
+                    ),
+                ));
+            }
             ports.push(Port {
                 device: p.device.clone(),
                 path: p.path.clone(),
                 baud,
                 protocol,
                 setup,
+                read_interval_ns: (interval_ms * 1e6).round() as u64,
             });
         }
         let rate = self.configure.vn200_rate_hz;
@@ -673,6 +736,49 @@ mod tests {
         assert_eq!(ports.len(), 4);
         assert_eq!(ports[1].protocol, Protocol::Watson);
         assert_eq!(ports[1].baud, 9600);
+    }
+
+    #[test]
+    fn read_intervals_default_per_protocol_and_are_validated() {
+        let ports = Config::default().validate().unwrap();
+        let ns: Vec<u64> = ports.iter().map(|p| p.read_interval_ns).collect();
+        // bahrs, watson, vn200 on arrival; the TT-Multi-RF every 10 ms.
+        assert_eq!(ns, [0, 0, 0, 10_000_000]);
+        let one = |device: &str, extra: &str| {
+            Config::parse(&format!(
+                "[[ports]]\ndevice = \"{device}\"\npath = \"/dev/x\"\n{extra}"
+            ))
+            .unwrap()
+            .validate()
+        };
+        // Watson at 9600 baud: up to 2048 x 10 / 9600 s = 2133 ms.
+        assert_eq!(
+            one("watson", "read_interval_ms = 50").unwrap()[0].read_interval_ns,
+            50_000_000
+        );
+        assert_eq!(
+            one("ttmrf", "read_interval_ms = 0").unwrap()[0].read_interval_ns,
+            0
+        );
+        // TT-Multi-RF at 921 600 baud: at most 2048 x 10 / 921600 s = 22.2 ms.
+        assert_eq!(
+            one("ttmrf", "read_interval_ms = 22").unwrap()[0].read_interval_ns,
+            22_000_000
+        );
+        let e = one("ttmrf", "read_interval_ms = 25").unwrap_err();
+        assert_eq!(e.key, "ports[0].read_interval_ms");
+        assert!(e.reason.contains("0 to 22.2 ms at 921600 baud"), "{e}");
+        let e = one("ttmrf", "read_interval_ms = -1").unwrap_err();
+        assert_eq!(e.key, "ports[0].read_interval_ms");
+        for device in ["vn200", "bahrs"] {
+            let e = one(device, "read_interval_ms = 5").unwrap_err();
+            assert_eq!(e.key, "ports[0].read_interval_ms");
+            assert!(e.reason.starts_with("must be 0 for"), "{e}");
+            assert_eq!(
+                one(device, "read_interval_ms = 0").unwrap()[0].read_interval_ns,
+                0
+            );
+        }
     }
 
     #[test]

@@ -1,24 +1,25 @@
 //! `vigil run --config FILE`: the live service on serial ports (issue 10, "bins/").
 //!
-//! One tokio task per port reads with tokio-serial and reopens the port with exponential
-//! backoff when it fails to open or disappears (the [`Service`] reports it disconnected
-//! meanwhile); a port with a configured device set-up runs it each time it opens
-//! ([`super::setup`]). Every read chunk, stamped with the host monotonic time of the read, goes over one
-//! mpsc channel to the single processing loop, so the processing order is the channel's order.
-//! The loop records the raw chunks in MCAP when configured (flushed at least once a second),
-//! feeds the [`Service`], publishes on the bus, ticks the integrity report and the monitor, logs
-//! a one-line status periodically, and stops cleanly on SIGINT or SIGTERM (recording finalised).
+//! One task per port opens it with tokio-serial, runs its configured device set-up
+//! ([`super::setup`]) and then reads it ([`super::reader`]: on arrival, or paced for ports that
+//! allow it), reopening it with exponential backoff when it fails to open or disappears (the
+//! [`Service`] reports it disconnected meanwhile). Everything runs on one thread: each read
+//! chunk, stamped with the host monotonic time of the read, goes straight from its port task into
+//! the shared [`Ctx`] (recorded in MCAP when configured, flushed at least once a second, then fed
+//! to the [`Service`]) with no queue or task switch between the read and the publication. The
+//! main loop ticks the integrity report and the monitor, logs a one-line status periodically,
+//! and stops cleanly on SIGINT or SIGTERM (recording finalised).
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
+use std::rc::Rc;
 use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use tokio::io::AsyncReadExt;
-use tokio::sync::mpsc;
 use tokio_serial::SerialPortBuilderExt;
 use tracing::{error, info, warn};
 use vigil_bus::clock::monotonic_ns;
@@ -29,7 +30,8 @@ use vigil_bus::{
 use vigil_sim::record::RawRecorder;
 
 use super::config::{Config, LinkSection, Port};
-use super::{Outputs, Service};
+use super::live_view::{Tee, View};
+use super::{Outputs, Service, reader};
 
 /// Arguments of `vigil run`.
 #[derive(Debug, Args)]
@@ -40,16 +42,6 @@ pub struct RunArgs {
     /// Stop after this many seconds (default: until SIGINT/SIGTERM).
     #[arg(long)]
     pub duration: Option<f64>,
-}
-
-/// What a port task reports.
-enum PortEvent {
-    /// The port opened.
-    Opened(usize),
-    /// A chunk read at host monotonic time (ns).
-    Chunk(usize, u64, Vec<u8>),
-    /// The port closed or failed (reason); it will be reopened.
-    Closed(usize, String),
 }
 
 /// The bus publishers of every topic: the [`Outputs`] of `vigil run` (and of anything else that
@@ -132,7 +124,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()?;
-    rt.block_on(live(config, ports, args.duration))
+    // Port tasks share the service on this one thread (see the module documentation). The main
+    // loop is a task of its own: `run_until` polls its future at every wake-up of any task, and
+    // a join handle is cheaper to poll than the loop's `select!` of seven branches.
+    let local = tokio::task::LocalSet::new();
+    local.block_on(&rt, async {
+        tokio::task::spawn_local(live(config, ports, args.duration))
+            .await
+            .context("the service task")?
+    })
 }
 
 fn secs(s: f64) -> Duration {
@@ -140,18 +140,15 @@ fn secs(s: f64) -> Duration {
 }
 
 /// Reads one port forever, reopening it with exponential backoff.
-async fn port_task(i: usize, port: Port, link: LinkSection, tx: mpsc::Sender<PortEvent>) {
+async fn port_task(i: usize, port: Port, link: LinkSection, ctx: Rc<RefCell<Ctx>>) {
     let initial = secs(link.reconnect_initial_s);
     let mut delay = initial;
-    let mut buf = vec![0u8; 4096];
     loop {
         let path = port.path.to_string_lossy().into_owned();
         match tokio_serial::new(&path, port.baud).open_native_async() {
             Ok(mut serial) => {
                 delay = initial;
-                if tx.send(PortEvent::Opened(i)).await.is_err() {
-                    return;
-                }
+                ctx.borrow_mut().opened(i);
                 if let Some(setup) = port.setup {
                     // What the device sends during the session goes to the service afterwards,
                     // each read with its own receive time.
@@ -159,40 +156,77 @@ async fn port_task(i: usize, port: Port, link: LinkSection, tx: mpsc::Sender<Por
                     let mut forward = |b: Vec<u8>| during.push((monotonic_ns(), b));
                     super::setup::run(&port.device, setup, &mut serial, &mut forward).await;
                     for (t, b) in during {
-                        if tx.send(PortEvent::Chunk(i, t, b)).await.is_err() {
-                            return;
-                        }
+                        ctx.borrow_mut().chunk(i, t, &b);
                     }
                 }
-                let reason = loop {
-                    match serial.read(&mut buf).await {
-                        Ok(0) => break "end of file".to_string(),
-                        Ok(n) => {
-                            let t = monotonic_ns();
-                            let chunk = PortEvent::Chunk(i, t, buf[..n].to_vec());
-                            if tx.send(chunk).await.is_err() {
-                                return;
-                            }
-                        }
-                        Err(e) => break e.to_string(),
+                let chunk = |t: u64, b: &[u8]| ctx.borrow_mut().chunk(i, t, b);
+                let reason = match reader::detach(serial) {
+                    Err(e) => format!("cannot take the descriptor: {e}"),
+                    Ok(file) if port.read_interval_ns > 0 => {
+                        let every = Duration::from_nanos(port.read_interval_ns);
+                        reader::read_paced(file, every, chunk).await
                     }
+                    Ok(file) => reader::read_on_arrival(file, chunk).await,
                 };
-                if tx.send(PortEvent::Closed(i, reason)).await.is_err() {
-                    return;
-                }
+                ctx.borrow_mut().closed(i, &reason);
             }
-            Err(e) => {
-                if tx
-                    .send(PortEvent::Closed(i, format!("cannot open: {e}")))
-                    .await
-                    .is_err()
-                {
-                    return;
-                }
-            }
+            Err(e) => ctx.borrow_mut().closed(i, &format!("cannot open: {e}")),
         }
         tokio::time::sleep(delay).await;
         delay = (delay * 2).min(secs(link.reconnect_max_s));
+    }
+}
+
+/// Everything the port tasks and the main loop share (one thread; borrowed only between
+/// awaits).
+struct Ctx {
+    ports: Vec<Port>,
+    service: Service,
+    out: Tee<BusOutputs, Option<View>>,
+    recorder: Option<Recorder>,
+    record_errors: u64,
+    /// Closures are logged once per port until it opens again.
+    closed_logged: Vec<bool>,
+}
+
+impl Ctx {
+    /// A chunk of port `i` read at host time `t` (ns): recorded, then processed and published.
+    fn chunk(&mut self, i: usize, t: u64, bytes: &[u8]) {
+        if let Some(rec) = &mut self.recorder
+            && let Err(e) = rec.write_raw(i as u16, t, bytes)
+        {
+            self.record_errors += 1;
+            error!("recording stopped: {e}");
+            self.recorder = None;
+        }
+        self.service.on_chunk(i, t, bytes, &mut self.out);
+    }
+
+    fn opened(&mut self, i: usize) {
+        self.service.on_link(i, true, monotonic_ns());
+        self.closed_logged[i] = false;
+        info!("port {}: open", self.ports[i].device);
+    }
+
+    fn closed(&mut self, i: usize, reason: &str) {
+        self.service.on_link(i, false, monotonic_ns());
+        if !self.closed_logged[i] {
+            warn!(
+                "port {}: {reason}; retrying with backoff",
+                self.ports[i].device
+            );
+            self.closed_logged[i] = true;
+        }
+    }
+
+    fn flush(&mut self) {
+        if let Some(rec) = &mut self.recorder
+            && let Err(e) = rec.flush()
+        {
+            self.record_errors += 1;
+            error!("recording stopped: {e}");
+            self.recorder = None;
+        }
     }
 }
 
@@ -204,7 +238,8 @@ fn open_recorder(path: &PathBuf, ports: &[Port]) -> Result<Recorder> {
         .iter()
         .map(|p| (p.device.as_str(), p.protocol.name(), p.baud))
         .collect();
-    let mut rec = RawRecorder::new(BufWriter::new(out), &specs)?;
+    let intervals: Vec<u64> = ports.iter().map(|p| p.read_interval_ns).collect();
+    let mut rec = RawRecorder::with_read_intervals(BufWriter::new(out), &specs, &intervals)?;
     rec.write_metadata(
         "vigil.run",
         BTreeMap::from([
@@ -237,38 +272,49 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
     })
     .context("connecting to the bus")?;
     // The bus, and the optional live view (off the safety path; see `live_view`).
-    let mut out = super::live_view::Tee(
+    let out = Tee(
         BusOutputs::new(&bus).context("creating the publishers")?,
         super::live_view::start(&config.live_view),
     );
-    let mut recorder = match &config.record.path {
+    let recorder = match &config.record.path {
         Some(p) => Some(open_recorder(p, &ports)?),
         None => None,
     };
-    let mut service = Service::new(
+    let service = Service::new(
         &ports,
         config.pipeline.pipeline_config(),
         config.monitor,
         config.link.silence_s,
     )?;
-    let (tx, mut rx) = mpsc::channel::<PortEvent>(1024);
+    let ctx = Rc::new(RefCell::new(Ctx {
+        ports: ports.clone(),
+        service,
+        out,
+        recorder,
+        record_errors: 0,
+        closed_logged: vec![false; ports.len()],
+    }));
     let mut tasks = Vec::new();
     for (i, p) in ports.iter().enumerate() {
+        let read = if p.read_interval_ns > 0 {
+            format!("read every {} ms", p.read_interval_ns as f64 * 1e-6)
+        } else {
+            "read on arrival".to_string()
+        };
         info!(
-            "port {}: {} at {} baud ({})",
+            "port {}: {} at {} baud ({}, {read})",
             p.device,
             p.path.display(),
             p.baud,
             p.protocol.name()
         );
-        tasks.push(tokio::spawn(port_task(
+        tasks.push(tokio::task::spawn_local(port_task(
             i,
             p.clone(),
             config.link,
-            tx.clone(),
+            ctx.clone(),
         )));
     }
-    drop(tx);
     let mut tick = tokio::time::interval(secs(config.status.integrity_period_s));
     let mut flush = tokio::time::interval(secs(config.record.flush_period_s));
     let mut status = tokio::time::interval(secs(config.status.period_s));
@@ -287,55 +333,22 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         }
     };
     tokio::pin!(until);
-    // Closures are logged once per port until it opens again.
-    let mut closed_logged = vec![false; ports.len()];
-    let mut record_errors = 0u64;
     let why = loop {
         tokio::select! {
-            ev = rx.recv() => match ev {
-                Some(PortEvent::Chunk(i, t, bytes)) => {
-                    if let Some(rec) = &mut recorder
-                        && let Err(e) = rec.write_raw(i as u16, t, &bytes)
-                    {
-                        record_errors += 1;
-                        error!("recording stopped: {e}");
-                        recorder = None;
-                    }
-                    service.on_chunk(i, t, &bytes, &mut out);
-                }
-                Some(PortEvent::Opened(i)) => {
-                    service.on_link(i, true, monotonic_ns());
-                    closed_logged[i] = false;
-                    info!("port {}: open", ports[i].device);
-                }
-                Some(PortEvent::Closed(i, reason)) => {
-                    service.on_link(i, false, monotonic_ns());
-                    if !closed_logged[i] {
-                        warn!("port {}: {reason}; retrying with backoff", ports[i].device);
-                        closed_logged[i] = true;
-                    }
-                }
-                None => break "every port task ended",
-            },
             _ = tick.tick() => {
-                service.tick(monotonic_ns(), &mut out);
+                let mut c = ctx.borrow_mut();
+                let c = &mut *c;
+                c.service.tick(monotonic_ns(), &mut c.out);
                 if let Some(r) = bus.cleanup_if_due()
                     && r.cleaned > 0
                 {
                     info!("bus: cleaned {} dead node(s)", r.cleaned);
                 }
             }
-            _ = flush.tick() => {
-                if let Some(rec) = &mut recorder
-                    && let Err(e) = rec.flush()
-                {
-                    record_errors += 1;
-                    error!("recording stopped: {e}");
-                    recorder = None;
-                }
-            }
+            _ = flush.tick() => ctx.borrow_mut().flush(),
             _ = status.tick() => {
-                info!("status: {} | publish errors {}", service.status_line(monotonic_ns()), out.0.errors());
+                let c = ctx.borrow();
+                info!("status: {} | publish errors {}", c.service.status_line(monotonic_ns()), c.out.0.errors());
             }
             _ = &mut ctrl_c => break "SIGINT",
             _ = sigterm.recv() => break "SIGTERM",
@@ -343,22 +356,12 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         }
     };
     info!("stopping ({why})");
+    // Every chunk read so far has been processed and recorded (no queue between the two).
     for t in &tasks {
         t.abort();
     }
-    // Chunks already read are processed and recorded before the recording is finalised.
-    while let Ok(ev) = rx.try_recv() {
-        if let PortEvent::Chunk(i, t, bytes) = ev {
-            if let Some(rec) = &mut recorder
-                && rec.write_raw(i as u16, t, &bytes).is_err()
-            {
-                record_errors += 1;
-                recorder = None;
-            }
-            service.on_chunk(i, t, &bytes, &mut out);
-        }
-    }
-    if let Some(rec) = recorder {
+    let mut c = ctx.borrow_mut();
+    if let Some(rec) = c.recorder.take() {
         let path = config
             .record
             .path
@@ -370,14 +373,14 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         w.flush()?;
         info!("recording finalised: {}", path.display());
     }
-    let c = service.counters();
+    let counters = *c.service.counters();
     info!(
-        "final status: {} | {} chunks, {} bytes | publish errors {} | recording errors \
-         {record_errors}",
-        service.status_line(monotonic_ns()),
-        c.chunks,
-        c.bytes,
-        out.0.errors()
+        "final status: {} | {} chunks, {} bytes | publish errors {} | recording errors {}",
+        c.service.status_line(monotonic_ns()),
+        counters.chunks,
+        counters.bytes,
+        c.out.0.errors(),
+        c.record_errors
     );
     Ok(())
 }

@@ -16,6 +16,7 @@ pub mod convert;
 pub mod foxglove_view;
 pub mod live;
 pub mod live_view;
+pub mod reader;
 pub mod realtime;
 pub mod setup;
 
@@ -100,6 +101,10 @@ impl Service {
         monitor: MonitorParams,
         silence_s: f64,
     ) -> Result<Self> {
+        let mut replay = AlignedReplay::new();
+        for p in ports {
+            replay.set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
+        }
         Ok(Self {
             ports: ports
                 .iter()
@@ -114,7 +119,7 @@ impl Service {
                     last_message_host_ns: None,
                 })
                 .collect(),
-            replay: AlignedReplay::new(),
+            replay,
             pipeline: Pipeline::new(pipeline, Box::new(Wmm))
                 .map_err(|e| anyhow!("pipeline parameters: {e}"))?,
             monitor: Monitor::new(monitor),

@@ -32,6 +32,7 @@ fn service_with(sink: &MemorySink, pipeline: PipelineConfig) -> Service {
             baud: p.baud,
             protocol: Protocol::resolve(p.protocol, p.device).unwrap(),
             setup: None,
+            read_interval_ns: 0,
         })
         .collect();
     Service::new(&ports, pipeline, MonitorParams::default(), 2.0).unwrap()

@@ -304,8 +304,13 @@ pub struct HostConfig {
     pub latency_ms: f64,
     /// Half-width of the uniform latency spread, ms (latency is uniform in mean +- this).
     pub latency_jitter_ms: f64,
-    /// Largest chunk a host read returns, bytes (chunks are uniform in 1 ..= this).
+    /// Largest chunk a host read returns, bytes (chunks are uniform in 1 ..= this, unless
+    /// `full_chunks`).
     pub max_chunk_bytes: u32,
+    /// Every chunk is `max_chunk_bytes` long, but for the one the line's going idle ends: a
+    /// USB-serial adapter that sends a packet as soon as it is full (an FTDI full-speed one:
+    /// 62 data bytes per 64-byte packet), instead of the default uniform stress case.
+    pub full_chunks: bool,
     /// Largest host monotonic clock drift against GPS time, ppm (drawn within +-this).
     pub clock_drift_ppm_max: f64,
 }
@@ -316,6 +321,7 @@ impl Default for HostConfig {
             latency_ms: 1.0,
             latency_jitter_ms: 0.5,
             max_chunk_bytes: 64,
+            full_chunks: false,
             clock_drift_ppm_max: 10.0,
         }
     }

@@ -1,0 +1,228 @@
+//! Reading an open serial port after its set-up: every byte once, as few wake-ups as possible.
+//!
+//! A port is opened and set up with tokio-serial ([`super::setup`] needs its async reads, writes
+//! and baud changes); then its descriptor is detached ([`detach`]) and read here in one of two
+//! ways:
+//!
+//! - **On arrival** ([`read_on_arrival`]), for the latency-critical ports (the VN-200 always):
+//!   each readiness event gives one `read(2)`. A read shorter than the buffer has emptied the
+//!   line discipline (`n_tty_read` copies everything available and flushes the pending receive
+//!   work first), so the readiness is cleared at once instead of learning it from a second read
+//!   that fails with `EAGAIN`: one system call per chunk instead of two. Clearing is safe against
+//!   a racing arrival: tokio clears only if no newer readiness event was seen, and a byte that
+//!   arrives after the read raises a new edge-triggered epoll event anyway.
+//! - **Paced** ([`read_paced`]), for ports whose samples tolerate a bounded wait (the TT-Multi-RF
+//!   by default): the descriptor is not registered with epoll at all, so arriving bytes wake
+//!   nobody, and it is drained every `interval`. At full rates this removes the TT-Multi-RF's
+//!   ~2900 wake-ups a second. Each chunk is stamped with the drain time; the aligner adds the
+//!   wait (uniform over the interval) to the host-timed samples' delay and sigma
+//!   ([`vigil_fusion::time::host_timed::HostTimedLink::with_read_interval`]).
+
+use std::fs::File;
+use std::io::{ErrorKind, Read};
+use std::os::fd::AsFd;
+use std::time::Duration;
+
+use tokio::io::Interest;
+use tokio::io::unix::AsyncFd;
+use tokio_serial::SerialStream;
+use vigil_bus::clock::monotonic_ns;
+
+/// Largest read, bytes: the Linux line discipline's whole buffer (`N_TTY_BUF_SIZE`).
+pub const READ_BYTES: usize = 4096;
+
+/// The port's descriptor, taken from its tokio-serial stream (which is dropped: it deregisters
+/// its own descriptor from epoll and closes it; the duplicate keeps the line open, so its
+/// settings, baud rate included, stay and nothing is hung up). The stream's exclusive-use flag
+/// (`TIOCEXCL`), which its drop releases, is set again on the duplicate.
+pub fn detach(serial: SerialStream) -> std::io::Result<File> {
+    let fd = {
+        use std::os::fd::AsRawFd;
+        let raw = serial.as_raw_fd();
+        // SAFETY: `raw` is the stream's open descriptor and the stream outlives this borrow,
+        // which only duplicates it (tokio-serial offers no `AsFd`).
+        let borrowed = unsafe { std::os::fd::BorrowedFd::borrow_raw(raw) };
+        borrowed.try_clone_to_owned()?
+    };
+    drop(serial);
+    // Best effort, like tokio-serial's own: a device that refuses it is still read.
+    let _ = rustix::termios::ioctl_tiocexcl(fd.as_fd());
+    Ok(File::from(fd))
+}
+
+/// Reads `file` as its bytes arrive, handing each chunk with its host monotonic read time (ns)
+/// to `chunk`, until the port fails or ends; returns why.
+pub async fn read_on_arrival(file: File, mut chunk: impl FnMut(u64, &[u8])) -> String {
+    // SAFETY: the `File` owns its open descriptor and is moved into the `AsyncFd`, which keeps
+    // it (same descriptor, same open file description) until it is dropped.
+    let afd = match unsafe { AsyncFd::register_with_interest(file, Interest::READABLE) } {
+        Ok(a) => a,
+        Err(e) => return format!("cannot poll: {e}"),
+    };
+    let mut buf = vec![0u8; READ_BYTES];
+    loop {
+        let mut guard = match afd.readable().await {
+            Ok(g) => g,
+            Err(e) => return e.to_string(),
+        };
+        match guard.try_io(|f| f.get_ref().read(&mut buf)) {
+            Ok(Ok(0)) => return "end of file".to_string(),
+            Ok(Ok(n)) => {
+                let t = monotonic_ns();
+                if n < buf.len() {
+                    // Drained (see the module documentation).
+                    guard.clear_ready();
+                }
+                chunk(t, &buf[..n]);
+            }
+            Ok(Err(e)) if e.kind() == ErrorKind::Interrupted => {}
+            Ok(Err(e)) => return e.to_string(),
+            // Would block: `try_io` cleared the readiness; wait for the next event.
+            Err(_) => {}
+        }
+    }
+}
+
+/// Drains `file` every `interval` (see the module documentation), handing each chunk with its
+/// host monotonic read time (ns) to `chunk`, until the port fails or ends; returns why.
+pub async fn read_paced(
+    mut file: File,
+    interval: Duration,
+    mut chunk: impl FnMut(u64, &[u8]),
+) -> String {
+    let mut tick = tokio::time::interval(interval);
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut buf = vec![0u8; READ_BYTES];
+    loop {
+        tick.tick().await;
+        loop {
+            match file.read(&mut buf) {
+                Ok(0) => return "end of file".to_string(),
+                Ok(n) => {
+                    chunk(monotonic_ns(), &buf[..n]);
+                    if n < buf.len() {
+                        break;
+                    }
+                }
+                Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == ErrorKind::Interrupted => {}
+                Err(e) => return e.to_string(),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+    use std::os::fd::OwnedFd;
+
+    /// A pseudo-terminal pair: (master, slave opened as a raw, non-blocking serial port).
+    fn pty() -> (File, SerialStream) {
+        use rustix::fs::{Mode, OFlags};
+        use rustix::pty::{OpenptFlags, grantpt, openpt, ptsname, unlockpt};
+        let master: OwnedFd =
+            openpt(OpenptFlags::RDWR | OpenptFlags::NOCTTY | OpenptFlags::CLOEXEC).unwrap();
+        grantpt(&master).unwrap();
+        unlockpt(&master).unwrap();
+        let name = ptsname(&master, Vec::new()).unwrap();
+        let path = name.to_string_lossy().into_owned();
+        let _ = rustix::fs::open(&path, OFlags::RDWR | OFlags::NOCTTY, Mode::empty());
+        let serial = tokio_serial::SerialPortBuilderExt::open_native_async(tokio_serial::new(
+            &path, 115_200,
+        ))
+        .unwrap();
+        (File::from(master), serial)
+    }
+
+    fn rt() -> tokio::runtime::Runtime {
+        tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap()
+    }
+
+    /// The bytes written in pieces, with pauses, come back whole and in order, and the readers
+    /// end with the reason when the other side closes.
+    fn round_trip(paced: Option<Duration>) -> (Vec<u8>, usize, String) {
+        rt().block_on(async {
+            let (mut master, serial) = pty();
+            let file = detach(serial).unwrap();
+            // 10 000 bytes in 1..=700-byte writes (more than one read buffer at times).
+            let data: Vec<u8> = (0..10_000u32).map(|i| (i * 7 + i / 13) as u8).collect();
+            let expected = data.clone();
+            let writer = tokio::spawn(async move {
+                let mut at = 0;
+                let mut k = 1usize;
+                while at < data.len() {
+                    let n = (k * 97 % 700 + 1).min(data.len() - at);
+                    master.write_all(&data[at..at + n]).unwrap();
+                    at += n;
+                    k += 1;
+                    tokio::time::sleep(Duration::from_micros(300)).await;
+                }
+                tokio::time::sleep(Duration::from_millis(50)).await;
+                drop(master);
+            });
+            let mut got = Vec::new();
+            let mut chunks = 0;
+            let mut last_t = 0;
+            let push = |t: u64, b: &[u8]| {
+                assert!(t >= last_t, "read times go forward");
+                last_t = t;
+                got.extend_from_slice(b);
+                chunks += 1;
+            };
+            let why = match paced {
+                Some(d) => read_paced(file, d, push).await,
+                None => read_on_arrival(file, push).await,
+            };
+            writer.await.unwrap();
+            assert_eq!(got.len(), expected.len());
+            assert!(got == expected, "bytes differ");
+            (got, chunks, why)
+        })
+    }
+
+    #[test]
+    fn on_arrival_reads_every_byte_in_order_then_reports_the_hang_up() {
+        let (_, chunks, why) = round_trip(None);
+        assert!(chunks > 1);
+        // A pty slave whose master closed reads EIO (some kernels: end of file).
+        assert!(
+            why.contains("Input/output error") || why == "end of file",
+            "{why}"
+        );
+    }
+
+    #[test]
+    fn paced_reads_every_byte_in_order_in_fewer_chunks() {
+        let (_, arrival_chunks, _) = round_trip(None);
+        let (_, paced_chunks, why) = round_trip(Some(Duration::from_millis(20)));
+        // ~130 writes over ~60 ms (with sleeps of at least 0.3 ms): drains every 20 ms
+        // take several writes each.
+        assert!(
+            paced_chunks < arrival_chunks,
+            "paced {paced_chunks} vs on arrival {arrival_chunks}"
+        );
+        assert!(
+            why.contains("Input/output error") || why == "end of file",
+            "{why}"
+        );
+    }
+
+    #[test]
+    fn a_detached_port_keeps_its_line_open() {
+        // (Its TIOCEXCL is not checked here: root, as in CI, opens an exclusive tty anyway.)
+        rt().block_on(async {
+            let (mut master, serial) = pty();
+            let file = detach(serial).unwrap();
+            master.write_all(b"abc").unwrap();
+            let mut got = Vec::new();
+            let reader = read_on_arrival(file, |_, b| got.extend_from_slice(b));
+            let _ = tokio::time::timeout(Duration::from_millis(200), reader).await;
+            assert_eq!(got, b"abc");
+        });
+    }
+}
