@@ -106,19 +106,22 @@ impl Verdicts {
 }
 
 impl AttitudeChecker {
-    /// The voted attitude at GPS time `t` (ns), the time of the attitude sample just pushed, with
+    /// The voted attitude at GPS time `t` (ns), the time of the attitude sample just pushed (by
+    /// unit `from`), with
     /// the verdicts of the newest check record (see the module documentation). `None` when `t`
     /// is not later than the previous prompt output's time, so the outputs' times increase.
     /// The record's `kind` is [`PROMPT_KIND`]; each unit's `age_s` is the time since the sample
     /// its values were propagated from.
-    pub fn prompt(&mut self, t: i64) -> Option<AttitudeRecord> {
+    pub fn prompt(&mut self, t: i64, from: Unit) -> Option<AttitudeRecord> {
         // A sample up to a second older than the newest output is late: skipped, so the times
-        // increase. A jump further back is a new timeline (a device or clock reset): followed,
-        // or the outputs would stop until the clock caught up with the old one.
-        if self
-            .last_prompt_ns
-            .is_some_and(|p| t <= p && p.saturating_sub(t) <= NEW_TIMELINE_NS)
-        {
+        // increase. A VN-200 sample further back is a new timeline (a device or clock reset):
+        // followed, or the outputs would stop until the clock caught up with the old one. Only
+        // the VN-200, the GPS time reference, starts one: an older BAHRS or Watson sample is one
+        // that waited (for its clock model, for a paced read) and is skipped, however old, or
+        // the topic would jump back and replay a burst of stale outputs.
+        if self.last_prompt_ns.is_some_and(|p| {
+            t <= p && (from != Unit::Vn200 || p.saturating_sub(t) <= NEW_TIMELINE_NS)
+        }) {
             return None;
         }
         self.last_prompt_ns = Some(t);
@@ -240,7 +243,7 @@ mod tests {
         c.push_watson(w);
         c.push_bahrs(b);
         c.push_vn200(v);
-        let r = c.prompt(t).unwrap();
+        let r = c.prompt(t, Unit::Bahrs).unwrap();
         assert_eq!((r.kind, r.t_gps_ns), (PROMPT_KIND, t));
         let close = |x: Option<f64>, want: f64| (x.unwrap() - want).abs() < 1e-6;
         assert!(close(r.bahrs.roll_deg, 10.1), "{:?}", r.bahrs.roll_deg);
@@ -258,18 +261,21 @@ mod tests {
         assert_eq!(r.isolation.roll, Isolation::NotCompared);
         assert_eq!(r.pairs.bahrs_vn200.roll.verdict, PairVerdict::NotCompared);
         // Times only increase: the same time again, or a little older, gives nothing; a jump
-        // back by more than a second is followed (a new timeline).
-        assert!(c.prompt(t).is_none() && c.prompt(t - 1).is_none());
-        assert!(c.prompt(t - 1_000_000_000).is_none());
+        // back by more than a second is followed (a new timeline) when the VN-200 makes it.
+        assert!(c.prompt(t, Unit::Vn200).is_none() && c.prompt(t - 1, Unit::Vn200).is_none());
+        assert!(c.prompt(t - 1_000_000_000, Unit::Vn200).is_none());
         // 0.3 s later nothing new arrived: every unit is past its staleness limit (3 periods)
         // and gated; no vote.
-        let r = c.prompt(t + 300_000_000).unwrap();
+        let r = c.prompt(t + 300_000_000, Unit::Watson).unwrap();
         assert_eq!(r.bahrs.gates.roll, Some(GateReason::Stale));
         assert_eq!(r.watson.gates.roll, Some(GateReason::Stale));
         assert_eq!(r.vn200.gates.roll, Some(GateReason::Stale));
         assert!(r.voted.roll.is_none());
         let back = t + 300_000_000 - 5_000_000_000;
-        assert_eq!(c.prompt(back).map(|r| r.t_gps_ns), Some(back));
+        // A BAHRS or Watson sample that old waited somewhere: skipped, not a new timeline.
+        assert!(c.prompt(back, Unit::Bahrs).is_none());
+        assert!(c.prompt(back, Unit::Watson).is_none());
+        assert_eq!(c.prompt(back, Unit::Vn200).map(|r| r.t_gps_ns), Some(back));
     }
 
     #[test]
@@ -285,24 +291,24 @@ mod tests {
         let mut prompts = Vec::new();
         let mut last_check = None;
         for e in Stream::new(sc) {
-            let t = match e {
+            let (t, from) = match e {
                 Event::Bahrs(b) => {
                     c.push_bahrs(b);
-                    b.t_gps_ns
+                    (b.t_gps_ns, Unit::Bahrs)
                 }
                 Event::Vn200(v) => {
                     c.push_vn200(v);
-                    v.t_gps_ns
+                    (v.t_gps_ns, Unit::Vn200)
                 }
                 Event::Watson(w) => {
                     c.push_watson(w);
-                    w.t_gps_ns
+                    (w.t_gps_ns, Unit::Watson)
                 }
             };
             while let Some(r) = c.next_record() {
                 last_check = Some(r);
             }
-            if let Some(p) = c.prompt(t) {
+            if let Some(p) = c.prompt(t, from) {
                 prompts.push((p, last_check.clone()));
             }
         }

@@ -33,6 +33,7 @@ use vigil_drivers::ttmrf::text::TextMessage;
 use vigil_drivers::vn200::Vn200Message;
 
 use crate::attitude::checker::AttitudeChecker;
+use crate::attitude::isolation::Unit;
 use crate::attitude::params::{CheckParams, ParamError};
 use crate::attitude::record::AttitudeRecord;
 use crate::attitude::samples::{BahrsSample, Vn200Sample, WatsonSample};
@@ -240,7 +241,8 @@ impl Pipeline {
         // After the checks this sample completed, so the prompt carries their verdicts.
         if attitude
             && self.cfg.prompt_attitude
-            && let Some(r) = self.checker.prompt(time.t_gps_ns)
+            && let Some(unit) = attitude_unit(s.device)
+            && let Some(r) = self.checker.prompt(time.t_gps_ns, unit)
         {
             out.push(Fused::Prompt(Box::new(r)));
         }
@@ -404,6 +406,16 @@ impl Pipeline {
     fn report(&mut self, t: i64, r: &TrafficReport) {
         self.reports += 1;
         self.tracks.update(t, r);
+    }
+}
+
+/// The attitude unit a device's samples come from (none for the TT-Multi-RF).
+fn attitude_unit(d: Device) -> Option<Unit> {
+    match d {
+        Device::Bahrs => Some(Unit::Bahrs),
+        Device::Vn200 => Some(Unit::Vn200),
+        Device::Watson => Some(Unit::Watson),
+        Device::Ttmrf => None,
     }
 }
 
