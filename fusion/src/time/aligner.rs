@@ -375,15 +375,17 @@ impl Aligner {
 
     /// `device`'s port is read every `interval_ns` (0: as its bytes arrive): its host-timed
     /// samples get the wait in their delay and sigma ([`HostTimedLink::with_read_interval`]).
-    /// Only the Watson and the TT-Multi-RF are host-timed; for the BAHRS and the VN-200 the wait
-    /// is not modelled, so their ports must be read on arrival (`vigil run` refuses pacing them).
+    /// For the BAHRS only its host-timed messages feel it
+    /// ([`BahrsAligner::set_read_interval`]). The VN-200 is the host clock's reference: its
+    /// wait is not modelled, so its port must be read on arrival (`vigil run` refuses pacing it).
     pub fn set_read_interval(&mut self, device: Device, interval_ns: u64) {
         match device {
+            Device::Bahrs => self.bahrs.set_read_interval(interval_ns),
             Device::Watson => self.cfg.watson = self.base.watson.with_read_interval(interval_ns),
             Device::Ttmrf => {
                 self.cfg.ttmrf.link = self.base.ttmrf.link.with_read_interval(interval_ns);
             }
-            Device::Bahrs | Device::Vn200 => {}
+            Device::Vn200 => {}
         }
     }
 

@@ -119,6 +119,8 @@ pub struct BahrsAligner<T = Message> {
     waiting: VecDeque<Waiting<T>>,
     stats: BahrsAlignerStats,
     last_pulse_source: Option<PulseSecondSource>,
+    /// How often the port is read, ns (0: as the bytes arrive); see [`Self::set_read_interval`].
+    read_interval_ns: u64,
 }
 
 impl<T: BahrsSample> BahrsAligner<T> {
@@ -133,7 +135,17 @@ impl<T: BahrsSample> BahrsAligner<T> {
             waiting: VecDeque::with_capacity(WAIT_CAPACITY),
             stats: BahrsAlignerStats::default(),
             last_pulse_source: None,
+            read_interval_ns: 0,
         }
+    }
+
+    /// The port is read every `interval_ns` (0: as its bytes arrive). Only the host-timed
+    /// messages (versions, service) feel it: their receive time is late by a wait uniform over
+    /// the interval, so half of it is taken off their time and `interval / sqrt(12)` added
+    /// (root-sum-square) to their sigma. The timed samples come from the MCU clock, and the
+    /// pulses' seconds are named to +-0.5 s, far beyond any allowed interval.
+    pub fn set_read_interval(&mut self, interval_ns: u64) {
+        self.read_interval_ns = interval_ns;
     }
 
     /// Where the GPS time of the latest identified pulse came from.
@@ -376,11 +388,16 @@ impl<T: BahrsSample> BahrsAligner<T> {
 
     /// A message without device time, placed by the host clock (its transmission time removed).
     fn host_timed(&self, msg: T, host_ns: i64, host: &HostClock) -> Aligned<T> {
+        let wait = self.read_interval_ns as f64;
+        let mean_wait_ns = i64::try_from(self.read_interval_ns / 2).unwrap_or(i64::MAX);
         let time = host
             .to_gps(host_ns)
             .map(|(t, sigma)| AlignedTime {
-                t_gps_ns: t - self.tx_ns(msg.bahrs().type_id()),
-                sigma_ns: (sigma.powi(2) + SERVICE_QUEUE_SIGMA_NS.powi(2)).sqrt(),
+                t_gps_ns: t
+                    .saturating_sub(self.tx_ns(msg.bahrs().type_id()))
+                    .saturating_sub(mean_wait_ns),
+                sigma_ns: (sigma.powi(2) + SERVICE_QUEUE_SIGMA_NS.powi(2) + wait * wait / 12.0)
+                    .sqrt(),
                 source: TimeSource::HostClock,
                 status: host.status(host_ns),
             })
@@ -537,6 +554,34 @@ mod tests {
             errors[errors.len() * 99 / 100],
             within_2s as f64 / errors.len() as f64,
         )
+    }
+
+    #[test]
+    fn a_read_interval_moves_and_widens_only_the_host_timed_messages() {
+        // A host clock 5 s ahead of GPS (references with 0.5..1.5 ms of delay).
+        let mut host = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(5);
+        for k in 0..1_000 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + 5 * S + MS / 2 + (rng.unit() * MS as f64) as i64, gps);
+        }
+        let refs = PpsReferences::new();
+        let at = G0 + 9 * S + 5 * S;
+        let ack = Message::Ack(vigil_drivers::bahrs::Ack {
+            acked_type: 0x10,
+            status: 0,
+        });
+        let place = |interval_ns: u64| {
+            let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+            al.set_read_interval(interval_ns);
+            let out = al.handle(ack, at, &host, &refs);
+            out[0].time.unwrap()
+        };
+        let (on_arrival, paced) = (place(0), place(10 * MS as u64));
+        // Read every 10 ms: 5 ms earlier; sigma grows by 10 ms / sqrt(12) = 2.887 ms (rss).
+        assert_eq!(on_arrival.t_gps_ns - paced.t_gps_ns, 5 * MS);
+        let added = (paced.sigma_ns.powi(2) - on_arrival.sigma_ns.powi(2)).sqrt();
+        assert!((added - 2_886_751.0).abs() < 1.0, "{added}");
     }
 
     #[test]
