@@ -62,6 +62,10 @@ pub struct MeasureArgs {
     /// (the scenario's `host.full_chunks`, `host.max_chunk_bytes = 62`).
     #[arg(long)]
     pub usb_packets: bool,
+    /// A port's `read_interval_ms` for `vigil run`, as DEVICE=MS (repeatable; e.g. bahrs=0 reads
+    /// the BAHRS on arrival). Ports not named keep their protocol's default.
+    #[arg(long = "read-interval-ms", value_name = "DEVICE=MS", value_parser = parse_interval)]
+    pub read_interval_ms: Vec<(String, f64)>,
     /// Run `vigil run` with `[realtime] cpu_wakeup_latency_us` set to this (Linux PM QoS,
     /// needs root; 0 keeps idle CPUs polling).
     #[arg(long)]
@@ -148,6 +152,17 @@ pub struct Report {
     pub missed: u64,
 }
 
+/// Parses DEVICE=MS.
+fn parse_interval(s: &str) -> Result<(String, f64), String> {
+    let (device, ms) = s
+        .split_once('=')
+        .ok_or_else(|| format!("{s:?}: expected DEVICE=MS, e.g. bahrs=0"))?;
+    let ms: f64 = ms
+        .parse()
+        .map_err(|_| format!("{s:?}: {ms:?} is not a number of ms"))?;
+    Ok((device.to_string(), ms))
+}
+
 /// Data bytes of an FTDI full-speed USB packet (64 bytes, of which 2 are modem status).
 const FTDI_PACKET_DATA_BYTES: u32 = 62;
 
@@ -192,7 +207,26 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let names: Vec<&str> = ports.iter().map(|p| p.device).collect();
     let pty_dir = dir.join("ports");
     link_ports(&pty_dir, &names, &ptys)?;
-    let links: Vec<(&str, PathBuf)> = names.iter().map(|d| (*d, pty_dir.join(d))).collect();
+    for (device, _) in &args.read_interval_ms {
+        if !names.contains(&device.as_str()) {
+            bail!(
+                "--read-interval-ms {device}=...: the scenario's ports are {}",
+                names.join(", ")
+            );
+        }
+    }
+    let links: Vec<(&str, PathBuf, Option<f64>)> = names
+        .iter()
+        .map(|d| {
+            let interval = args
+                .read_interval_ms
+                .iter()
+                .rev()
+                .find(|(device, _)| device == d)
+                .map(|(_, ms)| *ms);
+            (*d, pty_dir.join(d), interval)
+        })
+        .collect();
     let config = dir.join("vigil.toml");
     let mut text = crate::demo::run_config(prefix, &links);
     if let Some(us) = args.cpu_wakeup_latency_us {

@@ -84,19 +84,24 @@ impl Drop for Guard {
     }
 }
 
-/// The `vigil run` configuration for the simulator's terminals.
-pub(crate) fn run_config(prefix: &str, ports: &[(&str, PathBuf)]) -> String {
+/// The `vigil run` configuration for the simulator's terminals: (device, terminal, its
+/// `read_interval_ms` when not the default).
+pub(crate) fn run_config(prefix: &str, ports: &[(&str, PathBuf, Option<f64>)]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
         "# Written by `vigil demo` / `vigil measure`.\n[bus]\nprefix = \"{prefix}\"\n"
     );
-    for (device, path) in ports {
+    for (device, path, interval) in ports {
         let _ = writeln!(
             s,
-            "[[ports]]\ndevice = \"{device}\"\npath = \"{}\"\n",
+            "[[ports]]\ndevice = \"{device}\"\npath = \"{}\"",
             path.display()
         );
+        if let Some(ms) = interval {
+            let _ = writeln!(s, "read_interval_ms = {ms:?}");
+        }
+        s.push('\n');
     }
     s
 }
@@ -162,11 +167,11 @@ fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
     )?;
     // The simulator creates one link per device it models.
     let until = Instant::now() + Duration::from_secs(10);
-    let ports: Vec<(&str, PathBuf)> = loop {
-        let found: Vec<(&str, PathBuf)> = DEVICES
+    let ports: Vec<(&str, PathBuf, Option<f64>)> = loop {
+        let found: Vec<(&str, PathBuf, Option<f64>)> = DEVICES
             .iter()
-            .map(|d| (*d, pty_dir.join(d)))
-            .filter(|(_, p)| p.exists())
+            .map(|d| (*d, pty_dir.join(d), None))
+            .filter(|(_, p, _)| p.exists())
             .collect();
         if !sim.running() {
             bail!("the simulator stopped:\n{}", tail(&dir.join("sim.log"), 10));

@@ -111,15 +111,19 @@ impl Protocol {
     }
 
     /// How often a port of this protocol is read by default, ms; 0: as its bytes arrive.
-    /// Decision: the TT-Multi-RF's traffic is paced at 10 ms. Its ~2900 reads a second at full
-    /// rates were half of `vigil run`'s wake-ups, and traffic is published once a second; 10 ms
-    /// of waiting is 2.5 m at a 250 m/s closing speed, and the aligner adds it to the host-timed
-    /// outputs' sigma (JSON and raw HEX carry their own times). Attitude sources are read on
+    /// Decision: the TT-Multi-RF and the BAHRS are drained every 10 ms (together, see
+    /// [`super::reader`]). At full rates their ~3200 reads a second were more than half of
+    /// `vigil run`'s wake-ups. The TT-Multi-RF's traffic is published once a second (10 ms is
+    /// 2.5 m at a 250 m/s closing speed) and its JSON and raw HEX carry their own times; the
+    /// BAHRS's samples carry its MCU time and its cross-checks are not latency-bound. The aligner
+    /// adds the wait to the host-timed outputs' sigma. The VN-200 (the latency-critical
+    /// attitude) and the Watson (host-timed at 0.8 ms sigma, 16 reads a second) are read on
     /// arrival.
     pub const fn default_read_interval_ms(self) -> f64 {
         match self {
-            Protocol::Bahrs | Protocol::Watson | Protocol::Vn200 => 0.0,
-            Protocol::TtmrfText
+            Protocol::Watson | Protocol::Vn200 => 0.0,
+            Protocol::Bahrs
+            | Protocol::TtmrfText
             | Protocol::TtmrfHex
             | Protocol::TtmrfMavlink
             | Protocol::TtmrfGdl90
@@ -127,11 +131,11 @@ impl Protocol {
         }
     }
 
-    /// Whether a port of this protocol may be paced: its host-timed samples carry the wait in
-    /// their stated sigma. Not the VN-200 (the host clock's reference, and the latency-critical
-    /// attitude) nor the BAHRS (its pulse and service-message times have no such term).
+    /// Whether a port of this protocol may be paced: not the VN-200, the host clock's
+    /// reference (its wait would shift every host-timed sample) and the latency-critical
+    /// attitude.
     pub const fn pacing_allowed(self) -> bool {
-        !matches!(self, Protocol::Bahrs | Protocol::Vn200)
+        !matches!(self, Protocol::Vn200)
     }
 
     /// The protocol of a port: named explicitly, or (empty) implied by the standard device
@@ -444,8 +448,8 @@ cleanup_period_s = 1.0
 # 921600 (0: the protocol's usual rate); protocol: bahrs-2.0, watson-ahrs-e304, vn200-icd,
 # ttmrf-text, ttmrf-hex, ttmrf-mavlink, ttmrf-gdl90 or ttmrf-asterix ("" infers it from the
 # device names bahrs, watson, vn200, ttmrf); read_interval_ms: read the port every this many ms
-# instead of as its bytes arrive, saving wake-ups (default 10 for ttmrf-*, 0 otherwise; not for
-# bahrs-2.0 or vn200-icd; the wait enters the host-timed samples' sigma).
+# instead of as its bytes arrive, saving wake-ups (default 10 for bahrs-2.0 and ttmrf-*, 0
+# otherwise; not for vn200-icd; the wait enters the host-timed samples' sigma).
 [[ports]]
 device = "bahrs"
 path = "/dev/ttyUSB0"
@@ -742,8 +746,8 @@ mod tests {
     fn read_intervals_default_per_protocol_and_are_validated() {
         let ports = Config::default().validate().unwrap();
         let ns: Vec<u64> = ports.iter().map(|p| p.read_interval_ns).collect();
-        // bahrs, watson, vn200 on arrival; the TT-Multi-RF every 10 ms.
-        assert_eq!(ns, [0, 0, 0, 10_000_000]);
+        // bahrs and the TT-Multi-RF every 10 ms; watson, vn200 on arrival.
+        assert_eq!(ns, [10_000_000, 0, 0, 10_000_000]);
         let one = |device: &str, extra: &str| {
             Config::parse(&format!(
                 "[[ports]]\ndevice = \"{device}\"\npath = \"/dev/x\"\n{extra}"
@@ -770,15 +774,20 @@ mod tests {
         assert!(e.reason.contains("0 to 22.2 ms at 921600 baud"), "{e}");
         let e = one("ttmrf", "read_interval_ms = -1").unwrap_err();
         assert_eq!(e.key, "ports[0].read_interval_ms");
-        for device in ["vn200", "bahrs"] {
-            let e = one(device, "read_interval_ms = 5").unwrap_err();
-            assert_eq!(e.key, "ports[0].read_interval_ms");
-            assert!(e.reason.starts_with("must be 0 for"), "{e}");
-            assert_eq!(
-                one(device, "read_interval_ms = 0").unwrap()[0].read_interval_ns,
-                0
-            );
-        }
+        let e = one("vn200", "read_interval_ms = 5").unwrap_err();
+        assert_eq!(e.key, "ports[0].read_interval_ms");
+        assert!(e.reason.starts_with("must be 0 for vn200-icd"), "{e}");
+        assert_eq!(
+            one("vn200", "read_interval_ms = 0").unwrap()[0].read_interval_ns,
+            0
+        );
+        // BAHRS at 115 200 baud: up to 2048 x 10 / 115200 s = 177.7 ms.
+        assert_eq!(
+            one("bahrs", "read_interval_ms = 0").unwrap()[0].read_interval_ns,
+            0
+        );
+        let e = one("bahrs", "read_interval_ms = 178").unwrap_err();
+        assert!(e.reason.contains("0 to 177.7 ms at 115200 baud"), "{e}");
     }
 
     #[test]

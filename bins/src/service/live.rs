@@ -164,7 +164,8 @@ async fn port_task(i: usize, port: Port, link: LinkSection, ctx: Rc<RefCell<Ctx>
                     Err(e) => format!("cannot take the descriptor: {e}"),
                     Ok(file) if port.read_interval_ns > 0 => {
                         let every = Duration::from_nanos(port.read_interval_ns);
-                        reader::read_paced(file, every, chunk).await
+                        let epoch = ctx.borrow().epoch;
+                        reader::read_paced(file, every, epoch, chunk).await
                     }
                     Ok(file) => reader::read_on_arrival(file, chunk).await,
                 };
@@ -187,6 +188,8 @@ struct Ctx {
     record_errors: u64,
     /// Closures are logged once per port until it opens again.
     closed_logged: Vec<bool>,
+    /// Origin of the paced ports' common drain grid.
+    epoch: tokio::time::Instant,
 }
 
 impl Ctx {
@@ -293,6 +296,7 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         recorder,
         record_errors: 0,
         closed_logged: vec![false; ports.len()],
+        epoch: tokio::time::Instant::now(),
     }));
     let mut tasks = Vec::new();
     for (i, p) in ports.iter().enumerate() {

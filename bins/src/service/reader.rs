@@ -12,10 +12,12 @@
 //!   a racing arrival: tokio clears only if no newer readiness event was seen, and a byte that
 //!   arrives after the read raises a new edge-triggered epoll event anyway.
 //! - **Paced** ([`read_paced`]), for ports whose samples tolerate a bounded wait (the TT-Multi-RF
-//!   by default): the descriptor is not registered with epoll at all, so arriving bytes wake
-//!   nobody, and it is drained every `interval`. At full rates this removes the TT-Multi-RF's
-//!   ~2900 wake-ups a second. Each chunk is stamped with the drain time; the aligner adds the
-//!   wait (uniform over the interval) to the host-timed samples' delay and sigma
+//!   and the BAHRS by default): the descriptor is not registered with epoll at all, so arriving
+//!   bytes wake nobody, and it is drained every `interval`, on a grid shared by every paced port
+//!   (multiples of the interval from one epoch), so ports with the same interval are drained in
+//!   the same wake-up. At full rates this removes ~3200 wake-ups a second. Each chunk is
+//!   stamped with the drain time; the aligner adds the wait (uniform over the interval) to the
+//!   host-timed samples' delay and sigma
 //!   ([`vigil_fusion::time::host_timed::HostTimedLink::with_read_interval`]).
 
 use std::fs::File;
@@ -25,6 +27,7 @@ use std::time::Duration;
 
 use tokio::io::Interest;
 use tokio::io::unix::AsyncFd;
+use tokio::time::Instant;
 use tokio_serial::SerialStream;
 use vigil_bus::clock::monotonic_ns;
 
@@ -83,14 +86,24 @@ pub async fn read_on_arrival(file: File, mut chunk: impl FnMut(u64, &[u8])) -> S
     }
 }
 
-/// Drains `file` every `interval` (see the module documentation), handing each chunk with its
+/// The first instant at or after `now` on the grid `epoch + k interval` (k = 0, 1, ...).
+fn next_on_grid(epoch: Instant, interval: Duration, now: Instant) -> Instant {
+    let step = interval.as_nanos().max(1);
+    let since = now.saturating_duration_since(epoch).as_nanos();
+    let k = since.div_ceil(step);
+    epoch + Duration::from_nanos(u64::try_from(k * step).unwrap_or(u64::MAX))
+}
+
+/// Drains `file` every `interval` on the grid from `epoch` (see the module documentation), handing each chunk with its
 /// host monotonic read time (ns) to `chunk`, until the port fails or ends; returns why.
 pub async fn read_paced(
     mut file: File,
     interval: Duration,
+    epoch: Instant,
     mut chunk: impl FnMut(u64, &[u8]),
 ) -> String {
-    let mut tick = tokio::time::interval(interval);
+    let mut tick =
+        tokio::time::interval_at(next_on_grid(epoch, interval, Instant::now()), interval);
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let mut buf = vec![0u8; READ_BYTES];
     loop {
@@ -175,7 +188,7 @@ mod tests {
                 chunks += 1;
             };
             let why = match paced {
-                Some(d) => read_paced(file, d, push).await,
+                Some(d) => read_paced(file, d, Instant::now(), push).await,
                 None => read_on_arrival(file, push).await,
             };
             writer.await.unwrap();
@@ -210,6 +223,17 @@ mod tests {
             why.contains("Input/output error") || why == "end of file",
             "{why}"
         );
+    }
+
+    #[test]
+    fn paced_ports_share_one_grid() {
+        let epoch = Instant::now();
+        let ms = Duration::from_millis;
+        // 10 ms grid: at 0 -> 0; at 3 ms -> 10 ms; at 10 ms -> 10 ms; at 25 ms -> 30 ms.
+        assert_eq!(next_on_grid(epoch, ms(10), epoch), epoch);
+        assert_eq!(next_on_grid(epoch, ms(10), epoch + ms(3)), epoch + ms(10));
+        assert_eq!(next_on_grid(epoch, ms(10), epoch + ms(10)), epoch + ms(10));
+        assert_eq!(next_on_grid(epoch, ms(10), epoch + ms(25)), epoch + ms(30));
     }
 
     #[test]
