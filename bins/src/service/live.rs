@@ -121,18 +121,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
         bail!("--duration must be a positive number of seconds");
     }
     let (config, ports) = Config::load(&args.config)?;
+    // Port tasks share the service on this one thread (see the module documentation): a local
+    // runtime, whose `spawn_local` tasks are scheduled like any task of a current-thread
+    // runtime. (A `LocalSet` would cost an eventfd write per read: a task woken by the I/O driver
+    // is queued remotely and the runtime unparked.)
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()
-        .build()?;
-    // Port tasks share the service on this one thread (see the module documentation). The main
-    // loop is a task of its own: `run_until` polls its future at every wake-up of any task, and
-    // a join handle is cheaper to poll than the loop's `select!` of seven branches.
-    let local = tokio::task::LocalSet::new();
-    local.block_on(&rt, async {
-        tokio::task::spawn_local(live(config, ports, args.duration))
-            .await
-            .context("the service task")?
-    })
+        .build_local(tokio::runtime::LocalOptions::default())?;
+    rt.block_on(live(config, ports, args.duration))
 }
 
 fn secs(s: f64) -> Duration {
