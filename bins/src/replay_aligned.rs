@@ -185,10 +185,14 @@ impl AlignedReplay {
         f: &mut impl FnMut(&AlignedSample) -> Result<()>,
     ) -> Result<()> {
         let t = t_host_ns as i64;
-        self.clocks
-            .entry(device.to_string())
-            .or_default()
-            .push(t, bytes.len());
+        // Looked up before inserting: `entry` would allocate the key on every chunk.
+        if !self.clocks.contains_key(device) {
+            self.clocks
+                .insert(device.to_string(), ChunkClock::default());
+        }
+        if let Some(clock) = self.clocks.get_mut(device) {
+            clock.push(t, bytes.len());
+        }
         if !self.own.contains_key(device)
             && let Some(p) = Self::own_port(protocol, device)
         {
