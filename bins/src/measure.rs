@@ -141,8 +141,8 @@ pub struct Report {
     pub cpu_percent_of_one_core: f64,
     /// Of which in the kernel (reads, waits, wake-ups, notifications), percent of one core.
     pub cpu_system_percent: f64,
-    /// Read chunks the simulator wrote to all terminals, per second (each can wake the
-    /// service: the simulated USB adapters return 1 .. `max_chunk_bytes` bytes per read).
+    /// Read chunks the simulator wrote to all terminals, per second (each one on a port read on
+    /// arrival wakes the service; paced ports are drained every `read_interval_ms`).
     pub chunks_per_s: f64,
     /// Resident set of `vigil run` at the end, MB.
     pub rss_mb: f64,
