@@ -213,19 +213,28 @@ impl AlignedReplay {
     }
 
     /// Port `device` (wire `protocol`) is read every `interval_ns` (0: as its bytes arrive): the
-    /// aligner adds the wait to its host-timed samples ([`Aligner::set_read_interval`]). Ports of
-    /// the BAHRS and the VN-200 are not host-timed and stay as they are.
-    pub fn set_read_interval(&mut self, device: &str, protocol: &str, interval_ns: u64) {
+    /// aligner adds the wait to its host-timed samples ([`Aligner::set_read_interval`]). The
+    /// VN-200's is not modelled (`vigil run` reads it on arrival). Returns the device kind the
+    /// interval was applied to, if any.
+    pub fn set_read_interval(
+        &mut self,
+        device: &str,
+        protocol: &str,
+        interval_ns: u64,
+    ) -> Option<Device> {
         let named =
             |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
-        let kind = if named("watson") {
+        let kind = if named("bahrs") {
+            Device::Bahrs
+        } else if named("watson") {
             Device::Watson
         } else if named("ttmrf") {
             Device::Ttmrf
         } else {
-            return;
+            return None;
         };
         self.aligner.set_read_interval(kind, interval_ns);
+        Some(kind)
     }
 
     /// The aligner (its clock models, for the live service's integrity report).
@@ -351,6 +360,7 @@ pub fn replay_aligned_with(
     mut f: impl FnMut(&AlignedSample) -> Result<()>,
 ) -> Result<ReplaySummary> {
     let mut r = AlignedReplay::new();
+    let mut seen: Vec<String> = Vec::new();
     let outcome = read_recording(mcap, |m| -> Result<()> {
         let Recorded::Raw {
             device,
@@ -362,8 +372,11 @@ pub fn replay_aligned_with(
         else {
             return Ok(());
         };
-        // The live service's pacing, as it modelled it (the same for every chunk of a channel).
-        r.set_read_interval(device, protocol, read_interval_ns);
+        // The live service's pacing, as it modelled it (a channel's metadata: set once).
+        if !seen.iter().any(|d| d == device) {
+            seen.push(device.to_string());
+            let _ = r.set_read_interval(device, protocol, read_interval_ns);
+        }
         r.feed(device, protocol, t_host_ns, bytes, &mut f)
     })?;
     let devices = r.finish(&mut f)?;

@@ -95,3 +95,27 @@ fn vn200_and_watson_chunks_come_out_on_gps_time() {
     assert_eq!(line["status"], "locked");
     assert!(line["not_aligned"].is_null());
 }
+
+#[test]
+fn read_intervals_go_to_the_device_kind_of_the_protocol() {
+    let mut r = AlignedReplay::new();
+    let cases = [
+        ("bahrs", "bahrs-2.0", Some(Device::Bahrs)),
+        ("watson", "watson-ahrs-e304", Some(Device::Watson)),
+        ("ttmrf", "ttmrf-text", Some(Device::Ttmrf)),
+        ("adsb", "ttmrf-gdl90", Some(Device::Ttmrf)),
+        // No protocol named: the standard device names.
+        ("bahrs", "", Some(Device::Bahrs)),
+        ("ttmrf", "", Some(Device::Ttmrf)),
+        // The VN-200's wait is not modelled; unknown ports have no aligner.
+        ("vn200", "vn200-icd", None),
+        ("gyro", "", None),
+    ];
+    for (device, protocol, kind) in cases {
+        assert_eq!(
+            r.set_read_interval(device, protocol, 10_000_000),
+            kind,
+            "{device} {protocol}"
+        );
+    }
+}

@@ -103,7 +103,7 @@ impl Service {
     ) -> Result<Self> {
         let mut replay = AlignedReplay::new();
         for p in ports {
-            replay.set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
+            let _ = replay.set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
         }
         Ok(Self {
             ports: ports
