@@ -356,7 +356,14 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         }
     };
     info!("stopping ({why})");
-    // Every chunk read so far has been processed and recorded (no queue between the two).
+    // Every chunk read so far has been processed and recorded (no queue between the two). The
+    // paced ports hold up to one interval of input unread: one more interval lets each drain
+    // what arrived before the stop.
+    if let Some(longest) = ports.iter().map(|p| p.read_interval_ns).max()
+        && longest > 0
+    {
+        tokio::time::sleep(Duration::from_nanos(longest) + Duration::from_millis(1)).await;
+    }
     for t in &tasks {
         t.abort();
     }

@@ -94,8 +94,9 @@ fn next_on_grid(epoch: Instant, interval: Duration, now: Instant) -> Instant {
     epoch + Duration::from_nanos(u64::try_from(k * step).unwrap_or(u64::MAX))
 }
 
-/// Drains `file` every `interval` on the grid from `epoch` (see the module documentation), handing each chunk with its
-/// host monotonic read time (ns) to `chunk`, until the port fails or ends; returns why.
+/// Drains `file` every `interval` on the grid from `epoch` (see the module documentation),
+/// handing each chunk with its host monotonic read time (ns) to `chunk`, until the port fails or
+/// ends; returns why.
 pub async fn read_paced(
     mut file: File,
     interval: Duration,
@@ -104,7 +105,8 @@ pub async fn read_paced(
 ) -> String {
     let mut tick =
         tokio::time::interval_at(next_on_grid(epoch, interval, Instant::now()), interval);
-    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    // After a late drain, the next one is back on the grid (shared with the other paced ports).
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     let mut buf = vec![0u8; READ_BYTES];
     loop {
         tick.tick().await;
