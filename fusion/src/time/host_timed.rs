@@ -168,6 +168,18 @@ mod tests {
         assert_eq!(c.time_of(1_000), Some(300));
     }
 
+    /// A host clock 3 s ahead of GPS, learned from 20 s of references (GPS 500..520 s) whose
+    /// delay is uniform 0.5..1.5 ms.
+    fn host_3_s_ahead() -> HostClock {
+        let mut host = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(9);
+        for k in 0..2_000 {
+            let gps = 500 * S + k * 10 * MS;
+            host.add(gps + 3 * S + MS / 2 + (rng.unit() * MS as f64) as i64, gps);
+        }
+        host
+    }
+
     #[test]
     fn a_read_interval_adds_half_its_length_and_its_uniform_sigma() {
         // Watson, read every 10 ms: delay 1 ms + 5 ms; sigma sqrt(0.5^2 + 10^2 / 12) ms
@@ -186,13 +198,8 @@ mod tests {
     fn paced_watson_lines_are_unbiased_and_within_their_sigma() {
         // As below, but each line waits uniform 0..10 ms for its read (a port drained every
         // 10 ms): the errors average out and stay inside the stated sigma.
-        let mut host = HostClock::new(HostClockConfig::default());
+        let (host, off) = (host_3_s_ahead(), 3 * S);
         let mut rng = Lcg(11);
-        let off = 3 * S;
-        for k in 0..2_000 {
-            let gps = 500 * S + k * 10 * MS;
-            host.add(gps + off + MS / 2 + (rng.unit() * MS as f64) as i64, gps);
-        }
         let link = HostTimedLink::WATSON.with_read_interval(10 * MS as u64);
         let (mut sum, mut sum2, mut outside_2sigma, n) = (0.0, 0.0, 0, 500);
         for k in 0..n {
@@ -221,14 +228,7 @@ mod tests {
 
     #[test]
     fn a_watson_line_lands_on_its_sample_time() {
-        // Host clock 3 s ahead of GPS, learned from references whose delay is 0.5..1.5 ms.
-        let mut host = HostClock::new(HostClockConfig::default());
-        let mut rng = Lcg(9);
-        let off = 3 * S;
-        for k in 0..2_000 {
-            let gps = 500 * S + k * 10 * MS;
-            host.add(gps + off + MS / 2 + (rng.unit() * MS as f64) as i64, gps);
-        }
+        let (host, off) = (host_3_s_ahead(), 3 * S);
         // A Watson sample at GPS 515 s: first byte 1 ms later, last byte 66.67 ms after that, read
         // 1 ms (the mean link delay) after the last byte.
         let sample = 515 * S;
