@@ -28,11 +28,7 @@ fn run(sc: Scenario, checker: &mut AttitudeChecker) -> Vec<(f64, AttitudeRecord)
         }
     };
     for e in Stream::new(sc) {
-        match e {
-            Event::Bahrs(b) => checker.push_bahrs(b),
-            Event::Vn200(v) => checker.push_vn200(v),
-            Event::Watson(w) => checker.push_watson(w),
-        }
+        e.push_into(checker);
         take(checker, &mut out);
     }
     checker.finish();

@@ -291,20 +291,7 @@ mod tests {
         let mut prompts = Vec::new();
         let mut last_check = None;
         for e in Stream::new(sc) {
-            let (t, from) = match e {
-                Event::Bahrs(b) => {
-                    c.push_bahrs(b);
-                    (b.t_gps_ns, Unit::Bahrs)
-                }
-                Event::Vn200(v) => {
-                    c.push_vn200(v);
-                    (v.t_gps_ns, Unit::Vn200)
-                }
-                Event::Watson(w) => {
-                    c.push_watson(w);
-                    (w.t_gps_ns, Unit::Watson)
-                }
-            };
+            let (t, from) = e.push_into(&mut c);
             while let Some(r) = c.next_record() {
                 last_check = Some(r);
             }

@@ -91,6 +91,29 @@ pub enum Event {
     Watson(WatsonSample),
 }
 
+impl Event {
+    /// Pushes the sample into `c`; returns its GPS time (ns) and its unit.
+    pub fn push_into(
+        self,
+        c: &mut super::checker::AttitudeChecker,
+    ) -> (i64, super::isolation::Unit) {
+        match self {
+            Event::Bahrs(b) => {
+                c.push_bahrs(b);
+                (b.t_gps_ns, super::isolation::Unit::Bahrs)
+            }
+            Event::Vn200(v) => {
+                c.push_vn200(v);
+                (v.t_gps_ns, super::isolation::Unit::Vn200)
+            }
+            Event::Watson(w) => {
+                c.push_watson(w);
+                (w.t_gps_ns, super::isolation::Unit::Watson)
+            }
+        }
+    }
+}
+
 /// Truth at `t` s: yaw (true), pitch, roll (rad), body rates p, q, r (rad/s), climb rate (m/s
 /// up) and height (m).
 pub fn truth(t: f64) -> ([f64; 3], [f64; 3], f64, f64) {
