@@ -38,10 +38,6 @@ fn invalid(key: impl Into<String>, reason: impl Into<String>) -> ConfigError {
     }
 }
 
-/// The Linux line discipline's input buffer, bytes (`N_TTY_BUF_SIZE`): what a paced port may
-/// hold between two reads before the line is throttled.
-pub const READ_BUFFER_BYTES: usize = super::reader::READ_BYTES;
-
 /// Baud rates a port may use (the standard UART rates the four devices support).
 pub const BAUD_RATES: [u32; 9] = [
     4800, 9600, 19_200, 38_400, 57_600, 115_200, 230_400, 460_800, 921_600,
@@ -650,9 +646,10 @@ impl Config {
             let interval_ms = p
                 .read_interval_ms
                 .unwrap_or(protocol.default_read_interval_ms());
-            // Half the line discipline's 4 KiB buffer per interval at the port's baud rate: the
-            // rest is room for a late drain, so the line is never throttled.
-            let max_ms = READ_BUFFER_BYTES as f64 / 2.0 * 10.0 / f64::from(baud) * 1e3;
+            // Half the line discipline's 4 KiB buffer (`N_TTY_BUF_SIZE`, the reader's buffer) per
+            // interval at the port's baud rate: the rest is room for a late drain, so the line is
+            // never throttled.
+            let max_ms = super::reader::READ_BYTES as f64 / 2.0 * 10.0 / f64::from(baud) * 1e3;
             if !(interval_ms.is_finite() && (0.0..=max_ms).contains(&interval_ms)) {
                 return Err(invalid(
                     key("read_interval_ms"),
