@@ -243,11 +243,15 @@ impl Simulator {
                     port.next_index += 1;
                     sink.truth(&record, self.clock.host_ns(tx.t_tx_gps_ns))?;
                 }
-                port.link.close(&self.clock, &mut pending);
+                let until_rel = (until - self.world.start_gps_ns) as f64;
+                port.link.end_window(until_rel, &self.clock, &mut pending);
             }
             let horizon = self.clock.host_ns(until);
             release(&mut pending, Some(horizon), sink)?;
             t = until;
+        }
+        for port in &mut self.ports {
+            port.link.finish(&self.clock, &mut pending);
         }
         release(&mut pending, None, sink)
     }

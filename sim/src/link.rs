@@ -11,6 +11,11 @@
 //! - Faults: a bit error flips one random bit of a byte (probability `1 - (1 - rate)^10` per byte);
 //!   a dropped byte and every byte sent during a link loss never reach the host; they all still
 //!   take their time on the line. A message with any such byte is marked corrupted in the truth.
+//! - An FTDI adapter (`host.ftdi_latency_timer_ms` names the port; issue 18) sends a USB packet
+//!   of [`FTDI_PACKET_BYTES`] when it is full, else when its latency timer runs out: the timer
+//!   restarts at every packet sent, and a partial packet goes out at the first expiry after its
+//!   first byte (a sparse port's message tail waits up to the timer; a dense one fills packets).
+//!   The host receives a packet after the configured latency (the USB poll and the OS).
 //! - A device holds at most [`TX_BUFFER_BYTES`] unsent bytes: a message that does not fit (the
 //!   configured output exceeds the baud rate) is discarded by the device and marked corrupted
 //!   (it never reaches the host).
@@ -21,6 +26,9 @@ use crate::scenario::HostConfig;
 
 /// Transmit buffer of a device, bytes.
 pub const TX_BUFFER_BYTES: f64 = 4096.0;
+
+/// Data bytes of an FTDI full-speed USB packet (64 bytes less 2 status bytes).
+pub const FTDI_PACKET_BYTES: usize = 62;
 
 /// Host monotonic clock: `t_host = offset + (t_gps - start) (1 + drift)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,6 +99,12 @@ pub struct Link {
     last_host_ns: u64,
     open: Option<OpenChunk>,
     rx_bytes: u64,
+    /// FTDI latency timer, ns, if the port is behind one.
+    ftdi_timer_ns: Option<f64>,
+    /// FTDI: when the latency timer last restarted (a packet sent), ns since the start.
+    ftdi_restart_ns: f64,
+    /// FTDI: when the open packet goes out if it does not fill first, ns since the start.
+    ftdi_flush_ns: f64,
 }
 
 impl Link {
@@ -114,6 +128,24 @@ impl Link {
             last_host_ns: 0,
             open: None,
             rx_bytes: 0,
+            ftdi_timer_ns: host.ftdi_latency_timer_ms.get(device).map(|ms| ms * 1e6),
+            ftdi_restart_ns: 0.0,
+            ftdi_flush_ns: f64::MAX,
+        }
+    }
+
+    /// FTDI: the timer expiry that sends a packet whose first byte arrived at `t` (ns since the
+    /// start): the first expiry after it, on the grid restarted by the last packet.
+    fn ftdi_expiry_after(&self, timer: f64, t: f64) -> f64 {
+        let k = ((t - self.ftdi_restart_ns) / timer).floor() + 1.0;
+        self.ftdi_restart_ns + k.max(1.0) * timer
+    }
+
+    /// FTDI: sends the open packet at its timer expiry if that is before `t` (ns since start).
+    fn ftdi_flush_before(&mut self, t: f64, clock: &HostClock, out: &mut Vec<Chunk>) {
+        if self.open.is_some() && self.ftdi_flush_ns <= t {
+            let at = self.ftdi_flush_ns;
+            self.send(at, clock, out);
         }
     }
 
@@ -135,7 +167,7 @@ impl Link {
             };
         }
         let start = ready.max(self.line_free_ns);
-        if start > self.line_free_ns + 0.5 * self.byte_ns {
+        if self.ftdi_timer_ns.is_none() && start > self.line_free_ns + 0.5 * self.byte_ns {
             // The line was idle: the adapter has flushed what it held.
             self.close(clock, out);
         }
@@ -157,13 +189,22 @@ impl Link {
                 byte ^= 1 << (self.rng.next_u64() % 8);
                 corrupted = true;
             }
+            if let Some(timer) = self.ftdi_timer_ns {
+                self.ftdi_flush_before(done, clock, out);
+                if self.open.is_none() {
+                    self.ftdi_flush_ns = self.ftdi_expiry_after(timer, done);
+                }
+            }
+            let ftdi = self.ftdi_timer_ns.is_some();
             let open = self.open.get_or_insert_with(|| OpenChunk {
                 bytes: Vec::new(),
                 target: 0,
                 last_done_ns: done,
             });
             if open.target == 0 {
-                open.target = if self.host.full_chunks {
+                open.target = if ftdi {
+                    FTDI_PACKET_BYTES
+                } else if self.host.full_chunks {
                     self.host.max_chunk_bytes as usize
                 } else {
                     self.rng.one_to(self.host.max_chunk_bytes) as usize
@@ -173,7 +214,11 @@ impl Link {
             self.rx_bytes += 1;
             open.last_done_ns = done;
             if open.bytes.len() >= open.target {
-                self.close(clock, out);
+                if ftdi {
+                    self.send(done, clock, out);
+                } else {
+                    self.close(clock, out);
+                }
             }
         }
         self.line_free_ns = start + e.bytes.len() as f64 * self.byte_ns;
@@ -182,6 +227,33 @@ impl Link {
             corrupted,
             rx_offset,
         }
+    }
+
+    /// The end of a simulation window at `until_ns` (ns since the start): ends the open chunk,
+    /// except on an FTDI port whose packet's timer expires later (more bytes may join it).
+    pub fn end_window(&mut self, until_ns: f64, clock: &HostClock, out: &mut Vec<Chunk>) {
+        match self.ftdi_timer_ns {
+            Some(_) => self.ftdi_flush_before(until_ns, clock, out),
+            None => self.close(clock, out),
+        }
+    }
+
+    /// The end of the run: sends whatever the port still holds.
+    pub fn finish(&mut self, clock: &HostClock, out: &mut Vec<Chunk>) {
+        match self.ftdi_timer_ns {
+            Some(_) => self.ftdi_flush_before(f64::MAX, clock, out),
+            None => self.close(clock, out),
+        }
+    }
+
+    /// FTDI: the open packet leaves the adapter at `at_ns` (ns since start); the timer restarts.
+    fn send(&mut self, at_ns: f64, clock: &HostClock, out: &mut Vec<Chunk>) {
+        if let Some(open) = self.open.as_mut() {
+            open.last_done_ns = at_ns;
+        }
+        self.ftdi_restart_ns = at_ns;
+        self.ftdi_flush_ns = f64::MAX;
+        self.close(clock, out);
     }
 
     /// Ends the open chunk (if any) and appends it to `out`.

@@ -397,6 +397,16 @@ pub fn clock_status(reports: &[ClockReport]) -> u8 {
     }
 }
 
+/// The `DEVICE_*` code of an aligner device (issue 18: the `clock_disagreement` bits).
+pub fn device_code_of(d: Device) -> u8 {
+    match d {
+        Device::Bahrs => integ::DEVICE_BAHRS,
+        Device::Watson => integ::DEVICE_WATSON,
+        Device::Vn200 => integ::DEVICE_VN200,
+        Device::Ttmrf => integ::DEVICE_TTMRF,
+    }
+}
+
 /// The integrity payload: one entry per port (at most [`MAX_DEVICES`]), the clock status, and
 /// the host clock's offset from GPS time with its sigma (from the host-clock model, the report of
 /// the host-timed devices), at GPS time `t_gps_ns` (0 when unknown).

@@ -295,7 +295,15 @@ impl Service {
             .vn200()
             .gps_minus_utc(t_gps)
             .table_valid;
-        convert::integrity(&reports, &clocks, leap, t_gps)
+        let mut p = convert::integrity(&reports, &clocks, leap, t_gps);
+        // Issue 18: the clocks' cross-checks.
+        p.clock_disagreement = self
+            .replay
+            .aligner()
+            .clock_disagreements()
+            .iter()
+            .fold(0, |bits, d| bits | 1 << convert::device_code_of(*d));
+        p
     }
 
     /// Publishes the integrity report, evaluates the monitor and publishes its alerts (call

@@ -98,6 +98,15 @@ pub struct IntegrityPayload {
     pub clock_sigma_s: f64,
     /// Devices; entries from `device_count` on are unspecified.
     pub devices: [DeviceIntegrity; MAX_DEVICES],
+    // --- issue 18: clock cross-checks ---
+    /// `clock_disagreement`: one bit per `DEVICE_*` code (`1 << code`) whose clock disagrees
+    /// with another clock beyond their combined sigmas (e.g. the BAHRS PPS-named time against
+    /// the host clock: a wrong edge or second). Its samples are then timed by the other clock
+    /// (with that clock's wider sigma) or marked not aligned. 0: every checked clock agrees.
+    pub clock_disagreement: u8,
+    /// Explicit padding; always 0.
+    #[serde(skip)]
+    pub reserved_clock: [u8; 7],
 }
 
 /// JSON form of [`IntegrityPayload`]: only the valid device entries.
@@ -110,6 +119,7 @@ struct IntegrityJson {
     clock_offset_s: f64,
     clock_sigma_s: f64,
     devices: Vec<DeviceIntegrity>,
+    clock_disagreement: u8,
 }
 
 impl From<IntegrityPayload> for IntegrityJson {
@@ -122,6 +132,7 @@ impl From<IntegrityPayload> for IntegrityJson {
             clock_offset_s: p.clock_offset_s,
             clock_sigma_s: p.clock_sigma_s,
             devices: p.devices().to_vec(),
+            clock_disagreement: p.clock_disagreement,
         }
     }
 }

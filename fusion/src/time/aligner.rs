@@ -184,6 +184,16 @@ pub struct Aligner {
     next_index: [u64; 4],
     last_host_ns: i64,
     last_bahrs_ticks: Option<u64>,
+    // --- issue 18: per-port link settings, applied to `base` to give `cfg` ---
+    /// Each port's read interval, ns (0: read as its bytes arrive), by device slot.
+    read_interval_ns: [u64; 4],
+    /// Each port's USB adapter latency timer, ns (0: none known), by device slot.
+    latency_timer_ns: [u64; 4],
+    // --- issue 18 point 6: a second source of the host clock ---
+    /// The host clock learned from the TT-Multi-RF's GNSS time (JSON `ts`, raw TS24h): used
+    /// where the VN-200's model is not locked and this one is better (a VN-200 silent for
+    /// minutes).
+    tt_host: HostClock,
 }
 
 impl Aligner {
@@ -200,7 +210,40 @@ impl Aligner {
             next_index: [0; 4],
             last_host_ns: i64::MIN,
             last_bahrs_ticks: None,
+            read_interval_ns: [0; 4],
+            latency_timer_ns: [0; 4],
+            tt_host: HostClock::new(cfg.host),
         }
+    }
+
+    /// The host clock learned from the TT-Multi-RF's GNSS time (see [`Self::host_clock`]).
+    pub fn tt_host_clock(&self) -> &HostClock {
+        &self.tt_host
+    }
+
+    /// The host clock model to map host time `h` with: the VN-200's while it is locked; else
+    /// whichever of it and the TT-Multi-RF's gives the smaller sigma (a coasting VN-200 model
+    /// is often still the better one).
+    fn pick<'a>(vn: &'a HostClock, tt: &'a HostClock, h: i64) -> &'a HostClock {
+        if matches!(vn.status(h), ClockStatus::Locked | ClockStatus::Locking) {
+            return vn;
+        }
+        match (vn.to_gps(h), tt.to_gps(h)) {
+            (Some((_, a)), Some((_, b))) if b < a => tt,
+            (None, Some(_)) => tt,
+            _ => vn,
+        }
+    }
+
+    /// The devices whose clock disagrees with another beyond their combined sigmas now
+    /// (`clock_disagreement`, issue 18 point 4): the BAHRS when its latest pulse contradicted
+    /// the host clock's view of its MCU time.
+    pub fn clock_disagreements(&self) -> Vec<Device> {
+        let mut v = Vec::new();
+        if self.bahrs.clock_disagreement() {
+            v.push(Device::Bahrs);
+        }
+        v
     }
 
     /// The host clock model.
@@ -241,9 +284,10 @@ impl Aligner {
                 if let Some(t) = bahrs_ticks(&m) {
                     self.last_bahrs_ticks = Some(t);
                 }
+                let host = Self::pick(&self.host, &self.tt_host, rx.host_ns);
                 let done = self
                     .bahrs
-                    .handle((index, m), rx.host_ns, &self.host, &self.vn_pps);
+                    .handle((index, m), rx.host_ns, host, &self.vn_pps);
                 out.extend(done.into_iter().map(bahrs_out));
             }
             Sample::Vn200(m) => {
@@ -289,6 +333,10 @@ impl Aligner {
             }
             other => {
                 let time = self.place_host_dependent(&other, rx);
+                if self.learn_tt_host(&other, rx, &time) {
+                    // A new host-clock reference may free what waits for it.
+                    self.retry_held(&mut out);
+                }
                 if time == Err(NotAligned::HostClockUnknown) {
                     self.hold(
                         Held {
@@ -312,14 +360,17 @@ impl Aligner {
             }
         }
         let now = self.last_host_ns;
-        out.extend(self.bahrs.expire(now).into_iter().map(bahrs_out));
+        let host = Self::pick(&self.host, &self.tt_host, now);
+        out.extend(self.bahrs.expire(now, host).into_iter().map(bahrs_out));
         self.expire_held(now, &mut out);
         out
     }
 
     /// Releases everything still held (end of stream): what cannot be aligned now is marked.
     pub fn flush(&mut self) -> Vec<AlignedSample> {
-        let mut out: Vec<AlignedSample> = self.bahrs.flush().into_iter().map(bahrs_out).collect();
+        let host = Self::pick(&self.host, &self.tt_host, self.last_host_ns);
+        let mut out: Vec<AlignedSample> =
+            self.bahrs.flush(host).into_iter().map(bahrs_out).collect();
         self.retry_held(&mut out);
         for h in std::mem::take(&mut self.held) {
             out.push(not_aligned(h, NotAligned::HostClockUnknown));
@@ -375,18 +426,69 @@ impl Aligner {
 
     /// `device`'s port is read every `interval_ns` (0: as its bytes arrive): its host-timed
     /// samples get the wait in their delay and sigma ([`HostTimedLink::with_read_interval`]).
-    /// For the BAHRS only its host-timed messages feel it
+    /// For the BAHRS only its host-timed messages and its host-clock fallback feel it
     /// ([`BahrsAligner::set_read_interval`]). The VN-200 is the host clock's reference: its
     /// wait is not modelled, so its port must be read on arrival (`vigil run` refuses pacing it).
     pub fn set_read_interval(&mut self, device: Device, interval_ns: u64) {
-        match device {
-            Device::Bahrs => self.bahrs.set_read_interval(interval_ns),
-            Device::Watson => self.cfg.watson = self.base.watson.with_read_interval(interval_ns),
-            Device::Ttmrf => {
-                self.cfg.ttmrf.link = self.base.ttmrf.link.with_read_interval(interval_ns);
-            }
-            Device::Vn200 => {}
+        self.read_interval_ns[device.slot()] = interval_ns;
+        self.apply_port_settings();
+    }
+
+    /// `device`'s port runs at `baud` bit/s (configured or recorded; issue 18 point 2): every
+    /// transmission time of that port is computed with it. 0 keeps the built-in rate.
+    pub fn set_baud(&mut self, device: Device, baud: u32) {
+        if baud == 0 {
+            return;
         }
+        match device {
+            Device::Bahrs => self.base.bahrs.baud = baud,
+            Device::Watson => self.base.watson.baud = baud,
+            Device::Vn200 => self.base.vn200.baud = baud,
+            Device::Ttmrf => self.base.ttmrf.link.baud = baud,
+        }
+        self.apply_port_settings();
+    }
+
+    /// `device`'s port is behind a USB adapter with a latency timer of `timer_ns` (an FTDI
+    /// chip: a partial USB packet waits until the timer runs out; issue 18 point 1). A sparse
+    /// port's message tail then waits between 0 and the timer after its last byte: like a read
+    /// interval, half of it is taken off and `timer / sqrt(12)` added to the sigma of its
+    /// host-timed samples (root-sum-square with any read interval). Not applied to the VN-200:
+    /// the host clock learns its link delay from it. 0: no timer known.
+    pub fn set_latency_timer(&mut self, device: Device, timer_ns: u64) {
+        self.latency_timer_ns[device.slot()] = timer_ns;
+        self.apply_port_settings();
+    }
+
+    /// Derives the working configuration from the base and the per-port settings.
+    fn apply_port_settings(&mut self) {
+        let wait = |slot: usize| -> (u64, f64) {
+            let (i, t) = (self.read_interval_ns[slot], self.latency_timer_ns[slot]);
+            // Two independent uniform waits: means add, variances add. As one "interval" for
+            // `with_read_interval`: mean i/2 + t/2, variance (i^2 + t^2) / 12.
+            (
+                i / 2 + t / 2,
+                ((i as f64).powi(2) + (t as f64).powi(2)) / 12.0,
+            )
+        };
+        let link = |l: HostTimedLink, (mean, var): (u64, f64)| HostTimedLink {
+            output_delay_ns: l
+                .output_delay_ns
+                .saturating_add(i64::try_from(mean).unwrap_or(i64::MAX)),
+            output_delay_sigma_ns: (l.output_delay_sigma_ns.powi(2) + var).sqrt(),
+            ..l
+        };
+        self.cfg.watson = link(self.base.watson, wait(Device::Watson.slot()));
+        self.cfg.ttmrf = TtAlignerConfig {
+            link: link(self.base.ttmrf.link, wait(Device::Ttmrf.slot())),
+            ..self.base.ttmrf
+        };
+        self.cfg.vn200.baud = self.base.vn200.baud;
+        self.cfg.bahrs.baud = self.base.bahrs.baud;
+        self.vn200.set_baud(self.base.vn200.baud);
+        let (mean, var) = wait(Device::Bahrs.slot());
+        self.bahrs.set_link_wait(mean as f64, var);
+        self.bahrs.set_baud(self.base.bahrs.baud);
     }
 
     fn vn200_link(&self) -> HostTimedLink {
@@ -401,17 +503,18 @@ impl Aligner {
     fn place_host_dependent(&self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
         let tt = &self.cfg.ttmrf;
         let h = first_byte_host_ns(rx, tt.link.baud);
+        let host = Self::pick(&self.host, &self.tt_host, h);
         let leap = self
             .vn200
-            .gps_minus_utc(self.host.to_gps(h).map_or(0, |(t, _)| t));
+            .gps_minus_utc(host.to_gps(h).map_or(0, |(t, _)| t));
         match sample {
-            Sample::Watson(_) => host_timed(&self.host, rx, self.cfg.watson),
+            Sample::Watson(_) => host_timed(host, rx, self.cfg.watson),
             Sample::TtText(m) => match &**m {
                 TextMessage::Json(j) => match j.ts_ms {
-                    Some(ts) => json_ts(ts, rx, tt, &self.host, leap),
-                    None => host_timed(&self.host, rx, tt.link),
+                    Some(ts) => json_ts(ts, rx, tt, host, leap),
+                    None => host_timed(host, rx, tt.link),
                 },
-                _ => host_timed(&self.host, rx, tt.link),
+                _ => host_timed(host, rx, tt.link),
             },
             Sample::TtRaw(f) => {
                 let meta = match &**f {
@@ -419,11 +522,36 @@ impl Aligner {
                     RawFrame::ModeAc(a) => a.meta,
                     RawFrame::Uat(u) => u.meta,
                 };
-                raw_meta(&meta, rx, tt, &self.host, leap)
-                    .unwrap_or_else(|| host_timed(&self.host, rx, tt.link))
+                raw_meta(&meta, rx, tt, host, leap).unwrap_or_else(|| host_timed(host, rx, tt.link))
             }
-            _ => host_timed(&self.host, rx, tt.link),
+            _ => host_timed(host, rx, tt.link),
         }
+    }
+
+    /// A TT-Multi-RF sample placed by its own GNSS time (JSON `ts`, raw TS24h) is a reference of
+    /// the second host clock: host time its first byte left against its GPS time plus the
+    /// port's assumed output delay (issue 18 point 6). TS1s is not one (its second is named by
+    /// the host clock itself).
+    /// Returns true when a reference was added.
+    fn learn_tt_host(
+        &mut self,
+        sample: &Sample,
+        rx: Rx,
+        time: &Result<AlignedTime, NotAligned>,
+    ) -> bool {
+        let Ok(a) = time else { return false };
+        if a.source != TimeSource::UtcTimeOfDay
+            || a.status != ClockStatus::Locked
+            || !matches!(sample, Sample::TtText(_) | Sample::TtRaw(_))
+        {
+            return false;
+        }
+        let link = self.base.ttmrf.link;
+        self.tt_host.add(
+            first_byte_host_ns(rx, link.baud),
+            a.t_gps_ns.saturating_add(link.output_delay_ns),
+        );
+        true
     }
 
     fn hold(&mut self, h: Held, out: &mut Vec<AlignedSample>) {
@@ -436,7 +564,10 @@ impl Aligner {
     }
 
     fn retry_held(&mut self, out: &mut Vec<AlignedSample>) {
-        if self.held.is_empty() || self.host.status(self.last_host_ns) == ClockStatus::Unlocked {
+        if self.held.is_empty()
+            || (self.host.status(self.last_host_ns) == ClockStatus::Unlocked
+                && self.tt_host.status(self.last_host_ns) == ClockStatus::Unlocked)
+        {
             return;
         }
         for h in std::mem::take(&mut self.held) {

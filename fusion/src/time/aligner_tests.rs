@@ -381,7 +381,8 @@ fn vn200_pps(gps: i64, ins: u16) -> (Sample, Rx) {
 /// Runs 20 s of a VN-200 at 40 Hz sampled 1 ms before each whole second (its message nearest to
 /// each pulse reports the previous PPS) and a BAHRS reporting each PPS edge (0x06, MCU clock
 /// 20 ppm fast); from `pps_lost_at` the VN-200 reports "GNSS error" (no valid PPS) while the
-/// pulses go on. Returns the aligner and (pulse number, aligned 0x06).
+/// pulses go on. The BAHRS also sends 0x01 + 0x05 at 50 Hz (its MCU-to-host relation, which
+/// cross-checks every pulse: issue 18). Returns the aligner and (pulse number, aligned 0x06).
 fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSample)>) {
     use vigil_drivers::bahrs::SyncPulseTime;
     let mut al = Aligner::new(AlignerConfig::default());
@@ -405,6 +406,38 @@ fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSam
         };
         inputs.push((p, rx));
     }
+    for k in 0..1_000 {
+        let sample = G0 + k * 20 * MS;
+        let seq = k as u8;
+        let data = bahrs::Message::Inertial(Inertial {
+            seq,
+            specific_force_raw: [0; 3],
+            angular_rate_raw: [0; 3],
+            health: InertialHealth(0),
+        });
+        let time = bahrs::Message::InertialTime(DataTime {
+            seq,
+            data_seq: seq,
+            mcu_time_us: ticks(sample),
+        });
+        // 0x01 (28 bytes) then 0x05, ready 0.5 ms after the sample, 1 ms link.
+        let (l1, l5) = (data.to_frame().len(), time.to_frame().len());
+        let end1 = sample + OFF + MS / 2 + tx_ns(l1, 115_200) + MS;
+        inputs.push((
+            Sample::Bahrs(data),
+            Rx {
+                host_ns: end1,
+                wire_len: l1,
+            },
+        ));
+        inputs.push((
+            Sample::Bahrs(time),
+            Rx {
+                host_ns: end1 + tx_ns(l5, 115_200),
+                wire_len: l5,
+            },
+        ));
+    }
     inputs.sort_by_key(|(_, rx)| rx.host_ns);
     let mut out = Vec::new();
     for (s, rx) in inputs {
@@ -413,8 +446,10 @@ fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSam
     out.extend(al.flush());
     let pulses = out
         .into_iter()
-        .filter(|o| o.device == Device::Bahrs)
-        .map(|o| (o.index as i64, o))
+        .filter_map(|o| match &o.aligned.message {
+            Sample::Bahrs(bahrs::Message::SyncPulseTime(p)) => Some((i64::from(p.seq), o)),
+            _ => None,
+        })
         .collect();
     (al, pulses)
 }
@@ -423,9 +458,16 @@ fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSam
 fn bahrs_pulses_named_by_the_vn200_pps_time_across_the_second_boundary() {
     let (al, pulses) = pulses_near_vn200(None);
     // The nearest VN-200 message to each pulse was sampled 1 ms before it (TimeGpsPps 999 ms,
-    // its last PPS the previous second); the pulse is still named by its own second.
+    // its last PPS the previous second); the pulse is still named by its own second. The
+    // pulses before the host clock and the MCU-to-host relation exist (2 s of references, the
+    // pulses at 0, 1 and 2 s) cannot be cross-checked and are not used.
     let st = al.bahrs().stats();
-    assert_eq!(st.pulses_from_vn200_pps, 20, "{st:?}");
+    assert_eq!(st.pulses_from_vn200_pps, 17, "{st:?}");
+    assert_eq!(
+        (st.pulses_unverified, st.pulses_disagreeing),
+        (3, 0),
+        "{st:?}"
+    );
     assert_eq!(st.pulses_from_host_clock, 0);
     assert_eq!(
         al.bahrs().last_pulse_source(),
@@ -433,9 +475,19 @@ fn bahrs_pulses_named_by_the_vn200_pps_time_across_the_second_boundary() {
     );
     assert_eq!(pulses.len(), 20);
     for (n, o) in &pulses {
-        // Each 0x06 is placed at its edge, exactly (whole us, MCU time of the edge).
-        let a = o.aligned.time.unwrap();
-        assert!((a.t_gps_ns - (G0 + n * S)).abs() <= 2_000, "{n}: {a:?}");
+        // Each 0x06 is placed at its edge: exactly (whole us, MCU time of the edge) through the
+        // PPS clock; within its sigma (about 1 ms) through the host-clock fallback. The first
+        // pulses' 0x06 wait (2 s) for a clock that is not there yet: not aligned.
+        let Ok(a) = o.aligned.time else {
+            assert!(*n < 3, "{n}: {o:?}");
+            continue;
+        };
+        let e = (a.t_gps_ns - (G0 + n * S)).abs();
+        if a.source == TimeSource::PpsDisciplined && *n >= 3 {
+            assert!(e <= 2_000, "{n}: {a:?}");
+        } else {
+            assert!((e as f64) < 3.0 * a.sigma_ns && *n < 5, "{n}: {a:?}");
+        }
     }
     assert_eq!(al.bahrs().clock().relocks, 0);
 }
@@ -447,13 +499,14 @@ fn bahrs_pulses_fall_back_to_the_host_clock_when_the_vn200_pps_is_lost() {
     // the pulses, still the right seconds.
     let (al, pulses) = pulses_near_vn200(Some(10));
     let st = al.bahrs().stats();
-    assert_eq!(st.pulses_from_vn200_pps, 11, "{st:?}");
+    // Pulses 0-2 cannot be cross-checked yet (see above).
+    assert_eq!(st.pulses_from_vn200_pps, 8, "{st:?}");
     assert_eq!(st.pulses_from_host_clock, 9, "{st:?}");
     assert_eq!(
         al.bahrs().last_pulse_source(),
         Some(crate::time::pps::PulseSecondSource::HostClock)
     );
-    for (n, o) in &pulses {
+    for (n, o) in pulses.iter().filter(|(n, _)| *n >= 3) {
         let a = o.aligned.time.unwrap();
         assert!((a.t_gps_ns - (G0 + n * S)).abs() <= 2_000, "{n}: {a:?}");
     }

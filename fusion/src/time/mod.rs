@@ -8,6 +8,7 @@
 //!   the VN-200's PPS times that name each pulse's GPS second;
 //! - [`host`]: the host clock model (lower envelope of receive time minus GPS time);
 //! - [`bahrs`]: the BAHRS aligner built from them;
+//! - [`mcu_host`]: the BAHRS MCU clock against host time (pulse naming, cross-check, fallback);
 //! - [`seq`]: pairing data messages with their time messages by wrapping sequence counters;
 //! - [`host_timed`]: transmission times at a baud rate, and samples placed by the host clock;
 //! - [`vn200`]: the VN-200 aligner (native GPS time, its start-up clock while GNSS time is
@@ -20,6 +21,7 @@ pub mod bahrs;
 pub mod gps;
 pub mod host;
 pub mod host_timed;
+pub mod mcu_host;
 pub mod pps;
 pub mod seq;
 #[cfg(test)]
@@ -58,6 +60,12 @@ pub enum TimeSource {
     /// The device's free-running clock (VN-200 TimeStartup), extrapolated from its last valid GPS
     /// time while the device says its GPS time is invalid.
     DeviceClock,
+    // --- issue 18 / issue 25 point 3 ---
+    /// The device's own clock (BAHRS MCU time) fitted to host time and mapped through the
+    /// host-clock model: no usable synchronisation pulse (never wired, lost, GNSS outage, or
+    /// pulses disagreeing with the host clock). Its sigma is the host clock's and more
+    /// (about 1 ms); a cross-check widens its tolerance by it.
+    DeviceClockViaHost,
 }
 
 /// Why a sample has no GPS time.

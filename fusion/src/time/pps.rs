@@ -108,6 +108,9 @@ struct Fit {
     sxx: f64,
     /// Residual standard deviation, ns (with its floor).
     s: f64,
+    /// Residual scatter beyond the tick quantisation, ns (no floor; 0 below 4 pulses): the
+    /// pulse capture jitter the fit sees.
+    capture_ns: f64,
     /// Pulses in the fit.
     n: usize,
     /// Tick of the last accepted pulse.
@@ -197,11 +200,16 @@ impl PpsClock {
         };
         let a = y_mean - b * x_mean;
         let floor = self.floor_sigma_ns();
-        let s = if n >= 3 {
+        let raw = if n >= 3 {
             let ss: f64 = xs.zip(ys).map(|(x, y)| (y - a - b * x).powi(2)).sum();
-            (ss / (n - 2) as f64).sqrt().max(floor)
+            Some((ss / (n - 2) as f64).sqrt())
         } else {
-            floor
+            None
+        };
+        let s = raw.map_or(floor, |r| r.max(floor));
+        let capture_ns = match raw {
+            Some(r) if n >= 4 => (r * r - self.cfg.tick_ns.powi(2) / 12.0).max(0.0).sqrt(),
+            _ => 0.0,
         };
         let last_tick = self.pulses.back().map_or(tick0, |p| p.0);
         self.fit = Some(Fit {
@@ -212,6 +220,7 @@ impl PpsClock {
             x_mean,
             sxx,
             s,
+            capture_ns,
             n,
             last_tick,
         });
@@ -247,7 +256,10 @@ impl PpsClock {
             self.reset_with(tick, gps_ns);
             return PulseOutcome::Relocked;
         }
-        self.observe(tick);
+        // Decision (issue 18): a pulse report's MCU time is not a device-time observation for
+        // reset detection: the document does not say when 0x06 is sent, so a late or repeated
+        // report carries an MCU time well behind the data's. Resets show in the data messages'
+        // times ([`Self::observe`], called by the aligner).
         let Some(fit) = self.fit else {
             self.reset_with(tick, gps_ns);
             return PulseOutcome::Accepted;
@@ -343,7 +355,32 @@ impl PpsClock {
             return Err(MapError::BeforeModel);
         }
         let (y, sigma) = self.predict(&fit, tick);
-        Ok((fit.gps0 + y.round() as i64, sigma))
+        // Pulse capture jitter (issue 18 point 5): the document does not say how the pulse is
+        // captured. A software capture is late by 0 to tens of us, one-sided, so every pulse's
+        // MCU time is late and every mapped time early by the mean latency; a hardware capture
+        // jitters symmetrically. Decision, to cover both readings: the scatter the fit sees beyond
+        // the tick quantisation (`capture_ns`, sigma of a uniform latency of width
+        // 2 sqrt(3) sigma, mean sqrt(3) sigma if one-sided) shifts the time by half that mean and
+        // adds the shift to the sigma: uniform errors then stay within 2 sigma either way.
+        let shift = 3f64.sqrt() / 2.0 * fit.capture_ns;
+        Ok((
+            fit.gps0 + (y + shift).round() as i64,
+            (sigma * sigma + shift * shift).sqrt(),
+        ))
+    }
+
+    /// Drops the model (its pulses disagreed with another clock) without starting a new device
+    /// clock epoch: samples already paired stay mappable once new pulses arrive.
+    pub fn clear(&mut self) {
+        self.pulses.clear();
+        self.outliers.clear();
+        self.fit = None;
+        self.pulses_since_start = 0;
+    }
+
+    /// MCU time of the last pulse in the model, if any.
+    pub fn last_pulse_tick(&self) -> Option<u64> {
+        self.pulses.back().map(|p| p.0)
     }
 
     /// The clock epoch: increases at every detected device reset or re-lock. Device times paired

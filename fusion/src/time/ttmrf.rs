@@ -52,8 +52,15 @@ impl Default for TtAlignerConfig {
     }
 }
 
-/// 1-sigma of a ms stamp truncated to the ms: 1 ms / sqrt(12), ns.
-pub const TS_MS_SIGMA_NS: f64 = 288_675.13;
+/// 1-sigma of a ms stamp, ns. Decision (issue 18 point 5): the manual does not say whether
+/// `ts` is truncated or rounded to the ms. Truncated, the time lies in [ts, ts + 1) ms; rounded,
+/// in [ts - 0.5, ts + 0.5) ms. Both readings are covered by the union [ts - 0.5, ts + 1) ms:
+/// its mid-point ([`TS_MS_MID_NS`]) and the sigma of a uniform 1.5 ms wide, 1.5 ms / sqrt(12);
+/// either reading's error then stays within 0.75 ms = 1.73 sigma.
+pub const TS_MS_SIGMA_NS: f64 = 433_012.7;
+
+/// Offset of a ms stamp's assumed time from the stamp, ns (the mid-point above).
+pub const TS_MS_MID_NS: i64 = 250_000;
 
 /// Places a time of day (ns since UTC midnight, `resolution_ns` added for a truncated stamp's mid
 /// point) with the host clock as the day reference.
@@ -90,7 +97,7 @@ pub fn json_ts(
     host: &HostClock,
     leap: LeapSeconds,
 ) -> Result<AlignedTime, NotAligned> {
-    let ns = i64::from(ts_ms) * 1_000_000 + 500_000;
+    let ns = i64::from(ts_ms) * 1_000_000 + TS_MS_MID_NS;
     place_time_of_day(ns, TS_MS_SIGMA_NS, rx, cfg.link, host, leap)
 }
 
@@ -181,13 +188,14 @@ mod tests {
                 wire_len: 0,
             };
             let a = json_ts(ts, rx, &cfg, &host, leap()).unwrap();
-            // The truncated stamp's mid point: 0.5 ms after the stamp.
-            assert_eq!(a.t_gps_ns, truth + MS / 2, "ts {ts}");
+            // Truncated or rounded (issue 18): the mid point of [ts - 0.5, ts + 1) ms, 0.25 ms
+            // after the stamp, with the sigma of a uniform 1.5 ms wide: 1.5 / sqrt(12) ms.
+            assert_eq!(a.t_gps_ns, truth + MS / 4, "ts {ts}");
             assert_eq!(
                 (a.source, a.status),
                 (TimeSource::UtcTimeOfDay, ClockStatus::Locked)
             );
-            assert!((a.sigma_ns - 288_675.0).abs() < 1.0);
+            assert!((a.sigma_ns - 433_013.0).abs() < 1.0);
         }
         // The manual's example ts 69 061 337 = 19:11:01.337 UTC, placed on 2026-06-01.
         let t = gps_of_unix((MIDNIGHT_UNIX + 69_061) * S + 337 * MS);
@@ -197,7 +205,7 @@ mod tests {
             wire_len: 0,
         };
         let a = json_ts(69_061_337, rx, &cfg, &host, leap()).unwrap();
-        assert_eq!(a.t_gps_ns, t + MS / 2);
+        assert_eq!(a.t_gps_ns, t + MS / 4);
         // Without a host model there is no day.
         let empty = HostClock::new(HostClockConfig::default());
         assert_eq!(

@@ -155,6 +155,11 @@ pub struct Vn200Aligner {
 }
 
 impl Vn200Aligner {
+    /// The port runs at `baud` bit/s (configured or recorded): transmission times use it.
+    pub fn set_baud(&mut self, baud: u32) {
+        self.cfg.baud = baud.max(1);
+    }
+
     /// An aligner with no model.
     pub fn new(cfg: Vn200AlignerConfig) -> Self {
         Self {

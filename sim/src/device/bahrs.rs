@@ -7,8 +7,11 @@
 //!   drift. A reset stops the output for 300 ms, restarts the MCU clock at 0 and every sequence
 //!   counter at 0, and sends the versions again.
 //! - Synchronisation: the sync input is wired to the VN-200 PPS (on every whole GPS second when a
-//!   VN-200 with `pps = true` is present and no PPS loss is scheduled); 0x06 carries the MCU time of
-//!   the pulse (truncated to the us) and is ready `latency_us` after it.
+//!   VN-200 with `pps = true` is present, has a 3D fix (VN-200 ICD: SyncOut GpsPps only with a
+//!   valid fix, so no pulses in a VN-200 GNSS outage) and no PPS loss is scheduled); 0x06 carries
+//!   the MCU time of the pulse (truncated to the us) and is ready `latency_us` after it. The
+//!   `sync` options model what the document leaves open (issue 18): the report sent late or
+//!   repeated, the wrong edge captured, a software capture's latency.
 //! - Every message of a sample is ready `latency_us` after the sample; 0x05 follows its 0x01 and
 //!   0x04 its 0x02 immediately, or, with `time_message_lag = n`, after the n-th later data message
 //!   of its stream (the time message arrives late; its truth `t_gps_ns` stays the data's). Each message type has its own sequence counter (wrapping at 256).
@@ -46,10 +49,23 @@ fn obj(v: Value) -> Map<String, Value> {
 enum Event {
     Reset,
     Versions,
+    SyncReport,
     Pps,
     Inertial,
     Navigation,
     Accuracy,
+}
+
+/// A queued 0x06 report.
+struct Report {
+    ready: i64,
+    /// Truth: GPS time of the instant whose MCU time it carries.
+    t: i64,
+    m: Message,
+    v: Value,
+    /// Pulse number (a repeat is dropped once a newer pulse exists).
+    n: u64,
+    repeat: bool,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -83,6 +99,12 @@ pub struct BahrsModel {
     unique_id: [u32; 3],
     /// Time messages (0x05, 0x04) waiting for `time_message_lag` later data messages.
     lagged: [VecDeque<(i64, Message, Value)>; 2],
+    /// 0x06 reports waiting for their ready time, in ready order.
+    reports: VecDeque<Report>,
+    /// Pulses captured so far (a repeated report stops when a newer pulse exists).
+    pulses: u64,
+    /// Software capture latency draws.
+    capture: Rng,
 }
 
 impl BahrsModel {
@@ -123,6 +145,9 @@ impl BahrsModel {
             next_reset: 0,
             unique_id,
             lagged: [VecDeque::new(), VecDeque::new()],
+            reports: VecDeque::new(),
+            pulses: 0,
+            capture: Rng::stream(seed, "bahrs/capture"),
         };
         m.align_schedules();
         m
@@ -172,6 +197,9 @@ impl BahrsModel {
         }
         if self.pps_wired {
             consider(self.next_pps_gps_s * NS_PER_S, Event::Pps);
+        }
+        if let Some(r) = self.reports.front() {
+            consider(r.ready, Event::SyncReport);
         }
         for (i, e) in [Event::Inertial, Event::Navigation, Event::Accuracy]
             .into_iter()
@@ -244,6 +272,68 @@ impl BahrsModel {
             t_gps_ns,
             values,
         });
+    }
+
+    /// A PPS second at `t`: captures it (unless lost) and queues its 0x06 report.
+    fn pulse(&mut self, t: i64, world: &World, faults: &FaultSchedule) {
+        let t_s = world.elapsed_s(t);
+        if t < self.outputs_from_gps_ns || faults.pps_lost(t_s) || faults.gnss_lost("vn200", t_s) {
+            return;
+        }
+        let sync = &self.cfg.sync;
+        let latency_ns = self.capture.range(0.0, sync.capture_latency_us.max(0.0)) * 1000.0;
+        let edge = t + (sync.edge_offset_ms * 1e6).round() as i64;
+        // The instant whose MCU time the report carries: the edge plus the capture latency.
+        let captured = edge + latency_ns.round() as i64;
+        if captured < self.boot_gps_ns {
+            return;
+        }
+        let mcu = self.mcu_us_at(captured).floor() as u64;
+        let seq = self.counters.pps;
+        self.counters.pps = seq.wrapping_add(1);
+        self.pulses += 1;
+        let m = Message::SyncPulseTime(SyncPulseTime {
+            seq,
+            mcu_time_us: mcu,
+        });
+        let delay_ns = match sync.report_delay_ms {
+            Some(ms) => (ms.max(0.0) * 1e6).round() as i64,
+            None => i64::from(self.cfg.latency_us) * 1000,
+        };
+        let v = json!({ "mcu_time_us": mcu, "mcu_time_exact_us": self.mcu_us_at(captured) });
+        self.queue_report(Report {
+            ready: edge + delay_ns,
+            t: captured,
+            m,
+            v,
+            n: self.pulses,
+            repeat: false,
+        });
+    }
+
+    fn queue_report(&mut self, r: Report) {
+        let at = self.reports.partition_point(|q| q.ready <= r.ready);
+        self.reports.insert(at, r);
+    }
+
+    /// Sends the earliest queued 0x06; with `report_repeat_ms`, queues it again, until a newer
+    /// pulse exists.
+    fn report(&mut self, out: &mut Vec<Emission>) {
+        let Some(r) = self.reports.pop_front() else {
+            return;
+        };
+        if r.repeat && r.n != self.pulses {
+            return;
+        }
+        self.emit(out, r.t, r.ready, r.m, r.v.clone());
+        let every = self.cfg.sync.report_repeat_ms;
+        if every > 0.0 {
+            self.queue_report(Report {
+                ready: r.ready + (every * 1e6).round().max(1.0) as i64,
+                repeat: true,
+                ..r
+            });
+        }
     }
 
     fn sample(
@@ -375,7 +465,7 @@ impl DeviceModel for BahrsModel {
         let latency_ns = i64::from(self.cfg.latency_us) * 1000;
         loop {
             let (t, e) = self.next_event();
-            let ready = if matches!(e, Event::Reset | Event::Versions) {
+            let ready = if matches!(e, Event::Reset | Event::Versions | Event::SyncReport) {
                 t
             } else {
                 t + latency_ns
@@ -393,6 +483,7 @@ impl DeviceModel for BahrsModel {
                     self.counters = Counters::default();
                     // Time messages still queued in the device are lost with the reset.
                     self.lagged.iter_mut().for_each(VecDeque::clear);
+                    self.reports.clear();
                     self.align_schedules();
                 }
                 Event::Versions => {
@@ -423,25 +514,9 @@ impl DeviceModel for BahrsModel {
                 }
                 Event::Pps => {
                     self.next_pps_gps_s += 1;
-                    let t_s = world.elapsed_s(t);
-                    if t < self.outputs_from_gps_ns || faults.pps_lost(t_s) {
-                        continue;
-                    }
-                    let mcu = self.mcu_us_at(t).floor() as u64;
-                    let seq = self.counters.pps;
-                    self.counters.pps = seq.wrapping_add(1);
-                    let m = Message::SyncPulseTime(SyncPulseTime {
-                        seq,
-                        mcu_time_us: mcu,
-                    });
-                    self.emit(
-                        out,
-                        t,
-                        ready,
-                        m,
-                        json!({ "mcu_time_us": mcu, "mcu_time_exact_us": self.mcu_us_at(t) }),
-                    );
+                    self.pulse(t, world, faults);
                 }
+                Event::SyncReport => self.report(out),
                 Event::Inertial => self.sample(0, t, world, faults, out),
                 Event::Navigation => self.sample(1, t, world, faults, out),
                 Event::Accuracy => self.sample(2, t, world, faults, out),

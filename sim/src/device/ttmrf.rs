@@ -112,6 +112,11 @@ pub fn utc_ms_of_day(t_gps_ns: i64) -> u32 {
     ((t_gps_ns - GPS_MINUS_UTC_S * NS_PER_S).rem_euclid(86_400 * NS_PER_S) / MS) as u32
 }
 
+/// Milliseconds since UTC midnight of a GPS time, rounded to the nearest ms (wrapping at 24 h).
+pub fn utc_ms_of_day_rounded(t_gps_ns: i64) -> u32 {
+    (((t_gps_ns - GPS_MINUS_UTC_S * NS_PER_S + MS / 2).rem_euclid(86_400 * NS_PER_S)) / MS) as u32
+}
+
 fn utc_ns_of_day(t_gps_ns: i64) -> u64 {
     (t_gps_ns - GPS_MINUS_UTC_S * NS_PER_S).rem_euclid(86_400 * NS_PER_S) as u64
 }
@@ -192,6 +197,15 @@ pub fn channel_protocol(name: &str) -> &'static str {
 }
 
 impl TtmrfModel {
+    /// The JSON `ts` of a message at GPS time `t` (truncated or rounded, as configured).
+    pub(crate) fn ts_ms(&self, t: i64) -> u32 {
+        if self.cfg.ts_rounded {
+            utc_ms_of_day_rounded(t)
+        } else {
+            utc_ms_of_day(t)
+        }
+    }
+
     /// A module powered on before the scenario start, in RUN.
     pub fn new(cfg: &TtmrfConfig, world: &World, faults: &FaultSchedule, seed: u64) -> Self {
         let n = world.intruder_count();
@@ -327,7 +341,7 @@ impl TtmrfModel {
         let icao = u32::from_str_radix(&it.address, 16).unwrap_or(0) & 0xFF_FFFF;
         let ecat = ecat_number(&it.emitter_category);
         let callsign = (!it.callsign.is_empty()).then(|| it.callsign.clone());
-        let ts_ms = utc_ms_of_day(t);
+        let ts_ms = self.ts_ms(t);
         let protocol = self.decoded_protocol();
         let binary = match protocol {
             DecodedProtocol::None => return None,

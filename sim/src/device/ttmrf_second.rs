@@ -9,8 +9,7 @@ use vigil_drivers::ttmrf::nmea::{Date as NmeaDate, Gga, NmeaBody, NmeaSentence, 
 use super::super::ttmrf_binary::{self, OwnFix};
 use super::super::{Emission, FaultSchedule};
 use super::{
-    GNSS_H_SIGMA_M, GNSS_V_SIGMA_M, KT_PER_MPS, SERIAL, TtmrfModel, obj, round_to, utc_ms_of_day,
-    utc_ns_of_day,
+    GNSS_H_SIGMA_M, GNSS_V_SIGMA_M, KT_PER_MPS, SERIAL, TtmrfModel, obj, round_to, utc_ns_of_day,
 };
 use crate::truth::World;
 use crate::units::NS_PER_S;
@@ -65,7 +64,7 @@ impl TtmrfModel {
                 ..Default::default()
             }
         };
-        let ts_ms = utc_ms_of_day(t);
+        let ts_ms = self.ts_ms(t);
         let m = JsonMessage {
             src: Some(SERIAL.into()),
             ts_ms: Some(ts_ms),

@@ -149,6 +149,26 @@ pub struct BahrsConfig {
     pub time_message_lag: u32,
     /// 1-sigma noise of every signal.
     pub noise: BahrsNoise,
+    /// How the synchronisation pulse is captured and reported (issue 18: the document leaves it
+    /// open).
+    pub sync: BahrsSync,
+}
+
+/// Readings of what the BAHRS document leaves open about its synchronisation pulse (issue 18).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct BahrsSync {
+    /// Time from the pulse to its 0x06 being ready, ms; `None`: `latency_us` (right after it).
+    pub report_delay_ms: Option<f64>,
+    /// 0: one 0x06 per pulse; N: the latest pulse's 0x06 is sent again every N ms until the next
+    /// pulse ("time of the latest pulse", reported periodically).
+    pub report_repeat_ms: f64,
+    /// The edge the BAHRS captures, ms after the PPS second: 0 the rising edge; 100 the falling
+    /// edge of the VN-200's 100 ms SyncOut pulse (a wrong-edge installation).
+    pub edge_offset_ms: f64,
+    /// Software capture: each pulse's MCU time is taken late by a latency uniform in 0 ..= this,
+    /// us (0: hardware capture, truncated to the us).
+    pub capture_latency_us: f64,
 }
 
 impl Default for BahrsConfig {
@@ -162,6 +182,7 @@ impl Default for BahrsConfig {
             latency_us: 500,
             time_message_lag: 0,
             noise: BahrsNoise::default(),
+            sync: BahrsSync::default(),
         }
     }
 }
@@ -283,6 +304,9 @@ pub struct TtmrfConfig {
     pub raw: String,
     /// Whether the GNSS section / NMEA output is enabled.
     pub gnss: bool,
+    /// JSON `ts` from the time of the message (issue 18: the manual does not say): false
+    /// truncates it to the ms, true rounds it to the nearest ms.
+    pub ts_rounded: bool,
 }
 
 impl Default for TtmrfConfig {
@@ -292,6 +316,7 @@ impl Default for TtmrfConfig {
             protocol: "json".into(),
             raw: "off".into(),
             gnss: true,
+            ts_rounded: false,
         }
     }
 }
@@ -313,6 +338,10 @@ pub struct HostConfig {
     pub full_chunks: bool,
     /// Largest host monotonic clock drift against GPS time, ppm (drawn within +-this).
     pub clock_drift_ppm_max: f64,
+    /// Ports behind an FTDI USB adapter (issue 18): device name -> its latency timer, ms. Such a
+    /// port's bytes reach the host in 62-byte packets, sent when full or when the timer runs
+    /// out (a partial packet waits up to the timer); the latency above is then the USB poll.
+    pub ftdi_latency_timer_ms: std::collections::BTreeMap<String, f64>,
 }
 
 impl Default for HostConfig {
@@ -323,6 +352,7 @@ impl Default for HostConfig {
             max_chunk_bytes: 64,
             full_chunks: false,
             clock_drift_ppm_max: 10.0,
+            ftdi_latency_timer_ms: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -331,6 +361,16 @@ impl HostConfig {
     pub(crate) fn validate(&self) -> Result<(), ScenarioError> {
         if !(self.latency_ms >= 0.0 && self.latency_ms <= 1000.0) {
             return Err(invalid("host.latency_ms", "must be within 0 .. 1000"));
+        }
+        if let Some((d, _)) = self
+            .ftdi_latency_timer_ms
+            .iter()
+            .find(|(_, ms)| !(**ms >= 1.0 && **ms <= 255.0))
+        {
+            return Err(invalid(
+                "host.ftdi_latency_timer_ms",
+                format!("{d}: must be within 1 .. 255 (the FTDI timer's range)"),
+            ));
         }
         if !(self.latency_jitter_ms >= 0.0 && self.latency_jitter_ms <= self.latency_ms) {
             return Err(invalid(

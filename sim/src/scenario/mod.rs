@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 pub use builtin::{BUILTIN_NAMES, builtin};
 pub use devices::{
-    BahrsConfig, BahrsNoise, Devices, HostConfig, TtmrfConfig, Vn200Config, WatsonConfig,
-    WatsonNoise,
+    BahrsConfig, BahrsNoise, BahrsSync, Devices, HostConfig, TtmrfConfig, Vn200Config,
+    WatsonConfig, WatsonNoise,
 };
 pub(crate) use faults::active as faults_active;
 pub use faults::{Axis, Fault, HealthSignal, HealthWord};

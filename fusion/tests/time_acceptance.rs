@@ -1,0 +1,501 @@
+//! Issue 18 acceptance: time alignment that stays honest on every adapter and every reading of
+//! the documents, judged against the simulator's truth (method: `sim_truth.rs`).
+//!
+//! Every case is a built-in scenario or `nominal` with one option of issue 18 / issue 25 set
+//! (below). After a 10 s warm-up, per device, time source and message class:
+//! - no sample is passed off as aligned (any status) with an error beyond 5 sigma AND beyond the
+//!   goal of its source;
+//! - at least 95 % of the errors lie inside 2 stated sigma;
+//! - p99 |error|: PPS-disciplined (BAHRS) <= 50 us, VN-200 native GPS <= 1 us, TT-Multi-RF JSON
+//!   `ts` <= 1 ms, TS24h <= 10 us, host-timed (and the BAHRS host-clock fallback) <= the port's
+//!   link jitter + 2 ms. The link jitter is the scenario's latency half-width (0.5 ms), plus the
+//!   latency timer on an FTDI port (its tail waits 0 ..= the timer).
+//!
+//! The figures are printed as a table (`cargo test -p vigil-fusion --test time_acceptance --
+//! --nocapture`); the README's time section quotes them.
+
+mod truth_run;
+
+use std::collections::BTreeMap;
+
+use truth_run::*;
+use vigil_fusion::time::TimeSource;
+use vigil_fusion::time::aligner::{Aligner, Device};
+use vigil_sim::scenario::{Fault, Scenario, builtin};
+
+/// One acceptance case: a scenario, how long, and what the aligner is told about the ports.
+struct Case {
+    name: &'static str,
+    scenario: Scenario,
+    seconds: i64,
+    /// Per-port settings handed to the aligner (what `[[ports]]` / the recording says).
+    setup: fn(&mut Aligner),
+    /// Extra link jitter of host-timed samples per device (an FTDI latency timer), ns.
+    extra_jitter_ns: fn(Device) -> i64,
+}
+
+fn none(_: &mut Aligner) {}
+fn no_jitter(_: Device) -> i64 {
+    0
+}
+
+fn nominal_with(f: impl FnOnce(&mut Scenario)) -> Scenario {
+    let mut s = builtin("nominal").unwrap();
+    f(&mut s);
+    s
+}
+
+/// Goal of a time source and message class, ns (`None`: BAHRS service messages, 5-sigma only).
+fn goal_ns(source: TimeSource, class: &str, jitter_ns: i64) -> Option<i64> {
+    Some(match source {
+        TimeSource::HostClock if class == "bahrs" => return None,
+        TimeSource::NativeGps => US,
+        TimeSource::PpsDisciplined => 50 * US,
+        TimeSource::UtcTimeOfDay if class == "json" => MS,
+        TimeSource::UtcTimeOfDay => 10 * US,
+        TimeSource::HostClock | TimeSource::DeviceClock | TimeSource::DeviceClockViaHost => {
+            jitter_ns + 2 * MS
+        }
+    })
+}
+
+/// A row of the table: one device, source and class in one case.
+struct Row {
+    n: usize,
+    p50: i64,
+    p99: i64,
+    within_2_sigma: f64,
+    median_sigma_ns: f64,
+    goal_ns: Option<i64>,
+    bad: usize,
+}
+
+fn rows(r: &Run, c: &Case) -> BTreeMap<(Device, String, &'static str), Row> {
+    let mut groups: BTreeMap<(Device, String, &'static str), Vec<&Joined>> = BTreeMap::new();
+    for j in &r.joined {
+        let (Some(_), Some(source)) = (j.err_ns, j.source) else {
+            continue;
+        };
+        if j.at_s < 10.0 {
+            continue;
+        }
+        groups
+            .entry((j.device, format!("{source:?}"), j.class))
+            .or_default()
+            .push(j);
+    }
+    groups
+        .into_iter()
+        .map(|(key, js)| {
+            let source = js[0].source.unwrap();
+            let jitter = 500 * US + (c.extra_jitter_ns)(key.0);
+            let goal = goal_ns(source, key.2, jitter);
+            let mut abs: Vec<i64> = js.iter().map(|j| j.err_ns.unwrap().abs()).collect();
+            abs.sort_unstable();
+            let mut sig: Vec<f64> = js.iter().map(|j| j.sigma_ns).collect();
+            sig.sort_by(f64::total_cmp);
+            let within = js
+                .iter()
+                .filter(|j| j.err_ns.unwrap().abs() as f64 <= 2.0 * j.sigma_ns)
+                .count();
+            let bad = js
+                .iter()
+                .filter(|j| {
+                    let e = j.err_ns.unwrap().abs();
+                    e as f64 > 5.0 * j.sigma_ns && goal.is_none_or(|g| e > g)
+                })
+                .count();
+            let row = Row {
+                n: js.len(),
+                p50: percentile(&abs, 0.5),
+                p99: percentile(&abs, 0.99),
+                within_2_sigma: within as f64 / js.len() as f64,
+                median_sigma_ns: sig[sig.len() / 2],
+                goal_ns: goal,
+                bad,
+            };
+            (key, row)
+        })
+        .collect()
+}
+
+fn fmt_ns(ns: f64) -> String {
+    if ns >= 1e6 {
+        format!("{:.2} ms", ns / 1e6)
+    } else if ns >= 1e3 {
+        format!("{:.1} us", ns / 1e3)
+    } else {
+        format!("{ns:.0} ns")
+    }
+}
+
+/// Runs a case, prints its rows, and returns the failures (empty: the case holds).
+fn judge(c: &Case, seed: u64) -> (Run, Vec<String>) {
+    let r = run_with(&c.scenario, c.seconds, seed, c.setup);
+    let mut failures = Vec::new();
+    if r.inputs != r.outputs {
+        failures.push(format!(
+            "{}: inputs {:?} != outputs {:?}",
+            c.name, r.inputs, r.outputs
+        ));
+    }
+    for ((device, source, class), row) in rows(&r, c) {
+        println!(
+            "| {} | {device:?} | {source} | {class} | {} | {} | {} | {:.1} % | {} | {} |",
+            c.name,
+            row.n,
+            fmt_ns(row.p50 as f64),
+            fmt_ns(row.p99 as f64),
+            row.within_2_sigma * 100.0,
+            fmt_ns(row.median_sigma_ns),
+            row.goal_ns
+                .map_or("5 sigma only".into(), |g| fmt_ns(g as f64)),
+        );
+        let what = format!("{} {device:?} {source} {class}", c.name);
+        if row.bad > 0 {
+            failures.push(format!("{what}: {} beyond 5 sigma and the goal", row.bad));
+        }
+        // Small groups (a few service messages) are judged by the 5-sigma rule only.
+        if row.n >= 20 && row.within_2_sigma < 0.95 {
+            failures.push(format!("{what}: {:.3} within 2 sigma", row.within_2_sigma));
+        }
+        if let Some(g) = row.goal_ns
+            && row.n >= 20
+            && row.p99 > g
+        {
+            failures.push(format!("{what}: p99 {} > goal {}", row.p99, g));
+        }
+    }
+    (r, failures)
+}
+
+fn check_all(cases: &[Case]) -> Vec<(&'static str, Run)> {
+    println!(
+        "| case | device | source | class | n | p50 | p99 | within 2 sigma | median sigma | goal |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let mut failures = Vec::new();
+    let mut runs = Vec::new();
+    for c in cases {
+        let (r, f) = judge(c, 21);
+        failures.extend(f);
+        runs.push((c.name, r));
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+    runs
+}
+
+/// The PPS and pulse-report cases: the BAHRS clock.
+#[test]
+fn pps_and_pulse_report_readings() {
+    let sync = |f: fn(&mut vigil_sim::scenario::BahrsSync)| {
+        nominal_with(|s| f(&mut s.devices.bahrs.as_mut().unwrap().sync))
+    };
+    let cases = [
+        Case {
+            name: "nominal",
+            scenario: builtin("nominal").unwrap(),
+            seconds: 40,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "0x06 sent 0.3 s late",
+            scenario: sync(|y| y.report_delay_ms = Some(300.0)),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "0x06 sent 0.7 s late",
+            scenario: sync(|y| y.report_delay_ms = Some(700.0)),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "0x06 repeated every 100 ms",
+            scenario: sync(|y| y.report_repeat_ms = 100.0),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "software pulse capture 0-30 us",
+            scenario: sync(|y| y.capture_latency_us = 30.0),
+            seconds: 40,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "wrong PPS edge (+100 ms)",
+            scenario: sync(|y| y.edge_offset_ms = 100.0),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "PPS absent (sync not wired)",
+            scenario: nominal_with(|s| s.devices.vn200.as_mut().unwrap().pps = false),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "BAHRS MCU reset at 20 s",
+            scenario: nominal_with(|s| {
+                s.faults.push(Fault::DeviceReset {
+                    device: "bahrs".into(),
+                    at_s: 20.0,
+                })
+            }),
+            seconds: 35,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+    ];
+    let runs = check_all(&cases);
+    let by = |n: &str| &runs.iter().find(|(name, _)| *name == n).unwrap().1;
+    // The wrong edge: every pulse disagrees with the host clock; no PPS time is given at all
+    // after the warm-up, and the disagreement is raised.
+    let wrong = by("wrong PPS edge (+100 ms)");
+    assert!(wrong.disagreement_seen && wrong.bahrs.pulses_disagreeing >= 25);
+    assert!(
+        wrong
+            .joined
+            .iter()
+            .all(|j| j.device != Device::Bahrs || j.source != Some(TimeSource::PpsDisciplined))
+    );
+    // Late and repeated reports: locked on the PPS, one pulse per second, never a reset.
+    for n in [
+        "0x06 sent 0.3 s late",
+        "0x06 sent 0.7 s late",
+        "0x06 repeated every 100 ms",
+    ] {
+        let r = by(n);
+        println!("{n}: {:?}", r.bahrs);
+        assert!(
+            r.bahrs.pulses_used >= 25 && r.bahrs.pulses_disagreeing == 0,
+            "{n}"
+        );
+        // On the PPS clock (locked, or coasting between late reports: a 0.7 s late report
+        // leaves the last known pulse up to 1.7 s behind a sample).
+        let sel: Vec<&Joined> = r
+            .joined
+            .iter()
+            .filter(|j| j.device == Device::Bahrs && j.at_s >= 10.0 && j.at_s < 29.0)
+            .collect();
+        let pps = sel
+            .iter()
+            .filter(|j| j.source == Some(TimeSource::PpsDisciplined))
+            .count();
+        assert!(
+            pps as f64 > 0.99 * sel.len() as f64,
+            "{n}: {pps} of {}",
+            sel.len()
+        );
+    }
+    assert!(
+        by("0x06 repeated every 100 ms")
+            .bahrs
+            .pulse_reports_repeated
+            >= 200
+    );
+}
+
+fn ftdi_16(a: &mut Aligner) {
+    a.set_latency_timer(Device::Watson, 16 * MS as u64);
+    a.set_latency_timer(Device::Ttmrf, 16 * MS as u64);
+}
+fn ftdi_16_jitter(d: Device) -> i64 {
+    if matches!(d, Device::Watson | Device::Ttmrf | Device::Bahrs) {
+        16 * MS
+    } else {
+        0
+    }
+}
+fn ftdi_1(a: &mut Aligner) {
+    a.set_latency_timer(Device::Watson, MS as u64);
+    a.set_latency_timer(Device::Ttmrf, MS as u64);
+}
+fn ftdi_1_jitter(d: Device) -> i64 {
+    if matches!(d, Device::Watson | Device::Ttmrf | Device::Bahrs) {
+        MS
+    } else {
+        0
+    }
+}
+fn tt_115200(a: &mut Aligner) {
+    a.set_baud(Device::Ttmrf, 115_200);
+}
+fn bursts_jitter(_: Device) -> i64 {
+    // Latency 3 +- 3 ms instead of 1 +- 0.5 ms: 2.5 ms more half-width.
+    2_500 * US
+}
+
+/// The TT-Multi-RF on CSV and HEXd: everything of it host-timed.
+fn tt_host_timed(s: &mut Scenario) {
+    let tt = s.devices.ttmrf.as_mut().unwrap();
+    tt.protocol = "csv".into();
+    tt.raw = "hexd".into();
+}
+
+/// Adapters, baud rates, `ts` readings, GNSS outages and the date line: the host clock side.
+#[test]
+fn links_outages_and_time_stamp_readings() {
+    let ftdi = |ms: f64| {
+        nominal_with(|s| {
+            tt_host_timed(s);
+            for d in ["watson", "ttmrf", "bahrs"] {
+                s.host.ftdi_latency_timer_ms.insert(d.into(), ms);
+            }
+        })
+    };
+    let cases = [
+        Case {
+            name: "FTDI 16 ms (Watson, TT CSV, BAHRS)",
+            scenario: ftdi(16.0),
+            seconds: 30,
+            setup: ftdi_16,
+            extra_jitter_ns: ftdi_16_jitter,
+        },
+        Case {
+            name: "FTDI 1 ms (Watson, TT CSV, BAHRS)",
+            scenario: ftdi(1.0),
+            seconds: 30,
+            setup: ftdi_1,
+            extra_jitter_ns: ftdi_1_jitter,
+        },
+        Case {
+            name: "TT-Multi-RF CSV at 115200",
+            // CSV alone: with NMEA and HEXd too the 115 200 baud port queues lines behind each
+            // other and shares read chunks, which the aligner does not model (see the README).
+            scenario: nominal_with(|s| {
+                let tt = s.devices.ttmrf.as_mut().unwrap();
+                tt.protocol = "csv".into();
+                tt.gnss = false;
+                tt.baud = 115_200;
+            }),
+            seconds: 30,
+            setup: tt_115200,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "JSON ts rounded",
+            scenario: nominal_with(|s| s.devices.ttmrf.as_mut().unwrap().ts_rounded = true),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "GNSS outage 15-60 s (PPS stops)",
+            scenario: nominal_with(|s| {
+                s.faults.push(Fault::GnssOutage {
+                    from_s: 15.0,
+                    to_s: Some(60.0),
+                    device: None,
+                })
+            }),
+            seconds: 70,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "VN-200 GNSS loss 15-60 s (PPS stops)",
+            scenario: nominal_with(|s| {
+                s.faults.push(Fault::GnssOutage {
+                    from_s: 15.0,
+                    to_s: Some(60.0),
+                    device: Some("vn200".into()),
+                })
+            }),
+            seconds: 70,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+        Case {
+            name: "UTC midnight",
+            scenario: nominal_with(|s| s.start_utc = "2026-06-01T23:59:45Z".into()),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+        },
+    ];
+    let runs = check_all(&cases);
+    // Through the outages the BAHRS PPS clock coasts for 30 s (its crystal, checked above), then
+    // the BAHRS is placed by its host-clock fallback (no pulses), never left out.
+    for (name, r) in &runs {
+        if name.contains("15-60") {
+            let sel: Vec<&Joined> = r
+                .joined
+                .iter()
+                .filter(|j| j.device == Device::Bahrs && j.at_s > 46.0 && j.at_s < 60.0)
+                .collect();
+            let fallback = sel
+                .iter()
+                .filter(|j| j.source == Some(TimeSource::DeviceClockViaHost))
+                .count();
+            println!("{name}: BAHRS fallback {fallback} of {}", sel.len());
+            assert!(fallback as f64 >= 0.99 * sel.len() as f64, "{name}");
+        }
+    }
+}
+
+/// A VN-200 silent for 5 minutes (its serial link lost; its PPS still reaches the BAHRS): the
+/// host clock is kept by the TT-Multi-RF's GNSS time, so the JSON ADS-B targets stay aligned
+/// (in the traffic picture) throughout, and so do the host-timed Watson and the BAHRS.
+#[test]
+fn vn200_silent_for_five_minutes_keeps_the_traffic_aligned() {
+    let case = Case {
+        name: "VN-200 silent 15-315 s",
+        scenario: nominal_with(|s| {
+            s.faults.push(Fault::LinkLoss {
+                device: "vn200".into(),
+                from_s: 15.0,
+                to_s: Some(315.0),
+            })
+        }),
+        seconds: 325,
+        setup: none,
+        extra_jitter_ns: no_jitter,
+    };
+    let runs = check_all(std::slice::from_ref(&case));
+    let r = &runs[0].1;
+    for (device, class) in [(Device::Ttmrf, "json"), (Device::Watson, "watson")] {
+        let sel: Vec<&Joined> = r
+            .joined
+            .iter()
+            .filter(|j| j.device == device && j.class == class && j.at_s > 15.0 && j.at_s < 315.0)
+            .collect();
+        let aligned = sel.iter().filter(|j| j.err_ns.is_some()).count();
+        println!(
+            "VN-200 silent: {device:?} {class}: {aligned} of {} aligned",
+            sel.len()
+        );
+        assert!(
+            !sel.is_empty() && aligned == sel.len(),
+            "{device:?} {class}"
+        );
+    }
+}
+
+/// Host stamps in bursts (every read 3 +- 3 ms late instead of 1 +- 0.5 ms). Does NOT hold yet:
+/// the host clock maps every port with the VN-200 port's delay distribution (its messages span
+/// several reads, so their delay is the largest of a few), so single-read Watson lines come out
+/// biased (about 55 % inside 2 sigma). Issue 18 point 1 (a delay learned per port) is not done;
+/// run with `--ignored` to see the figures.
+#[test]
+#[ignore = "issue 18 point 1 (per-port delay learning) not done: fails, see the doc"]
+fn host_stamp_bursts() {
+    let case = Case {
+        name: "host stamp bursts (latency 3 +- 3 ms)",
+        scenario: nominal_with(|s| {
+            s.host.latency_ms = 3.0;
+            s.host.latency_jitter_ms = 3.0;
+        }),
+        seconds: 30,
+        setup: none,
+        extra_jitter_ns: bursts_jitter,
+    };
+    check_all(std::slice::from_ref(&case));
+}
