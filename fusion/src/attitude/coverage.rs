@@ -143,9 +143,9 @@ impl CoverageState {
         compared: [bool; SLOTS],
         reason: [Option<NotComparedReason>; SLOTS],
     ) -> CoverageRecord {
-        for i in 0..SLOTS {
-            if compared[i] {
-                self.last_ns[i] = Some(t_ns);
+        for (last, &c) in self.last_ns.iter_mut().zip(&compared) {
+            if c {
+                *last = Some(t_ns);
             }
         }
         self.reason = reason;

@@ -266,7 +266,10 @@ impl Stream {
         );
         let time = match sc.bahrs_time_sigma_ns {
             // The value is the truth at t; its stamp is off by the clock error.
-            Some(sigma) => self.time(t_ns + sigma * n.gauss(), sigma, TimeSource::HostClock),
+            Some(sigma) => {
+                let err_ns = sigma * n.gauss();
+                self.time(t_ns + err_ns, sigma, TimeSource::HostClock)
+            }
             None => self.time(t_ns, 1e5, TimeSource::PpsDisciplined),
         };
         BahrsSample::new(&time, &nav, Some(&acc), Some(&inertial))
