@@ -150,6 +150,9 @@ fn bahrs_attitude_fault_is_isolated_and_the_statistical_test_fires_first() {
         "fixed comparator at {fixed} s"
     );
     assert!(isolated <= 72.0 + 1.5, "isolated at {isolated} s");
+    eprintln!(
+        "bahrs-attitude-fault (PPS): statistical {stat} s, fixed {fixed} s, isolated {isolated} s"
+    );
     assert!(isolated > 60.0);
     // Never another unit.
     assert!(att.iter().all(|a| a.isolated != Some(Unit::Vn200)));

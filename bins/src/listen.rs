@@ -8,6 +8,12 @@
 //! latency from the publisher's `CLOCK_MONOTONIC` send stamp to reception, in microseconds.
 //!
 //! It stops after `--count` samples, after `--duration` seconds, or at SIGINT/SIGTERM.
+//!
+//! `vigil listen alerts` prints the active set first (issue 25): one line per alert raised or
+//! latched now, from the latest `vigil/integrity` report (`"active": true`, `alert_id`,
+//! `severity`, `state`, `raised_gps_ns`, `reason`, and `as_of_gps_ns`, the report's time), then the
+//! transitions. It waits up to 2 s for a report (`vigil run` publishes one a second); without one
+//! it says so on stderr and goes on with the transitions. The lines count towards `--count`.
 
 use std::io::{self, BufWriter, Write};
 use std::time::{Duration, Instant};
@@ -127,6 +133,14 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
         .map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0)));
     let mut latencies = Vec::new();
     let mut seen = 0u64;
+    if T::TOPIC == Topic::Alerts && !args.latency {
+        // Subscribed to the transitions first: none is lost between the set and them.
+        seen = print_active(bus, out)?;
+        if args.count.is_some_and(|c| seen >= c) {
+            out.flush()?;
+            return Ok(());
+        }
+    }
     'outer: loop {
         while let Some(r) = sub.try_receive()? {
             seen += 1;
@@ -164,6 +178,59 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
     }
     out.flush()?;
     Ok(())
+}
+
+/// How long `vigil listen alerts` waits for an integrity report holding the active set.
+const ACTIVE_WAIT: Duration = Duration::from_secs(2);
+
+/// Prints the active alert set of the latest integrity report (issue 25); returns the lines
+/// printed.
+fn print_active(bus: &mut Bus, out: &mut impl Write) -> Result<u64> {
+    let mut sub = bus
+        .subscriber::<IntegrityPayload>()
+        .context("subscribing to integrity (the active alert set)")?;
+    let deadline = Instant::now() + ACTIVE_WAIT;
+    let report = loop {
+        let mut latest = None;
+        while let Some(r) = sub.try_receive()? {
+            latest = Some(*r.payload());
+        }
+        if latest.is_some() || Instant::now() >= deadline || bus.termination_requested() {
+            break latest;
+        }
+        sub.wait(Duration::from_millis(100))?;
+    };
+    let Some(report) = report else {
+        eprintln!(
+            "vigil listen: no integrity report within {} s: the active alert set is unknown",
+            ACTIVE_WAIT.as_secs()
+        );
+        return Ok(0);
+    };
+    let mut n = 0;
+    for a in report.active_alerts() {
+        let mut line = Map::new();
+        line.insert("topic".into(), Value::from(Topic::Alerts.as_str()));
+        line.insert("active".into(), Value::from(true));
+        line.insert(
+            "as_of_gps_ns".into(),
+            Value::from(report.header.gps_time_ns),
+        );
+        if let Value::Object(fields) = serde_json::to_value(a)? {
+            line.extend(fields);
+        }
+        serde_json::to_writer(&mut *out, &line)?;
+        out.write_all(b"\n")?;
+        n += 1;
+    }
+    if report.active_alert_total > report.active_alert_count {
+        eprintln!(
+            "vigil listen: {} more active alerts did not fit in the report",
+            report.active_alert_total - report.active_alert_count
+        );
+    }
+    out.flush()?;
+    Ok(n)
 }
 
 #[cfg(test)]

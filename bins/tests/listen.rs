@@ -84,7 +84,7 @@ fn listen_prints_alerts_as_json_lines() {
         prev_seq = seq;
         assert_eq!(v["alert_id"].as_u64().unwrap(), 100 + seq - 1);
         assert_eq!(v["reason"], format!("gnss lost #{}", seq - 1));
-        assert_eq!(v["header"]["schema_version"], 1);
+        assert_eq!(v["header"]["schema_version"], vigil_bus::SCHEMA_VERSION);
     }
 }
 

@@ -149,7 +149,8 @@ fn payload_layouts_are_fixed() {
     assert_eq!(size_of::<Header>(), 32);
     // UnitAttitude: i64 + 6 f64 + 2 u8 + 6 pad = 64; Attitude: 32 + 6*8 + 3*64 + 9 + 3 + 4 = 288.
     assert_eq!(size_of::<UnitAttitude>(), 64);
-    assert_eq!(size_of::<AttitudePayload>(), 288);
+    // Issue 25 adds 3 + 4 u8 + 1 pad + 7 f64 = 64: 352.
+    assert_eq!(size_of::<AttitudePayload>(), 352);
     // Ownship: 32 + 12 f64 + 2 u8 + 6 pad = 136.
     assert_eq!(size_of::<OwnshipPayload>(), 136);
     // Target: u32 + 4 u8 + 8 callsign + 14 f64 = 128; Traffic: 32 + 2 u32 + 1024*128 = 131112.
@@ -157,7 +158,8 @@ fn payload_layouts_are_fixed() {
     assert_eq!(size_of::<TrafficPayload>(), 131_112);
     // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 8 u64 = 96; Integrity: 32 + 8 + 2 f64 + 8*96 = 824.
     assert_eq!(size_of::<DeviceIntegrity>(), 96);
-    assert_eq!(size_of::<IntegrityPayload>(), 824);
+    // Issue 25: + 2 u32 + 32 active alerts of (u32 + 2 u8 + 2 pad + i64 + 160) = 176: 6464.
+    assert_eq!(size_of::<IntegrityPayload>(), 6464);
     // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
     assert_eq!(size_of::<AlertPayload>(), 208);
     assert_eq!(align_of::<TrafficPayload>(), 8);
@@ -179,14 +181,14 @@ fn type_names_are_explicit_and_versioned() {
     assert_eq!(
         names,
         [
-            "vigil.Attitude.v1",
+            "vigil.Attitude.v2",
             "vigil.Ownship.v1",
             "vigil.Traffic.v1",
-            "vigil.Integrity.v1",
+            "vigil.Integrity.v2",
             "vigil.Alert.v1"
         ]
     );
-    assert_eq!(SCHEMA_VERSION, 1);
+    assert_eq!(SCHEMA_VERSION, 2);
 }
 
 #[test]

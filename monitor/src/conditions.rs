@@ -10,6 +10,7 @@ use vigil_bus::payload::attitude::{
     ISOLATION_DETECTED_NOT_ISOLATED, ISOLATION_ISOLATED, UNIT_BAHRS, UNIT_COUNT, UNIT_VN200,
     UnitAttitude, VERDICT_FAIL,
 };
+use vigil_bus::payload::attitude::{COVERAGE_COMPARED, coverage_name};
 use vigil_bus::payload::integrity::{
     CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, IntegrityPayload,
 };
@@ -195,6 +196,38 @@ pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
             out,
             params,
             Rule::InsNotTracking,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
+}
+
+// --- issue 25 ---
+/// Cross-check coverage rule: one alert per unit whose `unit_coverage` is not
+/// `COVERAGE_COMPARED` (the raise delay is the "longer than a configured time"). The reason names
+/// the unit, why it is not compared and since when.
+pub(crate) fn coverage(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
+    for (i, &code) in p.unit_coverage.iter().enumerate() {
+        if code == COVERAGE_COMPARED {
+            continue;
+        }
+        let age = p.unit_compared_age_s[i];
+        let since = if age.is_finite() {
+            format!("last compared {age:.1} s ago")
+        } else {
+            "never compared".to_string()
+        };
+        let reason = format!(
+            "{} not cross-checked: {} ({since})",
+            unit_name(i),
+            coverage_name(code)
+        );
+        let id = Rule::CrossCheckUnavailable.alert_id(i as u32);
+        push(
+            out,
+            params,
+            Rule::CrossCheckUnavailable,
             id,
             SEVERITY_CAUTION,
             reason,

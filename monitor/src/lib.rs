@@ -47,6 +47,7 @@
 //! | `feed_silent` (per topic) | no payload of the topic for longer than `feed_silent_s` | caution | 0 | 0 |
 //! | `traffic_alert` (per target) | `alert_level`: preventive -> advisory, corrective -> caution, warning (or unknown code) -> warning | by level | 0 | 0 |
 //! | `suspected_spoofing` (per target) | `plausibility_flags & spoofing_flags != 0` | caution | 0 | 5 |
+//! | `cross_check_unavailable` (per unit) | the unit's `unit_coverage` is not `COVERAGE_COMPARED` (reason: `not_aligned`, `not_wired`, `stale`, `absent`, `invalid`, `no_partner`, `no_check`) | caution | 2 | 1 |
 //!
 //! No rule latches by default; any can (`[monitor.RULE] latch = true`). Why the delays are 0
 //! where they are: the fusion cross-check and the traffic alert filter already apply persistence
@@ -91,10 +92,12 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use vigil_bus::payload::SCHEMA_VERSION;
 use vigil_bus::payload::alerts::AlertPayload;
+use vigil_bus::payload::alerts::{STATE_LATCHED, STATE_RAISED};
 use vigil_bus::payload::attitude::AttitudePayload;
-use vigil_bus::payload::integrity::IntegrityPayload;
+use vigil_bus::payload::integrity::{ActiveAlert, IntegrityPayload, MAX_ACTIVE_ALERTS};
 use vigil_bus::payload::ownship::OwnshipPayload;
 use vigil_bus::payload::traffic::TrafficPayload;
+use vigil_bus::payload::write_text;
 
 pub use conditions::{plausibility_names, unit_name};
 pub use lifecycle::{Change, Condition, Lifecycle, Phase};
@@ -184,6 +187,45 @@ impl Monitor {
             .map(|(&id, lc)| (id, lc.phase()))
     }
 
+    // --- issue 25: the active set as state ---
+    /// Fills `p`'s active-alert set with the alerts raised or latched now: the most severe
+    /// first, then the oldest, then by id; as many as fit, `active_alert_total` counting all.
+    pub fn fill_active(&self, p: &mut IntegrityPayload) {
+        let mut all: Vec<ActiveAlert> = self
+            .alerts
+            .iter()
+            .filter_map(|(&alert_id, lc)| {
+                let (state, raised_gps_ns, severity) = match lc.phase() {
+                    Phase::Raised {
+                        raised_ns,
+                        severity,
+                        ..
+                    } => (STATE_RAISED, raised_ns, severity),
+                    Phase::Latched {
+                        raised_ns,
+                        severity,
+                        ..
+                    } => (STATE_LATCHED, raised_ns, severity),
+                    Phase::Inactive | Phase::Pending { .. } => return None,
+                };
+                let mut a = ActiveAlert {
+                    alert_id,
+                    severity,
+                    state,
+                    raised_gps_ns,
+                    ..ActiveAlert::default()
+                };
+                write_text(&mut a.reason, lc.reason());
+                Some(a)
+            })
+            .collect();
+        all.sort_by_key(|a| (core::cmp::Reverse(a.severity), a.raised_gps_ns, a.alert_id));
+        p.active_alert_total = all.len() as u32;
+        let n = all.len().min(MAX_ACTIVE_ALERTS);
+        p.active_alerts[..n].copy_from_slice(&all[..n]);
+        p.active_alert_count = n as u32;
+    }
+
     /// Evaluates every rule at GPS time `t_gps_ns` (ns); returns the alert state changes to
     /// publish, in a deterministic order (by `alert_id`).
     pub fn poll(&mut self, t_gps_ns: i64) -> Vec<AlertPayload> {
@@ -195,6 +237,7 @@ impl Monitor {
         let mut active = Vec::new();
         if let Some(p) = &self.attitude {
             conditions::attitude(p, &params, &mut active);
+            conditions::coverage(p, &params, &mut active);
         }
         if let Some(p) = &self.ownship {
             conditions::ownship(p, &params, &mut active);

@@ -109,6 +109,11 @@ impl Lifecycle {
         self.phase == Phase::Inactive
     }
 
+    /// Reason of the newest evaluation that saw the condition (empty before any).
+    pub fn reason(&self) -> &str {
+        &self.last_reason
+    }
+
     /// True while the alert is raised or latched (published as active).
     pub fn is_active(&self) -> bool {
         matches!(self.phase, Phase::Raised { .. } | Phase::Latched { .. })

@@ -56,6 +56,10 @@ impl RuleTiming {
             // target levels: the monitor passes them through as they are.
             Rule::TrafficAlert => Self::new(0.0, 0.0),
             Rule::SuspectedSpoofing => Self::new(0.0, 5.0),
+            // Issue 25: "not compared for longer than a configured time" is the raise delay
+            // (2 s: well past a check's normal wait, about 0.25 s at most); comparisons must run
+            // again for 1 s before it clears.
+            Rule::CrossCheckUnavailable => Self::new(2.0, 1.0),
         }
     }
 
@@ -118,6 +122,7 @@ timing_field!(de_decode_errors, Rule::DecodeErrors);
 timing_field!(de_feed_silent, Rule::FeedSilent);
 timing_field!(de_traffic_alert, Rule::TrafficAlert);
 timing_field!(de_suspected_spoofing, Rule::SuspectedSpoofing);
+timing_field!(de_cross_check_unavailable, Rule::CrossCheckUnavailable);
 
 /// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`].
 pub const ALL_PLAUSIBILITY_FLAGS: u8 = PLAUSIBILITY_IMPOSSIBLE_SPEED
@@ -168,6 +173,10 @@ pub struct MonitorParams {
     /// Timing of [`Rule::SuspectedSpoofing`].
     #[serde(deserialize_with = "de_suspected_spoofing")]
     pub suspected_spoofing: RuleTiming,
+    // --- issue 25 ---
+    /// Timing of [`Rule::CrossCheckUnavailable`].
+    #[serde(deserialize_with = "de_cross_check_unavailable")]
+    pub cross_check_unavailable: RuleTiming,
 
     /// A device is silent when its last valid message is older than this, s.
     pub device_silent_s: f64,
@@ -201,6 +210,7 @@ impl Default for MonitorParams {
             feed_silent: RuleTiming::default_for(Rule::FeedSilent),
             traffic_alert: RuleTiming::default_for(Rule::TrafficAlert),
             suspected_spoofing: RuleTiming::default_for(Rule::SuspectedSpoofing),
+            cross_check_unavailable: RuleTiming::default_for(Rule::CrossCheckUnavailable),
             device_silent_s: 2.0,
             feed_silent_s: 2.0,
             decode_window_s: 10.0,
@@ -240,6 +250,7 @@ impl MonitorParams {
             Rule::FeedSilent => &self.feed_silent,
             Rule::TrafficAlert => &self.traffic_alert,
             Rule::SuspectedSpoofing => &self.suspected_spoofing,
+            Rule::CrossCheckUnavailable => &self.cross_check_unavailable,
         }
     }
 
@@ -258,6 +269,7 @@ impl MonitorParams {
             Rule::FeedSilent => &mut self.feed_silent,
             Rule::TrafficAlert => &mut self.traffic_alert,
             Rule::SuspectedSpoofing => &mut self.suspected_spoofing,
+            Rule::CrossCheckUnavailable => &mut self.cross_check_unavailable,
         }
     }
 
@@ -323,6 +335,7 @@ fn rule_doc(rule: Rule) -> &'static str {
         Rule::FeedSilent => "A bus topic is not received",
         Rule::TrafficAlert => "A traffic target's DAA alert level",
         Rule::SuspectedSpoofing => "A traffic target fails plausibility tests",
+        Rule::CrossCheckUnavailable => "An attitude unit is not cross-checked (and why)",
     }
 }
 

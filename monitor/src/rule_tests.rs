@@ -199,7 +199,11 @@ fn miscompares_on_two_axes_come_out_in_id_order() {
     // The monitor numbers its transitions 1, 2, ...
     let seqs: Vec<u64> = alerts.iter().map(|a| a.header.seq).collect();
     assert_eq!(seqs, [1, 2]);
-    assert!(alerts.iter().all(|a| a.header.schema_version == 1));
+    assert!(
+        alerts
+            .iter()
+            .all(|a| a.header.schema_version == vigil_bus::payload::SCHEMA_VERSION)
+    );
 }
 
 #[test]
@@ -222,6 +226,77 @@ fn isolated_unit_names_the_unit() {
     rig.att.isolated_unit = UNIT_NONE;
     let (t, _) = only(&rig.run(5000), 0x0200_0001, STATE_CLEARED, SEVERITY_CAUTION);
     assert_eq!(t, 2500);
+}
+
+/// Issue 25: the BAHRS stops being compared at 1.0 s (its samples arrive unaligned): the
+/// alert raises after the 2 s raise delay, at 3.0 s, naming the unit, the reason and the age;
+/// comparisons resume at 5.0 s and it clears after the 1 s hysteresis, at 6.0 s.
+#[test]
+fn cross_check_unavailable_names_the_unit_and_why_and_clears_when_compared_again() {
+    use vigil_bus::payload::attitude::{COVERAGE_COMPARED, COVERAGE_NOT_ALIGNED};
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(1000);
+    let b = usize::from(UNIT_BAHRS);
+    rig.att.unit_coverage[b] = COVERAGE_NOT_ALIGNED;
+    rig.att.unit_compared_age_s[b] = 0.6;
+    let id = Rule::CrossCheckUnavailable.alert_id(u32::from(UNIT_BAHRS));
+    assert_eq!(id, 0x0B00_0000);
+    let (t, a) = only(&rig.run(4000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 3000);
+    assert_eq!(
+        a.reason(),
+        "BAHRS not cross-checked: not_aligned (last compared 0.6 s ago)"
+    );
+    rig.att.unit_coverage[b] = COVERAGE_COMPARED;
+    let (t, _) = only(&rig.run(3000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 6000);
+    // Never compared at all: the age is NaN and the reason says so.
+    rig.att.unit_coverage[b] = vigil_bus::payload::attitude::COVERAGE_NOT_WIRED;
+    rig.att.unit_compared_age_s[b] = f64::NAN;
+    let (_, a) = only(&rig.run(3000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "BAHRS not cross-checked: not_wired (never compared)"
+    );
+}
+
+/// Issue 25: the active set as state. An alert raised at 1.0 s is in the set of every report
+/// filled from then on (severity, raise time, reason), the most severe first; cleared, it is
+/// gone. A pending alert (raise delay not over) is not active.
+#[test]
+fn the_active_set_holds_raised_alerts_most_severe_first() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(1000);
+    rig.att.units[usize::from(UNIT_BAHRS)].fault_flags = FAULT_HEALTH;
+    rig.att.valid = 0;
+    rig.run(500);
+    let mut p = IntegrityPayload::default();
+    rig.m.fill_active(&mut p);
+    // unit_health raised at 1.0 s; attitude_invalid still pending (1 s delay).
+    assert_eq!((p.active_alert_count, p.active_alert_total), (1, 1));
+    let a = p.active_alerts()[0];
+    assert_eq!((a.alert_id, a.state), (0x0300_0000, STATE_RAISED));
+    assert_eq!(a.raised_gps_ns, T0 + 1000 * MS);
+    assert!(a.reason().starts_with("BAHRS health integrity risk"));
+    rig.run(10_000);
+    rig.m.fill_active(&mut p);
+    let ids: Vec<(u32, u8)> = p
+        .active_alerts()
+        .iter()
+        .map(|a| (a.alert_id, a.severity))
+        .collect();
+    assert_eq!(
+        ids,
+        [
+            (0x0400_0000, SEVERITY_WARNING),
+            (0x0300_0000, SEVERITY_CAUTION)
+        ]
+    );
+    rig.att.units[usize::from(UNIT_BAHRS)].fault_flags = 0;
+    rig.att.valid = 1;
+    rig.run(3000);
+    rig.m.fill_active(&mut p);
+    assert_eq!((p.active_alert_count, p.active_alert_total), (0, 0));
 }
 
 #[test]

@@ -16,6 +16,7 @@
 //! | [`Rule::DeviceSilent`] | `0x08` | `(device kind << 8) \| slot` (`DEVICE_*` code, index in `devices`) |
 //! | [`Rule::DecodeErrors`] | `0x09` | `(device kind << 8) \| slot` |
 //! | [`Rule::FeedSilent`] | `0x0A` | topic: 0 attitude, 1 ownship, 2 traffic, 3 integrity |
+//! | [`Rule::CrossCheckUnavailable`] | `0x0B` | unit (`UNIT_*`) |
 //! | [`Rule::TrafficAlert`] | `0x20 + t` | 24-bit target address |
 //! | [`Rule::SuspectedSpoofing`] | `0x30 + t` | 24-bit target address |
 //!
@@ -60,11 +61,16 @@ pub enum Rule {
     TrafficAlert,
     /// A traffic target fails plausibility tests (suspected spoofing).
     SuspectedSpoofing,
+    // --- issue 25 ---
+    /// An attitude unit has not been cross-checked for longer than the raise delay (its
+    /// `unit_coverage` is not `COVERAGE_COMPARED`); the reason names why (not aligned, not
+    /// wired, stale, absent, invalid, ...).
+    CrossCheckUnavailable,
 }
 
 impl Rule {
     /// Every rule, in evaluation order.
-    pub const ALL: [Rule; 12] = [
+    pub const ALL: [Rule; 13] = [
         Rule::AttitudeMiscompare,
         Rule::UnitIsolated,
         Rule::UnitHealth,
@@ -77,6 +83,7 @@ impl Rule {
         Rule::FeedSilent,
         Rule::TrafficAlert,
         Rule::SuspectedSpoofing,
+        Rule::CrossCheckUnavailable,
     ];
 
     /// The rule's base code (the top byte of its alert ids; per-target rules add the address
@@ -95,6 +102,7 @@ impl Rule {
             Rule::FeedSilent => 0x0A,
             Rule::TrafficAlert => 0x20,
             Rule::SuspectedSpoofing => 0x30,
+            Rule::CrossCheckUnavailable => 0x0B,
         }
     }
 
@@ -113,6 +121,7 @@ impl Rule {
             Rule::FeedSilent => "feed_silent",
             Rule::TrafficAlert => "traffic_alert",
             Rule::SuspectedSpoofing => "suspected_spoofing",
+            Rule::CrossCheckUnavailable => "cross_check_unavailable",
         }
     }
 
@@ -141,6 +150,7 @@ impl Rule {
             0x08 => Rule::DeviceSilent,
             0x09 => Rule::DecodeErrors,
             0x0A => Rule::FeedSilent,
+            0x0B => Rule::CrossCheckUnavailable,
             0x20..=0x2F => Rule::TrafficAlert,
             0x30..=0x3F => Rule::SuspectedSpoofing,
             _ => return None,

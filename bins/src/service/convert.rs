@@ -27,6 +27,7 @@ use vigil_bus::payload::ownship::{self as own, OwnshipPayload};
 use vigil_bus::payload::traffic::{self as tr, TrafficPayload};
 use vigil_bus::payload::write_text;
 use vigil_drivers::DecodeStats;
+use vigil_fusion::attitude::coverage::{Coverage, CoverageRecord, NotComparedReason};
 use vigil_fusion::attitude::gates::{Gate, GateReason};
 use vigil_fusion::attitude::isolation::{Isolation, PairVerdict, Unit};
 use vigil_fusion::attitude::record::{AttitudeRecord, AxisPair, PairRecord, UnitValues, VotedAxis};
@@ -185,7 +186,49 @@ pub fn attitude(r: &AttitudeRecord) -> AttitudePayload {
         ..AttitudePayload::default()
     };
     p.header.gps_time_ns = r.t_gps_ns;
+    set_coverage(&mut p, &r.coverage);
     p
+}
+
+// --- issue 25: coverage ---
+fn coverage_code(c: &Coverage) -> u8 {
+    use NotComparedReason as R;
+    match (c.compared, c.reason) {
+        (true, _) => att::COVERAGE_COMPARED,
+        (false, Some(R::NotAligned)) => att::COVERAGE_NOT_ALIGNED,
+        (false, Some(R::NotWired)) => att::COVERAGE_NOT_WIRED,
+        (false, Some(R::Stale)) => att::COVERAGE_STALE,
+        (false, Some(R::Absent)) => att::COVERAGE_ABSENT,
+        (false, Some(R::Invalid)) => att::COVERAGE_INVALID,
+        (false, Some(R::NotComparable)) => att::COVERAGE_NOT_COMPARABLE,
+        (false, Some(R::NoPartner)) => att::COVERAGE_NO_PARTNER,
+        // Not compared without a reason cannot come from the checker; "no check" is the honest
+        // reading of it.
+        (false, Some(R::NoCheck) | None) => att::COVERAGE_NO_CHECK,
+    }
+}
+
+/// Fills the payload's coverage block from the record's (ages NaN when never compared).
+fn set_coverage(p: &mut AttitudePayload, c: &CoverageRecord) {
+    let units = [
+        (unit_index(Unit::Bahrs), &c.bahrs),
+        (unit_index(Unit::Vn200), &c.vn200),
+        (unit_index(Unit::Watson), &c.watson),
+    ];
+    for (i, u) in units {
+        p.unit_coverage[i] = coverage_code(u);
+        p.unit_compared_age_s[i] = opt(u.age_s);
+    }
+    let checks = [
+        (att::CHECK_ROLL, &c.roll),
+        (att::CHECK_PITCH, &c.pitch),
+        (att::CHECK_HEADING, &c.heading),
+        (att::CHECK_VERTICAL, &c.vertical),
+    ];
+    for (i, k) in checks {
+        p.check_coverage[i] = coverage_code(k);
+        p.check_compared_age_s[i] = opt(k.age_s);
+    }
 }
 
 /// The ownship payload of one ownship solution.

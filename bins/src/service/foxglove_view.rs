@@ -11,8 +11,8 @@
 //! | `/vigil/traffic`        | JSON     | `vigil.Traffic.v1`               | at most 1 Hz          |
 //! | `/vigil/traffic/geojson`| protobuf | `foxglove.GeoJSON` (Map)         | with the traffic      |
 //! | `/vigil/alerts`         | JSON     | `vigil.Alert.v1`                 | every transition      |
-//! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v1`              | at most 10 Hz         |
-//! | `/vigil/integrity`      | JSON     | `vigil.Integrity.v1`             | as published (1 Hz)   |
+//! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v2`              | at most 10 Hz         |
+//! | `/vigil/integrity`      | JSON     | `vigil.Integrity.v2`             | as published (1 Hz)   |
 //!
 //! The JSON messages are the bus payloads' own serde form (the same as `vigil listen`: NaN is
 //! `null`); each JSON schema is derived from that form (see [`json_schema`]), so it cannot drift
@@ -159,13 +159,13 @@ impl Channels {
             attitude: json_channel(
                 ctx,
                 TOPIC_ATTITUDE,
-                "vigil.Attitude.v1",
+                "vigil.Attitude.v2",
                 &AttitudePayload::default(),
             )?,
             integrity: json_channel(
                 ctx,
                 TOPIC_INTEGRITY,
-                "vigil.Integrity.v1",
+                "vigil.Integrity.v2",
                 &IntegrityPayload::default(),
             )?,
         })

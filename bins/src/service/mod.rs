@@ -309,16 +309,19 @@ impl Service {
     /// Publishes the integrity report, evaluates the monitor and publishes its alerts (call
     /// periodically, at host time `t_host_ns`).
     pub fn tick(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
-        let p = self.integrity(t_host_ns);
+        let mut p = self.integrity(t_host_ns);
         self.monitor.integrity(&p);
-        out.publish(&p);
-        self.counters.integrity += 1;
         if let Some(t) = self.gps_time(t_host_ns) {
             for a in self.monitor.poll(t) {
                 out.publish::<AlertPayload>(&a);
                 self.counters.alerts += 1;
             }
         }
+        // Issue 25: the integrity report carries the active set after this poll's transitions
+        // (a late subscriber reads what is raised or latched now from the latest report).
+        self.monitor.fill_active(&mut p);
+        out.publish(&p);
+        self.counters.integrity += 1;
     }
 
     /// One line of status: per port its link, bytes, messages and bad frames (checksum failures,
@@ -399,3 +402,7 @@ impl Outputs for Collected {
 #[cfg(test)]
 #[path = "service_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "coverage_tests.rs"]
+mod coverage_tests;

@@ -61,6 +61,54 @@ pub const FAULT_ISOLATED: u8 = 1 << 3;
 /// Unit fault flag: the unit reports an internal health problem.
 pub const FAULT_HEALTH: u8 = 1 << 4;
 
+// --- issue 25: coverage codes ---
+/// Number of checks in [`AttitudePayload::check_coverage`].
+pub const CHECK_COUNT: usize = 4;
+/// Check index of roll in [`AttitudePayload::check_coverage`].
+pub const CHECK_ROLL: usize = 0;
+/// Check index of pitch.
+pub const CHECK_PITCH: usize = 1;
+/// Check index of heading.
+pub const CHECK_HEADING: usize = 2;
+/// Check index of the vertical channel (BAHRS down velocity and pressure-height rate against the
+/// VN-200).
+pub const CHECK_VERTICAL: usize = 3;
+/// Coverage: compared (within the verdict age limit).
+pub const COVERAGE_COMPARED: u8 = 0;
+/// Not compared: samples arrive but cannot be put on GPS time now (e.g. BAHRS PPS lost).
+pub const COVERAGE_NOT_ALIGNED: u8 = 1;
+/// Not compared: samples arrive but none was ever put on GPS time (e.g. the BAHRS
+/// synchronisation input not wired, or no pulse yet).
+pub const COVERAGE_NOT_WIRED: u8 = 2;
+/// Not compared: the newest sample is older than the freshness limit.
+pub const COVERAGE_STALE: u8 = 3;
+/// Not compared: no sample at all.
+pub const COVERAGE_ABSENT: u8 = 4;
+/// Not compared: the samples are not usable (own health or mode, error bits, frozen, ...).
+pub const COVERAGE_INVALID: u8 = 5;
+/// Not compared: the heading is not comparable here (no declination, magnetic pole zone).
+pub const COVERAGE_NOT_COMPARABLE: u8 = 6;
+/// Not compared: usable, but no other unit was.
+pub const COVERAGE_NO_PARTNER: u8 = 7;
+/// Not compared: no cross-check ran (checks run at BAHRS sample times).
+pub const COVERAGE_NO_CHECK: u8 = 8;
+
+/// Lower-case name of a `COVERAGE_*` code (as in the fusion records and the alert reasons).
+pub fn coverage_name(code: u8) -> &'static str {
+    match code {
+        COVERAGE_COMPARED => "compared",
+        COVERAGE_NOT_ALIGNED => "not_aligned",
+        COVERAGE_NOT_WIRED => "not_wired",
+        COVERAGE_STALE => "stale",
+        COVERAGE_ABSENT => "absent",
+        COVERAGE_INVALID => "invalid",
+        COVERAGE_NOT_COMPARABLE => "not_comparable",
+        COVERAGE_NO_PARTNER => "no_partner",
+        COVERAGE_NO_CHECK => "no_check",
+        _ => "unknown",
+    }
+}
+
 /// One unit's attitude as used by the cross-check.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
@@ -98,7 +146,7 @@ pub struct UnitAttitude {
 /// prompt time more than 1 s behind the newest is a clock reset, and followed).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.Attitude.v1")]
+#[type_name("vigil.Attitude.v2")]
 pub struct AttitudePayload {
     /// Common header; `gps_time_ns` is the time of the voted solution.
     pub header: Header,
@@ -127,6 +175,19 @@ pub struct AttitudePayload {
     /// Explicit padding; always 0.
     #[serde(skip)]
     pub reserved: [u8; 4],
+    // --- issue 25: coverage (what the cross-check compared on this sample, and why not) ---
+    /// Per unit (`UNIT_*`): `COVERAGE_*` code (`COVERAGE_COMPARED` when it took part in a
+    /// comparison no older than the verdict age limit).
+    pub unit_coverage: [u8; UNIT_COUNT],
+    /// Per check (`CHECK_*`): `COVERAGE_*` code.
+    pub check_coverage: [u8; CHECK_COUNT],
+    /// Explicit padding; always 0.
+    #[serde(skip)]
+    pub reserved_coverage: [u8; 1],
+    /// Per unit: time since it was last compared, s; NaN when never compared.
+    pub unit_compared_age_s: [f64; UNIT_COUNT],
+    /// Per check: time since it last ran, s; NaN when never.
+    pub check_compared_age_s: [f64; CHECK_COUNT],
 }
 
 impl_payload!(AttitudePayload, Topic::Attitude);

@@ -1,9 +1,12 @@
-//! `vigil/integrity`: per-device link state and decode counters, and the clock status.
+//! `vigil/integrity`: per-device link state and decode counters, the clock status, and (issue
+//! 25) the set of alerts active now, so a subscriber that starts late learns at once what is
+//! raised or latched (`vigil/alerts` carries transitions only).
 
 use iceoryx2::prelude::ZeroCopySend;
 use serde::Serialize;
 
-use super::{Header, impl_payload, ser_text};
+use super::alerts::REASON_LEN;
+use super::{Header, impl_payload, read_text, ser_text};
 use crate::names::Topic;
 
 /// Capacity of [`IntegrityPayload::devices`].
@@ -39,6 +42,52 @@ pub const CLOCK_GPS_TIME: u8 = 1;
 pub const CLOCK_PPS_LOCKED: u8 = 2;
 /// Clock status: was locked, now holding over.
 pub const CLOCK_HOLDOVER: u8 = 3;
+
+// --- issue 25: the active alert set ---
+/// Capacity of [`IntegrityPayload::active_alerts`].
+pub const MAX_ACTIVE_ALERTS: usize = 32;
+
+/// One alert raised or latched now (the state an [`super::alerts::AlertPayload`] transition
+/// left it in).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend, Serialize)]
+#[type_name("vigil.ActiveAlert.v1")]
+pub struct ActiveAlert {
+    /// The alert's `alert_id` (as on `vigil/alerts`).
+    pub alert_id: u32,
+    /// `SEVERITY_*` code.
+    pub severity: u8,
+    /// `STATE_RAISED` or `STATE_LATCHED`.
+    pub state: u8,
+    /// Explicit padding; always 0.
+    #[serde(skip)]
+    pub reserved: [u8; 2],
+    /// GPS time the alert was raised, ns.
+    pub raised_gps_ns: i64,
+    /// Reason of the newest evaluation that saw the condition, NUL-padded UTF-8.
+    #[serde(serialize_with = "ser_text")]
+    pub reason: [u8; REASON_LEN],
+}
+
+impl Default for ActiveAlert {
+    fn default() -> Self {
+        Self {
+            alert_id: 0,
+            severity: 0,
+            state: 0,
+            reserved: [0; 2],
+            raised_gps_ns: 0,
+            reason: [0; REASON_LEN],
+        }
+    }
+}
+
+impl ActiveAlert {
+    /// The reason text.
+    pub fn reason(&self) -> &str {
+        read_text(&self.reason)
+    }
+}
 
 /// One device's link and decoder counters (counters since start; a consumer takes differences).
 #[repr(C)]
@@ -78,7 +127,7 @@ pub struct DeviceIntegrity {
 /// Integrity snapshot: every configured device and the clock.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.Integrity.v1")]
+#[type_name("vigil.Integrity.v2")]
 #[serde(into = "IntegrityJson")]
 pub struct IntegrityPayload {
     /// Common header.
@@ -107,6 +156,15 @@ pub struct IntegrityPayload {
     /// Explicit padding; always 0.
     #[serde(skip)]
     pub reserved_clock: [u8; 7],
+    // --- issue 25: the active alert set (the monitor inside `vigil run`) ---
+    /// Number of valid entries in `active_alerts`.
+    pub active_alert_count: u32,
+    /// Alerts active in all; more than `active_alert_count` when the set did not fit (the most
+    /// severe, then the oldest, are kept).
+    pub active_alert_total: u32,
+    /// The alerts raised or latched at `header.gps_time_ns`; entries from `active_alert_count`
+    /// on are unspecified.
+    pub active_alerts: [ActiveAlert; MAX_ACTIVE_ALERTS],
 }
 
 /// JSON form of [`IntegrityPayload`]: only the valid device entries.
@@ -120,6 +178,9 @@ struct IntegrityJson {
     clock_sigma_s: f64,
     devices: Vec<DeviceIntegrity>,
     clock_disagreement: u8,
+    active_alert_count: u32,
+    active_alert_total: u32,
+    active_alerts: Vec<ActiveAlert>,
 }
 
 impl From<IntegrityPayload> for IntegrityJson {
@@ -133,6 +194,9 @@ impl From<IntegrityPayload> for IntegrityJson {
             clock_sigma_s: p.clock_sigma_s,
             devices: p.devices().to_vec(),
             clock_disagreement: p.clock_disagreement,
+            active_alert_count: p.active_alert_count,
+            active_alert_total: p.active_alert_total,
+            active_alerts: p.active_alerts().to_vec(),
         }
     }
 }
@@ -141,6 +205,11 @@ impl IntegrityPayload {
     /// The valid device entries (count clamped to the capacity).
     pub fn devices(&self) -> &[DeviceIntegrity] {
         &self.devices[..(self.device_count as usize).min(MAX_DEVICES)]
+    }
+
+    /// The valid active-alert entries (count clamped to the capacity).
+    pub fn active_alerts(&self) -> &[ActiveAlert] {
+        &self.active_alerts[..(self.active_alert_count as usize).min(MAX_ACTIVE_ALERTS)]
     }
 }
 

@@ -25,7 +25,7 @@ use crate::names::Topic;
 /// Schema version of every payload in this crate. Bumped on any layout change; it is also part of
 /// each `type_name`, so iceoryx2 refuses to connect a publisher and a subscriber built from
 /// different layouts instead of letting one misread the other's bytes.
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// Common first field of every payload.
 #[repr(C)]

@@ -17,13 +17,17 @@ use nalgebra::UnitQuaternion;
 
 use super::angles::{from_ypr, interpolate, to_ypr, wrap_2pi};
 use super::compare::{Axis, VarianceTerms, compare_axis, euler_rates, tilt_variances, unmount};
+use super::coverage::{
+    self, Arrival, CoverageRecord, CoverageState, NotComparedReason, SLOT_ROLL, SLOT_VERTICAL,
+    SLOTS,
+};
 use super::gates::{self, FrozenDetector, Gate, GateReason};
 use super::isolation::{Isolation, PairVerdict, Pairs, Unit, isolate};
 use super::params::{CheckParams, ParamError};
 use super::persistence::Persistence;
 use super::record::*;
 use super::samples::{BahrsSample, Vn200Sample, WatsonSample};
-use super::vertical::{VerticalChannel, Vn200Vertical};
+use super::vertical::{VerticalChannel, VerticalRecord, Vn200Vertical};
 use super::vote::vote;
 use crate::magnetic::{Declination, DeclinationModel, MagneticZone};
 
@@ -112,6 +116,9 @@ pub struct AttitudeChecker {
     last_verdicts: Option<prompt::Verdicts>,
     /// GPS time of the newest prompt output, ns.
     last_prompt_ns: Option<i64>,
+    // --- issue 25: coverage ---
+    /// Last comparison per unit and check, and how each unit's samples arrive.
+    coverage: CoverageState,
 }
 
 impl AttitudeChecker {
@@ -142,6 +149,7 @@ impl AttitudeChecker {
             last_bahrs: None,
             last_verdicts: None,
             last_prompt_ns: None,
+            coverage: CoverageState::default(),
         })
     }
 
@@ -156,8 +164,23 @@ impl AttitudeChecker {
         self.fallback_position = lla;
     }
 
+    /// Notes that a sample of `unit` arrived but could not be used: not aligned on GPS time, or
+    /// its clock model unlocked (coverage: such a unit is "not aligned" or "not wired" rather
+    /// than "absent" or "stale"; cleared by its next aligned sample).
+    pub fn note_unaligned(&mut self, unit: Unit) {
+        self.coverage.arrival[unit_slot(unit)].unaligned_now = true;
+    }
+
+    fn note_aligned(&mut self, unit: Unit) {
+        self.coverage.arrival[unit_slot(unit)] = Arrival {
+            unaligned_now: false,
+            ever_aligned: true,
+        };
+    }
+
     /// Adds a BAHRS navigation sample (it is compared once the others catch up).
     pub fn push_bahrs(&mut self, s: BahrsSample) {
+        self.note_aligned(Unit::Bahrs);
         let f = self.frozen[0].update(
             [
                 s.roll_rad,
@@ -173,6 +196,7 @@ impl AttitudeChecker {
 
     /// Adds a VN-200 sample.
     pub fn push_vn200(&mut self, s: Vn200Sample) {
+        self.note_aligned(Unit::Vn200);
         let q = s.attitude.quaternion();
         let f = self.frozen[1].update(
             [q.w, q.i, q.j, q.k],
@@ -184,6 +208,7 @@ impl AttitudeChecker {
 
     /// Adds a Watson sample.
     pub fn push_watson(&mut self, s: WatsonSample) {
+        self.note_aligned(Unit::Watson);
         let f = self.frozen[2].update(
             [s.roll_rad, s.pitch_rad, s.heading_mag_rad, s.rates_radps[2]],
             s.t_gps_ns,
@@ -530,6 +555,7 @@ impl AttitudeChecker {
             [isolation.roll, isolation.pitch, isolation.heading],
         );
         let vertical = self.vertical.update(b, &vn_vertical, dt_s, self.k_axis, &p);
+        let coverage = self.check_coverage(t, [&bahrs, &vn, &watson], &pairs, &vertical);
         let h = b.health;
         let bahrs_integrity_risk = [
             h.roll(),
@@ -561,10 +587,61 @@ impl AttitudeChecker {
             isolation,
             voted,
             vertical,
+            coverage,
         };
         self.last_verdicts = Some(prompt::Verdicts::of(&rec));
         self.last_bahrs = Some((*b, frozen));
         rec
+    }
+
+    /// The coverage of a check at `t`: what the pairs and the vertical channel compared, and
+    /// why the rest was not (see [`coverage`]).
+    fn check_coverage(
+        &mut self,
+        t: i64,
+        units: [&Prepared; 3],
+        pairs: &PairsRecord,
+        vertical: &VerticalRecord,
+    ) -> CoverageRecord {
+        let mut compared = [false; SLOTS];
+        let pair_units = [(0, 1), (0, 2), (1, 2)];
+        let records = [&pairs.bahrs_vn200, &pairs.bahrs_watson, &pairs.vn200_watson];
+        for (&(ia, ib), r) in pair_units.iter().zip(records) {
+            for (ai, a) in [&r.roll, &r.pitch, &r.heading].into_iter().enumerate() {
+                if a.comparison.is_some() {
+                    compared[ia] = true;
+                    compared[ib] = true;
+                    compared[SLOT_ROLL + ai] = true;
+                }
+            }
+        }
+        let v = [&vertical.velocity_down, &vertical.height_rate];
+        compared[SLOT_VERTICAL] = v.iter().any(|c| c.verdict != PairVerdict::NotCompared);
+        let arrival = self.coverage.arrival;
+        let mut reason = [None; SLOTS];
+        for (i, u) in units.iter().enumerate() {
+            if !compared[i] {
+                reason[i] = Some(coverage::unit_reason(&u.gates, &arrival[i]));
+            }
+        }
+        for ai in 0..3 {
+            if !compared[SLOT_ROLL + ai] {
+                // The first closed gate, the BAHRS's first: the check exists for it.
+                reason[SLOT_ROLL + ai] = Some(
+                    (0..3)
+                        .find_map(|i| units[i].gates[ai].map(|g| arrival[i].explain(g)))
+                        .unwrap_or(NotComparedReason::NoPartner),
+                );
+            }
+        }
+        if !compared[SLOT_VERTICAL] {
+            reason[SLOT_VERTICAL] = Some(
+                v.iter()
+                    .find_map(|c| c.gate)
+                    .map_or(NotComparedReason::NoPartner, coverage::reason_of_gate),
+            );
+        }
+        self.coverage.record(t, compared, reason)
     }
 
     /// The BAHRS sample `b` ready to compare (`rz`: the declination rotation, `d_rad` its angle).
@@ -805,6 +882,15 @@ fn vote_units(units: [&Prepared; 3], iso_axis: [Isolation; 3]) -> Voted {
         roll: axis(0),
         pitch: axis(1),
         heading: axis(2),
+    }
+}
+
+/// Index of a unit in the coverage slots (and in `[bahrs, vn200, watson]` arrays).
+fn unit_slot(u: Unit) -> usize {
+    match u {
+        Unit::Bahrs => 0,
+        Unit::Vn200 => 1,
+        Unit::Watson => 2,
     }
 }
 

@@ -6,7 +6,10 @@
 //!   pair)`, test ratio `|z| / k` with `k` from the false-alarm probability (4.42 at 1e-5); jointly
 //!   `chi2 = sum z^2` over the three axes against the chi-square(3) bound (25.9);
 //! - fixed comparator: `|d| / limit` with pitch 5, roll 6, heading 6 deg (12 deg while the bank
-//!   exceeds 6 deg).
+//!   exceeds 6 deg), widened by `k x |rate| x s_t` (issue 25): a sample whose time is less sure
+//!   (the BAHRS on the host-clock fallback instead of its PPS) moves by up to that much at the
+//!   body rates, so both detectors widen by the same stated timing term
+//!   ([`AxisComparison::timing_deg`]) and the comparison goes on instead of stopping.
 //!
 //! Also: tilt sigmas of the BAHRS from its north/east standard deviations, Euler-angle rates from
 //! body rates (for the timing term), and mounting correction.
@@ -87,6 +90,10 @@ pub struct AxisComparison {
     pub limit_deg: f64,
     /// Fixed comparator ratio `|d| / limit`.
     pub fixed_ratio: f64,
+    // --- issue 25 ---
+    /// The timing term, 1-sigma, deg: Euler rate of the axis x the relative time sigma of the two
+    /// samples. In the variance as its square; added `k` times to the fixed limit.
+    pub timing_deg: f64,
 }
 
 /// Variance contributions of one pair on one axis, rad^2.
@@ -143,7 +150,8 @@ pub fn compare_axis(
     };
     let v = var.total().max(1e-12);
     let z = d / v.sqrt();
-    let limit = fixed_limit(p, axis, bank_rad);
+    let timing = (var.rate_radps * var.timing_sigma_s).abs();
+    let limit = fixed_limit(p, axis, bank_rad) + k * timing;
     AxisComparison {
         diff_deg: d / DEG,
         var_deg2: v / (DEG * DEG),
@@ -151,6 +159,7 @@ pub fn compare_axis(
         stat_ratio: z.abs() / k,
         limit_deg: limit / DEG,
         fixed_ratio: d.abs() / limit,
+        timing_deg: timing / DEG,
     }
 }
 
@@ -222,8 +231,16 @@ mod tests {
         assert!((c.var_deg2 - 5.1125).abs() < 1e-9);
         assert!((c.z + 4.0 / 5.1125f64.sqrt()).abs() < 1e-9);
         assert!((c.stat_ratio - 4.0 / 5.1125f64.sqrt() / 4.42).abs() < 1e-9);
-        assert!((c.limit_deg - 6.0).abs() < 1e-12 && (c.fixed_ratio - 4.0 / 6.0).abs() < 1e-9);
-        // Banked 7 deg: heading limit 12 deg; 6.0 deg bank exactly: still 6.
+        // The fixed limit widens by k x timing = 4.42 x 0.05 deg = 0.221 deg.
+        assert!((c.timing_deg - 0.05).abs() < 1e-12);
+        assert!((c.limit_deg - 6.221).abs() < 1e-12);
+        assert!((c.fixed_ratio - 4.0 / 6.221).abs() < 1e-9);
+        // Without the timing term, the configured limits. Banked 7 deg: heading limit 12 deg;
+        // 6.0 deg bank exactly: still 6.
+        let var = VarianceTerms {
+            timing_sigma_s: 0.0,
+            ..var
+        };
         let c = compare_axis(&p, Axis::Heading, 0.0, 0.0, &var, 4.42, 7.0 * DEG);
         assert_eq!(c.limit_deg, 12.0);
         let c = compare_axis(&p, Axis::Heading, 0.0, 0.0, &var, 4.42, -7.0 * DEG);
@@ -235,5 +252,40 @@ mod tests {
         // Roll 6.5 vs 0: fixed ratio 6.5/6.
         let c = compare_axis(&p, Axis::Roll, 6.5 * DEG, 0.0, &var, 4.42, 0.0);
         assert!((c.fixed_ratio - 6.5 / 6.0).abs() < 1e-12);
+    }
+
+    /// Issue 25, point 3: a BAHRS sample on the host-clock fallback, stamped 20 ms late with a
+    /// stated sigma of 10 ms, during a 30 deg/s roll. Its roll lags the VN-200's by
+    /// 30 x 0.02 = 0.6 deg. Unit sigmas 0.1 deg each, no mounting term.
+    /// - With the PPS sigma (0.1 ms, timing term 0.003 deg): var = 0.02 + 0.000009 deg^2,
+    ///   z = 0.6 / 0.14145 = 4.2418, ratio 4.2418 / 4.42 = 0.9597 (almost failing);
+    /// - with the fallback's 10 ms (timing term 0.3 deg): var = 0.02 + 0.09 = 0.11 deg^2,
+    ///   z = 0.6 / 0.33166 = 1.8091, ratio 0.4093: compared, with the larger tolerance stated;
+    ///   the fixed limit 6 + 4.42 x 0.3 = 7.326 deg.
+    #[test]
+    fn a_large_time_sigma_widens_both_detectors_by_rate_times_sigma() {
+        let p = CheckParams::default();
+        let terms = |sigma_s: f64| VarianceTerms {
+            a: (0.1 * DEG).powi(2),
+            b: (0.1 * DEG).powi(2),
+            rate_radps: 30.0 * DEG,
+            timing_sigma_s: sigma_s,
+            ..Default::default()
+        };
+        let pps = compare_axis(&p, Axis::Roll, 0.0, 0.6 * DEG, &terms(1e-4), 4.42, 0.0);
+        assert!((pps.stat_ratio - 0.6 / 0.020009f64.sqrt() / 4.42).abs() < 1e-9);
+        assert!((pps.stat_ratio - 0.9597).abs() < 1e-4, "{}", pps.stat_ratio);
+        let host = compare_axis(&p, Axis::Roll, 0.0, 0.6 * DEG, &terms(0.01), 4.42, 0.0);
+        assert!((host.timing_deg - 0.3).abs() < 1e-12);
+        assert!((host.var_deg2 - 0.11).abs() < 1e-12);
+        assert!(
+            (host.stat_ratio - 0.4093).abs() < 1e-4,
+            "{}",
+            host.stat_ratio
+        );
+        assert!((host.limit_deg - 7.326).abs() < 1e-9);
+        // A real 3 deg disagreement is still caught with the wider tolerance: z = 3 / 0.33166.
+        let fault = compare_axis(&p, Axis::Roll, 0.0, 3.0 * DEG, &terms(0.01), 4.42, 0.0);
+        assert!(fault.stat_ratio > 2.0, "{}", fault.stat_ratio);
     }
 }

@@ -7,11 +7,13 @@
 //! (pairwise isolation with the magnetic-disturbance rule). The check: [`params`] (the parameter
 //! table), [`samples`] (inputs), [`gates`] (validity, freshness, frozen), [`compare`] (both
 //! detectors per axis), [`vertical`] (vertical channel), [`vote`] (voted attitude), [`record`]
-//! (the emitted record) and [`checker`] (the stateful [`checker::AttitudeChecker`]).
+//! (the emitted record), [`coverage`] (what was compared and why not) and [`checker`] (the
+//! stateful [`checker::AttitudeChecker`]).
 
 pub mod angles;
 pub mod checker;
 pub mod compare;
+pub mod coverage;
 pub mod gates;
 pub mod isolation;
 pub mod params;

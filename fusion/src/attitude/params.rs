@@ -26,6 +26,7 @@
 //! | `mounting.*`               | deg    | -180 .. 180    | 0 (offsets), 0.1 (sigma) |
 //! | `declination_refresh_s`    | s      | 1 .. 3600      | 60                 |
 //! | `vertical_*`               | m/s    | 0.01 .. 20     | see [`VerticalParams`] |
+//! | `verdict_max_age_s`        | s      | 0.05 .. 10     | 0.5                |
 //!
 //! Decisions:
 //! - The Watson string carries no uncertainty: its sigmas are configured (defaults from the class
@@ -151,6 +152,13 @@ pub struct CheckParams {
     pub declination_refresh_s: f64,
     /// Vertical channel.
     pub vertical: VerticalParams,
+    // --- issue 25: coverage ---
+    /// A verdict older than this is unknown, never repeated: a prompt output more than this
+    /// after the newest check carries no verdicts, and a unit or check last compared longer ago
+    /// is "not compared" with its reason, s. Default 0.5 s: a check waits at most about a
+    /// Watson period plus its transmission (about 0.16 s) or the staleness horizon (3 Watson
+    /// periods, 0.25 s) behind the newest sample, so a nominal flow never reaches it.
+    pub verdict_max_age_s: f64,
 }
 
 impl Default for CheckParams {
@@ -187,6 +195,7 @@ impl Default for CheckParams {
             mounting_watson: Mounting::default(),
             declination_refresh_s: 60.0,
             vertical: VerticalParams::default(),
+            verdict_max_age_s: 0.5,
         }
     }
 }
@@ -208,7 +217,7 @@ pub struct ParamError {
 impl CheckParams {
     /// Checks every parameter against its range.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let checks: [(&'static str, f64, f64, f64); 18] = [
+        let checks: [(&'static str, f64, f64, f64); 19] = [
             ("p_false_alarm", self.p_false_alarm, 1e-12, 0.1),
             ("limit_pitch_deg", self.limit_pitch_deg, 0.5, 30.0),
             ("limit_roll_deg", self.limit_roll_deg, 0.5, 30.0),
@@ -256,6 +265,7 @@ impl CheckParams {
             ("frozen_window_s", self.frozen_window_s, 0.1, 10.0),
             ("reset_after_gap_s", self.reset_after_gap_s, 1.0, 600.0),
             ("isolation_settle_s", self.isolation_settle_s, 0.0, 5.0),
+            ("verdict_max_age_s", self.verdict_max_age_s, 0.05, 10.0),
             (
                 "declination_refresh_s",
                 self.declination_refresh_s,

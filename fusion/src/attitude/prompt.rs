@@ -13,6 +13,10 @@
 //! unit isolated there is left out of this vote too. Nothing here touches the statistics of the
 //! check (the persistence counters, the CUSUMs): a prompt output only reads them.
 //!
+//! Issue 25: a check record older than `verdict_max_age_s` gives no verdicts: the prompt then
+//! says "not compared" on every pair and axis (never a repeated old verdict), and its coverage
+//! says why, from the units as they are now (e.g. the BAHRS samples arriving unaligned).
+//!
 //! Decision: the propagation uses each unit's body rates as aircraft body rates. The mounting
 //! rotations are a few degrees at most, and over the few milliseconds propagated the difference
 //! is far below the units' noise.
@@ -144,8 +148,16 @@ impl AttitudeChecker {
         };
         let (vn, _, _) = self.prepare_vn200(t);
         let watson = self.prepare_watson(t, &rz, mag_gate);
+        let max_age_s = self.params.verdict_max_age_s;
+        let fresh = self
+            .last_t_ns
+            .is_some_and(|c| t.saturating_sub(c) as f64 * 1e-9 <= max_age_s);
+        let coverage = self.prompt_coverage(t, fresh, [&bahrs, &vn, &watson]);
         let [bahrs, vn, watson] = [bahrs, vn, watson].map(propagate);
-        let v = self.last_verdicts.unwrap_or_else(Verdicts::none);
+        let v = match self.last_verdicts {
+            Some(v) if fresh => v,
+            _ => Verdicts::none(),
+        };
         let i = &v.isolation;
         Some(AttitudeRecord {
             kind: PROMPT_KIND,
@@ -164,7 +176,28 @@ impl AttitudeChecker {
             isolation: v.isolation,
             voted: vote_units([&bahrs, &vn, &watson], [i.roll, i.pitch, i.heading]),
             vertical: v.vertical,
+            coverage,
         })
+    }
+
+    /// The coverage at prompt time `t`: the newest check's reasons while it is `fresh`;
+    /// without a recent check, each unit's state now (a closed roll or pitch gate, explained by
+    /// how its samples arrive), the checks following the BAHRS's, else "no check".
+    fn prompt_coverage(&self, t: i64, fresh: bool, units: [&Prepared; 3]) -> CoverageRecord {
+        let arrival = self.coverage.arrival;
+        let last = self.coverage.reason;
+        let now = |i: usize| {
+            let g = &units[i].gates;
+            g[0].or(g[1])
+                .map(|_| crate::attitude::coverage::unit_reason(g, &arrival[i]))
+        };
+        let bahrs_now = now(0);
+        self.coverage
+            .at(t, self.params.verdict_max_age_s, |slot| match slot {
+                _ if fresh => last[slot],
+                0..=2 => now(slot),
+                _ => bahrs_now,
+            })
     }
 }
 
@@ -345,6 +378,75 @@ mod tests {
             worst[0] < 0.6 && worst[1] < 0.6 && worst[2] < 2.0,
             "{worst:?}"
         );
+    }
+
+    /// Issue 25: the BAHRS is aligned for the first 30 s, then its samples keep arriving but
+    /// cannot be aligned (PPS lost past the holdover). While it was aligned every prompt covers
+    /// all three units; from 30 s + `verdict_max_age_s` on no prompt repeats a verdict, and each
+    /// says the BAHRS is `not_aligned` and the others `no_check`. A second checker whose BAHRS
+    /// is never aligned says `not_wired` from the first prompt on.
+    #[test]
+    fn prompts_never_repeat_old_verdicts_and_say_why_nothing_is_compared() {
+        use crate::attitude::coverage::NotComparedReason as R;
+        let sc = Scenario {
+            duration_s: 40.0,
+            ..Default::default()
+        };
+        let t0 = sc.t0_gps_ns;
+        let max_age = CheckParams::default().verdict_max_age_s;
+        let (mut lost, mut never) = (checker_with_wmm_off(3.0), checker_with_wmm_off(3.0));
+        let (mut before, mut after, mut never_count) = (0, 0, 0);
+        for e in Stream::new(sc) {
+            let aligned = match e {
+                Event::Bahrs(b) => (b.t_gps_ns - t0) < 30_000_000_000,
+                _ => true,
+            };
+            let (t, from) = if aligned {
+                e.push_into(&mut lost)
+            } else {
+                lost.note_unaligned(Unit::Bahrs);
+                continue;
+            };
+            while lost.next_record().is_some() {}
+            let secs = (t - t0) as f64 * 1e-9;
+            if let Some(p) = lost.prompt(t, from) {
+                let c = &p.coverage;
+                if (2.0..30.0).contains(&secs) {
+                    before += 1;
+                    assert!(
+                        c.bahrs.compared && c.vn200.compared && c.watson.compared,
+                        "{secs}"
+                    );
+                    assert!(c.roll.compared && c.pitch.compared && c.heading.compared);
+                    assert_eq!(p.isolation.roll, Isolation::NoFault, "{secs}");
+                } else if secs > 30.0 + max_age + 0.02 {
+                    after += 1;
+                    assert_eq!(c.bahrs.reason, Some(R::NotAligned), "{secs}");
+                    assert!(c.bahrs.age_s.unwrap() > max_age);
+                    assert_eq!(c.vn200.reason, Some(R::NoCheck));
+                    assert_eq!(c.roll.reason, Some(R::NotAligned));
+                    assert_eq!(p.isolation.roll, Isolation::NotCompared, "{secs}");
+                    assert_eq!(p.pairs.vn200_watson.roll.verdict, PairVerdict::NotCompared);
+                    // The vote goes on without the BAHRS.
+                    let roll = p.voted.roll.as_ref().unwrap();
+                    assert!(!roll.used.contains(&Unit::Bahrs));
+                }
+            }
+            // The same stream with the BAHRS never aligned.
+            if from != Unit::Bahrs {
+                never.note_unaligned(Unit::Bahrs);
+                e.push_into(&mut never);
+                while never.next_record().is_some() {}
+                if let Some(p) = never.prompt(t, from) {
+                    never_count += 1;
+                    assert_eq!(p.coverage.bahrs.reason, Some(R::NotWired));
+                    assert_eq!(p.coverage.bahrs.age_s, None);
+                    assert_eq!(p.isolation.joint, Isolation::NotCompared);
+                }
+            }
+        }
+        // 28 s and 9.5 s of VN-200 prompts at 50 Hz at least; 40 s in the second checker.
+        assert!(before > 1400 && after > 450 && never_count > 2000);
     }
 
     fn checker_with_wmm_off(decl_deg: f64) -> AttitudeChecker {

@@ -5,6 +5,7 @@
 use serde::Serialize;
 
 use super::compare::AxisComparison;
+use super::coverage::CoverageRecord;
 use super::gates::Gate;
 use super::isolation::{Isolation, PairVerdict, Unit};
 use super::vertical::VerticalRecord;
@@ -185,4 +186,8 @@ pub struct AttitudeRecord {
     pub voted: Voted,
     /// Vertical channel.
     pub vertical: VerticalRecord,
+    // --- issue 25: coverage ---
+    /// What was compared on this record and why the rest was not (a prompt: compared within
+    /// `verdict_max_age_s`; see [`super::coverage`]).
+    pub coverage: CoverageRecord,
 }

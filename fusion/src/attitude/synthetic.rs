@@ -54,6 +54,10 @@ pub struct Scenario {
     pub watson_pitch_step: Option<(f64, f64)>,
     /// BAHRS mounting (yaw, pitch, roll offsets of its body frame), deg.
     pub bahrs_mounting_deg: [f64; 3],
+    // --- issue 25 ---
+    /// BAHRS times as from a host-clock fallback: each stamp off by a Gaussian error of this
+    /// 1-sigma, ns, and the sample's `sigma_ns` saying so (None: PPS-disciplined, 0.1 ms).
+    pub bahrs_time_sigma_ns: Option<f64>,
 }
 
 impl Default for Scenario {
@@ -76,6 +80,7 @@ impl Default for Scenario {
             vn200_roll_step: None,
             watson_pitch_step: None,
             bahrs_mounting_deg: [0.0; 3],
+            bahrs_time_sigma_ns: None,
         }
     }
 }
@@ -259,7 +264,14 @@ impl Stream {
             rates,
             InertialHealth::new(safe, safe),
         );
-        let time = self.time(t_ns, 1e5, TimeSource::PpsDisciplined);
+        let time = match sc.bahrs_time_sigma_ns {
+            // The value is the truth at t; its stamp is off by the clock error.
+            Some(sigma) => {
+                let err_ns = sigma * n.gauss();
+                self.time(t_ns + err_ns, sigma, TimeSource::HostClock)
+            }
+            None => self.time(t_ns, 1e5, TimeSource::PpsDisciplined),
+        };
         BahrsSample::new(&time, &nav, Some(&acc), Some(&inertial))
     }
 

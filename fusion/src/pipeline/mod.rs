@@ -220,6 +220,10 @@ impl Pipeline {
             Ok(t) => t,
             Err(_) => {
                 act.not_aligned += 1;
+                // Coverage (issue 25): the unit is there but off the timebase, and says so.
+                if let Some(unit) = attitude_unit(s.device) {
+                    self.checker.note_unaligned(unit);
+                }
                 return;
             }
         };
@@ -227,6 +231,9 @@ impl Pipeline {
         if time.status == ClockStatus::Unlocked {
             // A time from a model that is not locked is a guess: not compared with anything.
             act.unlocked += 1;
+            if let Some(unit) = attitude_unit(s.device) {
+                self.checker.note_unaligned(unit);
+            }
             return;
         }
         act.last_t_gps_ns = Some(
