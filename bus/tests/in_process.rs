@@ -150,14 +150,16 @@ fn payload_layouts_are_fixed() {
     // UnitAttitude: i64 + 6 f64 + 2 u8 + 6 pad = 64; Attitude: 32 + 6*8 + 3*64 + 9 + 3 + 4 = 288.
     assert_eq!(size_of::<UnitAttitude>(), 64);
     assert_eq!(size_of::<AttitudePayload>(), 288);
-    // Ownship: 32 + 12 f64 + 2 u8 + 6 pad = 136.
+    // Ownship: 32 + 12 f64 + 3 u8 + 5 pad = 136.
     assert_eq!(size_of::<OwnshipPayload>(), 136);
-    // Target: u32 + 4 u8 + 8 callsign + 14 f64 = 128; Traffic: 32 + 2 u32 + 1024*128 = 131112.
-    assert_eq!(size_of::<Target>(), 128);
-    assert_eq!(size_of::<TrafficPayload>(), 131_112);
-    // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 8 u64 = 96; Integrity: 32 + 8 + 2 f64 + 8*96 = 824.
-    assert_eq!(size_of::<DeviceIntegrity>(), 96);
-    assert_eq!(size_of::<IntegrityPayload>(), 824);
+    // Target: u32 + 4 u8 + 8 callsign + 14 f64 + u64 flags = 136; Traffic: 32 + 2 u32 +
+    // 1024*136 = 139304.
+    assert_eq!(size_of::<Target>(), 136);
+    assert_eq!(size_of::<TrafficPayload>(), 139_304);
+    // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 9 u64 = 104; Integrity: 32 + 8 + 2 f64 +
+    // 8*104 = 888.
+    assert_eq!(size_of::<DeviceIntegrity>(), 104);
+    assert_eq!(size_of::<IntegrityPayload>(), 888);
     // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
     assert_eq!(size_of::<AlertPayload>(), 208);
     assert_eq!(align_of::<TrafficPayload>(), 8);

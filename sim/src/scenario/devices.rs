@@ -283,6 +283,12 @@ pub struct TtmrfConfig {
     pub raw: String,
     /// Whether the GNSS section / NMEA output is enabled.
     pub gnss: bool,
+    // --- issue 24 ---
+    /// Whether the GNSS section / RMC carries track and speed (false: a receiver that leaves
+    /// them out, so the ownship velocity is unknown when the VN-200 is not tracking).
+    pub gnss_velocity: bool,
+    /// Whether GGA carries the geoid separation (false: mean-sea-level height only).
+    pub nmea_geoid_separation: bool,
 }
 
 impl Default for TtmrfConfig {
@@ -292,6 +298,8 @@ impl Default for TtmrfConfig {
             protocol: "json".into(),
             raw: "off".into(),
             gnss: true,
+            gnss_velocity: true,
+            nmea_geoid_separation: true,
         }
     }
 }
