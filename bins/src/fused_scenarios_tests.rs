@@ -61,8 +61,17 @@ impl<F: FnMut(&Fused)> Sink for FuseSink<F> {
 /// Runs `name` for `seconds` with `seed`; returns the scenario start (GPS ns) and the simulator
 /// (for its truth world).
 fn run(name: &str, seconds: i64, seed: u64, f: impl FnMut(&Fused)) -> (i64, Simulator) {
-    let scenario = builtin(name).unwrap();
-    let mut sim = Simulator::new(&scenario, seed).unwrap();
+    run_scenario(&builtin(name).unwrap(), seconds, seed, f)
+}
+
+/// Runs a scenario for `seconds` with `seed` (as [`run`], for scenarios that are not built in).
+pub(crate) fn run_scenario(
+    scenario: &vigil_sim::Scenario,
+    seconds: i64,
+    seed: u64,
+    f: impl FnMut(&Fused),
+) -> (i64, Simulator) {
+    let mut sim = Simulator::new(scenario, seed).unwrap();
     let mut sink = FuseSink {
         ports: Vec::new(),
         replay: AlignedReplay::new(),

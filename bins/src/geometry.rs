@@ -39,10 +39,10 @@ struct InLine {
 #[derive(Debug, Serialize)]
 struct OutLine {
     horizontal_distance_m: f64,
-    vertical_separation_ft: f64,
-    range_rate_mps: f64,
-    tcpa_s: f64,
-    hmd_at_cpa_m: f64,
+    vertical_separation_ft: Option<f64>,
+    range_rate_mps: Option<f64>,
+    tcpa_s: Option<f64>,
+    hmd_at_cpa_m: Option<f64>,
     tau_mod_s: Option<f64>,
     well_clear_violated_now: bool,
     loss_of_well_clear_interval_s: Option<[f64; 2]>,
@@ -91,7 +91,8 @@ fn compute(line: &str) -> Result<OutLine> {
     let g = relative(&own, &int).geometry();
     Ok(OutLine {
         horizontal_distance_m: g.horizontal_distance_m,
-        vertical_separation_ft: g.vertical_separation_m / M_PER_FT,
+        // Every input here is known, so these are always present (`None` would print null).
+        vertical_separation_ft: g.vertical_separation_m.map(|v| v / M_PER_FT),
         range_rate_mps: g.range_rate_mps,
         tcpa_s: g.tcpa_s,
         hmd_at_cpa_m: g.hmd_m,

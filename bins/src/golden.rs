@@ -147,12 +147,12 @@ fn ownship(o: &OwnshipSolution) -> Value {
         "lon_deg": r(s.lon_deg, 7),
         "alt_pressure_m": ro(s.alt_pressure_m, 2),
         "alt_geometric_m": ro(s.alt_geometric_m, 2),
-        "track_deg": r(s.track_deg, 3),
-        "ground_speed_mps": r(s.ground_speed_mps, 3),
-        "vertical_rate_mps": r(s.vertical_rate_mps, 3),
-        "heading_deg": r(s.heading_deg, 3),
+        "track_deg": ro(s.track_deg, 3),
+        "ground_speed_mps": ro(s.ground_speed_mps, 3),
+        "vertical_rate_mps": ro(s.vertical_rate_mps, 3),
+        "heading_deg": ro(s.heading_deg, 3),
         "heading_source": o.heading_source,
-        "position_sigma_m": r(s.position_sigma_m, 2),
+        "position_sigma_m": ro(s.position_sigma_m, 2),
     })
 }
 
@@ -166,18 +166,21 @@ fn traffic(p: &TrafficPicture) -> Value {
             m.insert("address".into(), json!(format!("{:06X}", t.key.address)));
             m.insert("altitude_kind".into(), json!(t.altitude_kind));
             m.insert("bearing_true_deg".into(), r(t.bearing_true_deg, 3));
-            m.insert("bearing_relative_deg".into(), r(t.bearing_relative_deg, 3));
+            m.insert("bearing_relative_deg".into(), ro(t.bearing_relative_deg, 3));
             m.insert(
                 "horizontal_distance_m".into(),
                 ro(g.map(|g| g.horizontal_distance_m), 1),
             );
             m.insert(
                 "vertical_separation_m".into(),
-                ro(g.map(|g| g.vertical_separation_m), 1),
+                ro(g.and_then(|g| g.vertical_separation_m), 1),
             );
-            m.insert("range_rate_mps".into(), ro(g.map(|g| g.range_rate_mps), 2));
-            m.insert("tcpa_s".into(), ro(g.map(|g| g.tcpa_s), 2));
-            m.insert("hmd_m".into(), ro(g.map(|g| g.hmd_m), 1));
+            m.insert(
+                "range_rate_mps".into(),
+                ro(g.and_then(|g| g.range_rate_mps), 2),
+            );
+            m.insert("tcpa_s".into(), ro(g.and_then(|g| g.tcpa_s), 2));
+            m.insert("hmd_m".into(), ro(g.and_then(|g| g.hmd_m), 1));
             m.insert("tau_mod_s".into(), ro(g.and_then(|g| g.tau_mod_s), 2));
             m.insert(
                 "lowc_s".into(),
@@ -187,6 +190,8 @@ fn traffic(p: &TrafficPicture) -> Value {
             m.insert("raw_alert_level".into(), json!(t.raw_alert_level));
             m.insert("alert_level".into(), json!(t.alert_level));
             m.insert("suspect".into(), json!(t.flags.any()));
+            // Issue 24: the fail-safe rules that applied, by name (empty when none).
+            m.insert("fail_safe".into(), json!(fail_safe_names(&t.fail_safe)));
             Value::Object(m)
         })
         .collect();
@@ -195,6 +200,27 @@ fn traffic(p: &TrafficPicture) -> Value {
         "t_gps_ns": p.t_gps_ns,
         "targets": targets,
     })
+}
+
+/// The names of the fail-safe rules that applied to a target, in a fixed order.
+fn fail_safe_names(f: &vigil_fusion::traffic::policy::FailSafeFlags) -> Vec<&'static str> {
+    [
+        (f.ownship_velocity_unknown, "ownship_velocity_unknown"),
+        (
+            f.ownship_vertical_rate_unknown,
+            "ownship_vertical_rate_unknown",
+        ),
+        (f.altitude_unknown, "altitude_unknown"),
+        (f.velocity_unknown, "velocity_unknown"),
+        (f.vertical_rate_unknown, "vertical_rate_unknown"),
+        (f.altitude_reference_mixed, "altitude_reference_mixed"),
+        (f.stale, "stale"),
+        (f.time_from_receipt, "time_from_receipt"),
+    ]
+    .iter()
+    .filter(|(on, _)| *on)
+    .map(|(_, n)| *n)
+    .collect()
 }
 
 /// The tolerance of a field, by the unit in its name: the rounding of the projection plus

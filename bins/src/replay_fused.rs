@@ -50,3 +50,7 @@ pub fn replay_fused<W: Write>(mcap: &[u8], out: &mut W) -> Result<ReplaySummary>
 #[cfg(test)]
 #[path = "fused_scenarios_tests.rs"]
 mod scenario_tests;
+
+#[cfg(test)]
+#[path = "failsafe_scenarios_tests.rs"]
+mod failsafe_tests;

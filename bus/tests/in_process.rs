@@ -151,15 +151,17 @@ fn payload_layouts_are_fixed() {
     assert_eq!(size_of::<UnitAttitude>(), 64);
     // Issue 25 adds 3 + 4 u8 + 1 pad + 7 f64 = 64: 352.
     assert_eq!(size_of::<AttitudePayload>(), 352);
-    // Ownship: 32 + 12 f64 + 2 u8 + 6 pad = 136.
+    // Ownship: 32 + 12 f64 + 3 u8 + 5 pad = 136.
     assert_eq!(size_of::<OwnshipPayload>(), 136);
-    // Target: u32 + 4 u8 + 8 callsign + 14 f64 = 128; Traffic: 32 + 2 u32 + 1024*128 = 131112.
-    assert_eq!(size_of::<Target>(), 128);
-    assert_eq!(size_of::<TrafficPayload>(), 131_112);
-    // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 8 u64 = 96; Integrity: 32 + 8 + 2 f64 + 8*96 = 824.
-    assert_eq!(size_of::<DeviceIntegrity>(), 96);
-    // Issue 25: + 2 u32 + 32 active alerts of (u32 + 2 u8 + 2 pad + i64 + 160) = 176: 6464.
-    assert_eq!(size_of::<IntegrityPayload>(), 6464);
+    // Target: u32 + 4 u8 + 8 callsign + 14 f64 + u64 flags = 136; Traffic: 32 + 2 u32 +
+    // 1024*136 = 139304.
+    assert_eq!(size_of::<Target>(), 136);
+    assert_eq!(size_of::<TrafficPayload>(), 139_304);
+    // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 9 u64 = 104; Integrity: 32 + 8 + 2 f64 +
+    // 8*104 = 888, + issue 18's u8 + 7 pad = 896, + issue 25's 2 u32 and 32 active alerts of
+    // (u32 + 2 u8 + 2 pad + i64 + 160) = 176: 896 + 8 + 5632 = 6536.
+    assert_eq!(size_of::<DeviceIntegrity>(), 104);
+    assert_eq!(size_of::<IntegrityPayload>(), 6536);
     // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
     assert_eq!(size_of::<AlertPayload>(), 208);
     assert_eq!(align_of::<TrafficPayload>(), 8);

@@ -28,6 +28,10 @@ pub struct DecodeStats {
     /// Stream offset (in `bytes_consumed` units) of the first byte of the last decoded message.
     #[serde(skip)]
     pub last_frame_start: u64,
+    // --- issue 24 ---
+    /// Records dropped alone because a value was impossible for the protocol or for physics
+    /// (e.g. latitude 95 deg, negative ground speed); their message's other records are kept.
+    pub invalid_values: u64,
 }
 
 impl DecodeStats {
@@ -70,6 +74,7 @@ impl DecodeStats {
         self.unknown_types += other.unknown_types;
         self.malformed += other.malformed;
         self.unsupported_version += other.unsupported_version;
+        self.invalid_values += other.invalid_values;
     }
 }
 

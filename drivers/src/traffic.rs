@@ -147,9 +147,76 @@ pub struct TrafficReport {
     pub flags: TrafficFlags,
     /// Time stamp the source put on the report, if any.
     pub source_time: Option<SourceTime>,
+    // --- issue 24: time of applicability ---
+    /// How old the report's data were when the message was sent, s, where the protocol says so
+    /// (MAVLink `tslc`, ASTERIX time of transmission minus time of applicability of the
+    /// position); `None` when it does not.
+    pub data_age_s: Option<f64>,
+}
+
+/// A value of a report outside what the protocol can carry or physics allows (issue 24): the
+/// report is dropped alone and counted (`invalid_values`), its neighbours kept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum InvalidValue {
+    /// Named field out of its range or not finite.
+    #[error("{0} out of range")]
+    OutOfRange(&'static str),
+}
+
+/// Ranges of [`TrafficReport::check_values`]. Decision: the widest any TT-Multi-RF protocol can
+/// encode or any aircraft reach, so a valid report is never dropped; the traffic picture's own
+/// plausibility tests (e.g. 350 m/s) only flag. Altitude: -2 000 ft to 130 000 ft (ADS-B and
+/// GDL90 encode -1 000 .. 126 750 ft); ground speed 0 to 2 200 m/s (ADS-B supersonic ends at
+/// 4 092 kt = 2 105 m/s); vertical rate +-200 m/s (ADS-B ends at 32 608 ft/min = 166 m/s).
+pub mod limits {
+    /// Lowest altitude, m.
+    pub const ALT_MIN_M: f64 = -2_000.0 * 0.3048;
+    /// Highest altitude, m.
+    pub const ALT_MAX_M: f64 = 130_000.0 * 0.3048;
+    /// Fastest ground speed, m/s.
+    pub const SPEED_MAX_MPS: f64 = 2_200.0;
+    /// Fastest vertical rate either way, m/s.
+    pub const VERTICAL_RATE_MAX_MPS: f64 = 200.0;
 }
 
 impl TrafficReport {
+    /// Checks every value against the protocol's and physics' ranges (see [`limits`]): latitude
+    /// within +-90 deg, longitude within +-180 deg, altitudes, speeds, rates and angles finite
+    /// and within their ranges; signal finite. Absent values pass (unknown is not invalid; a
+    /// latitude without a longitude is no position to the fusion, not an impossible value).
+    pub fn check_values(&self) -> Result<(), InvalidValue> {
+        use limits::*;
+        let within = |v: Option<f64>, lo: f64, hi: f64, name: &'static str| match v {
+            Some(x) if !(x.is_finite() && (lo..=hi).contains(&x)) => {
+                Err(InvalidValue::OutOfRange(name))
+            }
+            _ => Ok(()),
+        };
+        within(self.lat_deg, -90.0, 90.0, "latitude")?;
+        within(self.lon_deg, -180.0, 180.0, "longitude")?;
+        within(
+            self.alt_pressure_m,
+            ALT_MIN_M,
+            ALT_MAX_M,
+            "pressure altitude",
+        )?;
+        within(
+            self.alt_geometric_m,
+            ALT_MIN_M,
+            ALT_MAX_M,
+            "geometric altitude",
+        )?;
+        within(self.ground_speed_mps, 0.0, SPEED_MAX_MPS, "ground speed")?;
+        let vr = VERTICAL_RATE_MAX_MPS;
+        within(self.vertical_rate_mps, -vr, vr, "vertical rate")?;
+        // Angles: any finite value within one turn either way (FLARM sends -180 .. 180).
+        within(self.track_deg, -360.0, 360.0, "track")?;
+        within(self.heading_deg, -360.0, 360.0, "heading")?;
+        within(self.signal_dbm, -200.0, 100.0, "signal")?;
+        within(self.data_age_s, 0.0, 255.0, "data age")?;
+        Ok(())
+    }
+
     /// The address as upper-case hex, six digits (how every tool prints it).
     pub fn address_hex(&self) -> String {
         format!("{:06X}", self.address & 0xFF_FFFF)

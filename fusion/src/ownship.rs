@@ -9,7 +9,7 @@
 
 use serde::Serialize;
 
-use crate::geometry::AircraftState;
+use crate::geometry::{AircraftState, OwnshipFrame};
 
 pub mod builder;
 pub use builder::{OwnshipBuilder, OwnshipParams, OwnshipSolution};
@@ -41,30 +41,63 @@ pub struct Ownship {
     /// Geometric altitude, m (above the WGS-84 ellipsoid); compared with intruder geometric
     /// altitude when the intruder has no barometric one.
     pub alt_geometric_m: Option<f64>,
-    /// Track over ground, deg true.
-    pub track_deg: f64,
-    /// Ground speed, m/s.
-    pub ground_speed_mps: f64,
-    /// Vertical rate, m/s, up.
-    pub vertical_rate_mps: f64,
-    /// True heading, deg (for relative bearings).
-    pub heading_deg: f64,
-    /// 1-sigma horizontal position uncertainty, m.
-    pub position_sigma_m: f64,
+    /// Track over ground, deg true; `None` when the source gave none (a GNSS report without
+    /// track or ground speed): the traffic geometry is then position-only (see
+    /// [`crate::traffic::policy`]).
+    pub track_deg: Option<f64>,
+    /// Ground speed, m/s; `None` when unknown (as `track_deg`).
+    pub ground_speed_mps: Option<f64>,
+    /// Vertical rate, m/s, up; `None` when unknown.
+    pub vertical_rate_mps: Option<f64>,
+    /// True heading, deg (for relative bearings); `None` without a vote, a VN-200 attitude or a
+    /// track.
+    pub heading_deg: Option<f64>,
+    /// 1-sigma horizontal position uncertainty, m; `None` when the source gave none.
+    pub position_sigma_m: Option<f64>,
     /// Source of the position.
     pub source: PositionSource,
+    // --- issue 24: altitude reference ---
+    /// Half-width of the band the geometric altitude lies in beyond its noise, m: 0 normally;
+    /// the geoid's worldwide range when the source gave mean-sea-level height without the geoid
+    /// separation (see [`builder::GEOID_UNKNOWN_HALF_RANGE_M`]).
+    pub alt_geometric_band_m: f64,
 }
 
 impl Ownship {
-    /// The state for geometry with the given altitude, m.
-    pub fn state(&self, alt_m: f64) -> AircraftState {
-        AircraftState {
+    /// The horizontal velocity over ground (east, north), m/s, when track and speed are known and
+    /// finite.
+    pub fn velocity_en_mps(&self) -> Option<[f64; 2]> {
+        let (t, v) = (self.track_deg?, self.ground_speed_mps?);
+        if !(t.is_finite() && v.is_finite()) {
+            return None;
+        }
+        let (s, c) = t.to_radians().sin_cos();
+        Some([v * s, v * c])
+    }
+
+    /// The state for geometry with the given altitude, m, when the velocity is known (an unknown
+    /// vertical rate is 0 here; [`crate::traffic::policy`] widens the vertical test for it).
+    pub fn state(&self, alt_m: f64) -> Option<AircraftState> {
+        self.velocity_en_mps()?;
+        Some(AircraftState {
             lat_deg: self.lat_deg,
             lon_deg: self.lon_deg,
             alt_m,
-            track_deg: self.track_deg,
-            ground_speed_mps: self.ground_speed_mps,
-            vertical_rate_mps: self.vertical_rate_mps,
+            track_deg: self.track_deg?,
+            ground_speed_mps: self.ground_speed_mps?,
+            vertical_rate_mps: self
+                .vertical_rate_mps
+                .filter(|v| v.is_finite())
+                .unwrap_or(0.0),
+        })
+    }
+
+    /// The ownship's tangent plane at the given altitude, m: with its velocity when known, else
+    /// at its position alone.
+    pub fn frame(&self, alt_m: f64) -> OwnshipFrame {
+        match self.state(alt_m) {
+            Some(s) => OwnshipFrame::new(&s),
+            None => OwnshipFrame::at_position(self.lat_deg, self.lon_deg, alt_m),
         }
     }
 }

@@ -74,6 +74,21 @@ pub struct IntruderTruth {
     pub track_rad: f64,
     /// For a spoofed target, the position it reports: (lat deg, lon deg, height m).
     pub reported_position: Option<[f64; 3]>,
+    // --- issue 24 ---
+    /// Fields its reports leave out ("altitude", "velocity", "vertical_rate").
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub omit: Vec<String>,
+    /// Age of the data its reports carry, s.
+    pub report_age_s: f64,
+    /// Not received at this time (silent).
+    pub silent: bool,
+}
+
+impl IntruderTruth {
+    /// Whether its reports leave `field` out.
+    pub fn omits(&self, field: &str) -> bool {
+        self.omit.iter().any(|f| f == field)
+    }
 }
 
 struct IntruderTrack {
@@ -246,10 +261,18 @@ impl World {
         let i = self.intruders.get(i)?;
         let k = i.trajectory.at(t);
         let (lat, lon) = self.frame.to_geodetic_rad(k.north_m, k.east_m);
-        let spoofing = i
-            .meta
-            .spoof_offset_ned_m
-            .filter(|_| t >= i.meta.spoof_from_s);
+        let m = &i.meta;
+        let drift = m
+            .spoof_drift_ne_mps
+            .filter(|_| t >= m.spoof_from_s)
+            .map(|d| {
+                let dt = t - m.spoof_from_s;
+                [d[0] * dt, d[1] * dt, 0.0]
+            });
+        let spoofing = match (m.spoof_offset_ned_m.filter(|_| t >= m.spoof_from_s), drift) {
+            (Some(o), Some(d)) => Some([o[0] + d[0], o[1] + d[1], o[2]]),
+            (o, d) => o.or(d),
+        };
         let reported_position = spoofing.map(|o| {
             let (la, lo) = self
                 .frame
@@ -268,6 +291,9 @@ impl World {
             vel_ned_mps: k.vel_ned_mps,
             track_rad: k.track_rad,
             reported_position,
+            omit: i.meta.omit.clone(),
+            report_age_s: i.meta.report_age_s,
+            silent: i.meta.silent_from_s.is_some_and(|s| t >= s),
         })
     }
 }

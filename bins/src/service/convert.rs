@@ -12,8 +12,9 @@
 //! - Isolation: one unit isolated (the record's `isolated`) -> ISOLATED; otherwise a declared
 //!   fault -> DETECTED_NOT_ISOLATED; no axis compared -> NOT_COMPARED; else NO_FAULT.
 //! - Traffic relative velocities (`rel_vel_north_mps`, `rel_vel_east_mps`, `rel_vel_up_mps`):
-//!   the intruder's velocity ([`Target::velocity_ned_mps`]) minus the ownship's (track, ground
-//!   speed, vertical rate); NaN when either is unknown.
+//!   the intruder's velocity ([`Target::velocity_ne_mps`], [`Target::vertical_rate_mps`]) minus
+//!   the ownship's (track, ground speed, vertical rate); NaN when either is unknown, with the
+//!   target's fail-safe `FLAG_*` bit saying which (issue 24).
 //! - A target without geometry (no comparable altitude): horizontal distance from the positions,
 //!   the other geometric quantities NaN.
 
@@ -231,23 +232,39 @@ fn set_coverage(p: &mut AttitudePayload, c: &CoverageRecord) {
     }
 }
 
-/// The ownship payload of one ownship solution.
+/// The ownship payload of one ownship solution: unknown quantities NaN, with their `FLAG_*` bit.
 pub fn ownship(s: &OwnshipSolution) -> OwnshipPayload {
     let o = &s.ownship;
-    let (sin, cos) = o.track_deg.to_radians().sin_cos();
+    let nan = f64::NAN;
+    let v = o.velocity_en_mps();
+    let mut flags = 0;
+    if v.is_none() {
+        flags |= own::FLAG_VELOCITY_UNKNOWN;
+    }
+    if o.vertical_rate_mps.is_none() {
+        flags |= own::FLAG_VERTICAL_RATE_UNKNOWN;
+    }
+    if o.alt_geometric_band_m > 0.0 {
+        flags |= own::FLAG_GEOID_UNKNOWN;
+    }
     let mut p = OwnshipPayload {
         lat_deg: o.lat_deg,
         lon_deg: o.lon_deg,
         alt_pressure_m: opt(o.alt_pressure_m),
         alt_geometric_m: opt(o.alt_geometric_m),
-        vel_north_mps: o.ground_speed_mps * cos,
-        vel_east_mps: o.ground_speed_mps * sin,
-        vel_up_mps: o.vertical_rate_mps,
-        ground_speed_mps: o.ground_speed_mps,
-        track_deg: o.track_deg,
-        sigma_horizontal_m: o.position_sigma_m,
-        // The builder gives no vertical uncertainty.
-        sigma_vertical_m: f64::NAN,
+        vel_north_mps: v.map_or(nan, |v| v[1]),
+        vel_east_mps: v.map_or(nan, |v| v[0]),
+        vel_up_mps: opt(o.vertical_rate_mps),
+        ground_speed_mps: v.and(o.ground_speed_mps).unwrap_or(nan),
+        track_deg: v.and(o.track_deg).unwrap_or(nan),
+        sigma_horizontal_m: opt(o.position_sigma_m),
+        // The builder gives no vertical uncertainty, except the geoid's range when the geoid
+        // separation is unknown (uniform over +-band: band / sqrt 3).
+        sigma_vertical_m: if o.alt_geometric_band_m > 0.0 {
+            o.alt_geometric_band_m / 3f64.sqrt()
+        } else {
+            nan
+        },
         sigma_velocity_mps: opt(s.velocity_sigma_mps),
         source: match o.source {
             PositionSource::Vn200Ins => own::SOURCE_VN200_INS,
@@ -256,6 +273,7 @@ pub fn ownship(s: &OwnshipSolution) -> OwnshipPayload {
         },
         // The builder returns a state only when it is usable; a non-finite position is not.
         valid: u8::from(o.lat_deg.is_finite() && o.lon_deg.is_finite()),
+        flags,
         ..OwnshipPayload::default()
     };
     p.header.gps_time_ns = o.t_gps_ns;
@@ -274,11 +292,9 @@ fn address_type(s: AddressSpace) -> u8 {
     }
 }
 
-/// One target of the traffic payload; `own` (the ownship of the same step) gives the distance of
-/// a target without geometry.
-pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
-    let f = &t.flags;
-    let flags = [
+/// The `PLAUSIBILITY_*` bits of a target.
+fn plausibility_bits(f: &vigil_fusion::traffic::track::PlausibilityFlags) -> u8 {
+    [
         (f.impossible_speed, tr::PLAUSIBILITY_IMPOSSIBLE_SPEED),
         (f.position_jump, tr::PLAUSIBILITY_POSITION_JUMP),
         (f.altitude_jump, tr::PLAUSIBILITY_ALTITUDE_JUMP),
@@ -287,9 +303,42 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
             f.inconsistent_sources,
             tr::PLAUSIBILITY_INCONSISTENT_SOURCES,
         ),
+        (f.position_drift, tr::PLAUSIBILITY_POSITION_DRIFT),
     ]
     .iter()
-    .fold(0u8, |acc, &(on, bit)| if on { acc | bit } else { acc });
+    .fold(0u8, |acc, &(on, bit)| if on { acc | bit } else { acc })
+}
+
+/// The fail-safe `FLAG_*` bits of a target (issue 24).
+fn fail_safe_bits(t: &Target) -> u64 {
+    let f = &t.fail_safe;
+    [
+        (
+            f.ownship_velocity_unknown,
+            tr::FLAG_OWNSHIP_VELOCITY_UNKNOWN,
+        ),
+        (f.altitude_unknown, tr::FLAG_ALTITUDE_UNKNOWN),
+        (f.velocity_unknown, tr::FLAG_VELOCITY_UNKNOWN),
+        (f.vertical_rate_unknown, tr::FLAG_VERTICAL_RATE_UNKNOWN),
+        (f.stale, tr::FLAG_STALE),
+        (t.flags.any(), tr::FLAG_PLAUSIBILITY),
+        (
+            f.ownship_vertical_rate_unknown,
+            tr::FLAG_OWNSHIP_VERTICAL_RATE_UNKNOWN,
+        ),
+        (
+            f.altitude_reference_mixed,
+            tr::FLAG_ALTITUDE_REFERENCE_MIXED,
+        ),
+        (f.time_from_receipt, tr::FLAG_TIME_FROM_RECEIPT),
+    ]
+    .iter()
+    .fold(0u64, |acc, &(on, bit)| if on { acc | bit } else { acc })
+}
+
+/// One target of the traffic payload; `own` (the ownship of the same step) gives the distance of
+/// a target without geometry (a stale one). Every unknown is NaN with its `FLAG_*` bit.
+pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
     let mut callsign = [0u8; tr::CALLSIGN_LEN];
     if let Some(c) = &t.callsign {
         write_text(&mut callsign, c);
@@ -304,17 +353,15 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
     };
     let (sin, cos) = t.bearing_true_deg.to_radians().sin_cos();
     let g = t.geometry.as_ref();
-    // Relative velocity, north / east / up.
-    let rel_vel = match (t.velocity_ned_mps, own) {
-        (Some(v), Some(o)) => {
-            let (s, c) = o.track_deg.to_radians().sin_cos();
-            [
-                v[0] - o.ground_speed_mps * c,
-                v[1] - o.ground_speed_mps * s,
-                -v[2] - o.vertical_rate_mps,
-            ]
-        }
-        _ => [nan; 3],
+    let own_v = own.and_then(Ownship::velocity_en_mps);
+    // Relative velocity, north / east / up: NaN where either side's is unknown.
+    let rel_h = match (t.velocity_ne_mps, own_v) {
+        (Some(v), Some(o)) => [v[0] - o[1], v[1] - o[0]],
+        _ => [nan; 2],
+    };
+    let rel_up = match (t.vertical_rate_mps, own.and_then(|o| o.vertical_rate_mps)) {
+        (Some(v), Some(o)) if g.is_some_and(|g| g.vertical_separation_m.is_some()) => v - o,
+        _ => nan,
     };
     tr::Target {
         address: t.key.address & 0x00FF_FFFF,
@@ -322,22 +369,22 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
         alert_level: t.alert_level.min(tr::ALERT_WARNING),
         altitude_kind: match t.altitude_kind {
             AltitudeKind::Pressure => tr::ALTITUDE_PRESSURE,
-            AltitudeKind::Geometric => tr::ALTITUDE_GEOMETRIC,
+            AltitudeKind::Geometric | AltitudeKind::Mixed => tr::ALTITUDE_GEOMETRIC,
             AltitudeKind::None => tr::ALTITUDE_UNKNOWN,
         },
-        plausibility_flags: flags,
+        plausibility_flags: plausibility_bits(&t.flags),
         callsign,
         rel_north_m: distance * cos,
         rel_east_m: distance * sin,
-        rel_vel_north_mps: rel_vel[0],
-        rel_vel_east_mps: rel_vel[1],
-        rel_vel_up_mps: rel_vel[2],
+        rel_vel_north_mps: rel_h[0],
+        rel_vel_east_mps: rel_h[1],
+        rel_vel_up_mps: rel_up,
         horizontal_distance_m: distance,
-        vertical_separation_m: g.map_or(nan, |g| g.vertical_separation_m),
+        vertical_separation_m: g.and_then(|g| g.vertical_separation_m).unwrap_or(nan),
         bearing_deg: t.bearing_true_deg.rem_euclid(360.0),
-        range_rate_mps: g.map_or(nan, |g| g.range_rate_mps),
-        tcpa_s: g.map_or(nan, |g| g.tcpa_s),
-        hmd_m: g.map_or(nan, |g| g.hmd_m),
+        range_rate_mps: g.and_then(|g| g.range_rate_mps).unwrap_or(nan),
+        tcpa_s: g.and_then(|g| g.tcpa_s).unwrap_or(nan),
+        hmd_m: g.and_then(|g| g.hmd_m).unwrap_or(nan),
         tau_mod_s: g.and_then(|g| g.tau_mod_s).unwrap_or(nan),
         time_to_lowc_s: g.map_or(nan, |g| {
             if g.well_clear_violated_now {
@@ -347,6 +394,7 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
             }
         }),
         age_s: t.age_s,
+        flags: fail_safe_bits(t),
     }
 }
 
@@ -382,7 +430,8 @@ pub struct PortReport<'a> {
     pub reconnects: u64,
 }
 
-fn device_code(p: Protocol) -> u8 {
+/// The `DEVICE_*` code of a port's protocol.
+pub fn device_code(p: Protocol) -> u8 {
     match p {
         Protocol::Bahrs => integ::DEVICE_BAHRS,
         Protocol::Watson => integ::DEVICE_WATSON,
@@ -415,6 +464,7 @@ pub fn device(r: &PortReport<'_>) -> DeviceIntegrity {
         // Unsupported protocol versions are malformed frames for a consumer.
         malformed: s.malformed + s.unsupported_version,
         reconnects: r.reconnects,
+        invalid_values: s.invalid_values,
     }
 }
 

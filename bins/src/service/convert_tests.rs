@@ -189,12 +189,13 @@ fn ownship_at(t: i64) -> Ownship {
         lon_deg: 8.5,
         alt_pressure_m: Some(620.0),
         alt_geometric_m: None,
-        track_deg: 30.0,
-        ground_speed_mps: 40.0,
-        vertical_rate_mps: -1.5,
-        heading_deg: 32.0,
-        position_sigma_m: 2.5,
+        track_deg: Some(30.0),
+        ground_speed_mps: Some(40.0),
+        vertical_rate_mps: Some(-1.5),
+        heading_deg: Some(32.0),
+        position_sigma_m: Some(2.5),
         source: PositionSource::Vn200Ins,
+        alt_geometric_band_m: 0.0,
     }
 }
 
@@ -236,10 +237,10 @@ fn ownship_fields_and_units() {
 fn geometry() -> Geometry {
     Geometry {
         horizontal_distance_m: 2000.0,
-        vertical_separation_m: 150.0,
-        range_rate_mps: -60.0,
-        tcpa_s: 30.0,
-        hmd_m: 400.0,
+        vertical_separation_m: Some(150.0),
+        range_rate_mps: Some(-60.0),
+        tcpa_s: Some(30.0),
+        hmd_m: Some(400.0),
         tau_mod_s: Some(20.0),
         well_clear_violated_now: false,
         loss_of_well_clear_interval_s: Some((12.5, 40.0)),
@@ -259,16 +260,18 @@ fn fusion_target(address: u32, level: u8, geometry: Option<Geometry>) -> Target 
         lat_deg: 47.41,
         lon_deg: 8.5,
         alt_m: Some(770.0),
-        velocity_ned_mps: None,
+        velocity_ne_mps: None,
+        vertical_rate_mps: None,
         altitude_kind: AltitudeKind::Pressure,
         position_sigma_m: 10.0,
         bearing_true_deg: 90.0,
-        bearing_relative_deg: 58.0,
+        bearing_relative_deg: Some(58.0),
         geometry,
         raw_alert_level: level,
         alert_level: level,
         flarm_alarm_level: None,
         flags: PlausibilityFlags::default(),
+        fail_safe: Default::default(),
     }
 }
 
@@ -332,7 +335,8 @@ fn target_fields_and_units() {
     // Relative velocity: intruder (north 0, east -50, down -2: westbound, climbing 2 m/s) minus
     // the ownship (track 30 deg at 40 m/s: north 34.641, east 20.0; vertical rate -1.5 m/s).
     let mut t = fusion_target(3, 0, Some(geometry()));
-    t.velocity_ned_mps = Some([0.0, -50.0, -2.0]);
+    t.velocity_ne_mps = Some([0.0, -50.0]);
+    t.vertical_rate_mps = Some(2.0);
     let p = target(&t, Some(&o));
     assert!((p.rel_vel_north_mps - (0.0 - 34.641_016)).abs() < 1e-6);
     assert!((p.rel_vel_east_mps - (-50.0 - 20.0)).abs() < 1e-9);

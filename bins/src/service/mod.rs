@@ -22,6 +22,7 @@ pub mod setup;
 
 use anyhow::{Result, anyhow};
 use vigil_bus::payload::integrity as integ;
+use vigil_bus::payload::integrity::DEVICE_TTMRF;
 use vigil_bus::{AlertPayload, IntegrityPayload, Payload, TrafficPayload};
 #[cfg(test)]
 use vigil_bus::{AttitudePayload, OwnshipPayload};
@@ -269,6 +270,15 @@ impl Service {
         }
     }
 
+    /// Traffic records the pipeline dropped for impossible values (issue 24).
+    fn ttmrf_invalid_values(&self) -> u64 {
+        self.pipeline
+            .activity()
+            .iter()
+            .find(|(d, _)| *d == vigil_fusion::time::aligner::Device::Ttmrf)
+            .map_or(0, |(_, a)| a.invalid_values)
+    }
+
     /// The integrity report at host time `t_host_ns`.
     pub fn integrity(&self, t_host_ns: u64) -> IntegrityPayload {
         let reports: Vec<PortReport<'_>> = self
@@ -282,7 +292,14 @@ impl Service {
                     .last_message_host_ns
                     .map(|t| t_host_ns.saturating_sub(t) as f64 * 1e-9),
                 bytes_received: p.bytes,
-                stats: self.replay.port_stats(&p.port.device),
+                stats: self.replay.port_stats(&p.port.device).map(|mut s| {
+                    // Issue 24: records the fusion dropped at its entry (raw Mode S decoded
+                    // there) count for the TT-Multi-RF port like the decoders' own.
+                    if convert::device_code(p.port.protocol) == DEVICE_TTMRF {
+                        s.invalid_values += self.ttmrf_invalid_values();
+                    }
+                    s
+                }),
                 reconnects: p.opens.saturating_sub(1),
             })
             .collect();

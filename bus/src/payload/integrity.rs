@@ -122,6 +122,11 @@ pub struct DeviceIntegrity {
     pub malformed: u64,
     /// Times the port was reopened.
     pub reconnects: u64,
+    // --- issue 24 ---
+    /// Records dropped alone for an impossible value (latitude beyond 90 deg, negative ground
+    /// speed, altitude beyond 130 000 ft, ...), by the decoder or at the fusion's entry; their
+    /// neighbours in the same message are kept.
+    pub invalid_values: u64,
 }
 
 /// Integrity snapshot: every configured device and the clock.

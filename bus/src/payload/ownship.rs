@@ -50,10 +50,23 @@ pub struct OwnshipPayload {
     pub source: u8,
     /// 1 when the state is usable for the traffic geometry, 0 otherwise.
     pub valid: u8,
+    // --- issue 24 ---
+    /// `FLAG_*` bits: which quantities are unknown (their fields are NaN).
+    pub flags: u8,
     /// Explicit padding; always 0.
     #[serde(skip)]
-    pub reserved: [u8; 6],
+    pub reserved: [u8; 5],
 }
+
+/// Ownship flag (issue 24): velocity unknown (no track or ground speed); `vel_north_mps`,
+/// `vel_east_mps`, `ground_speed_mps` and `track_deg` are NaN, and every target of the same step
+/// carries `traffic::FLAG_OWNSHIP_VELOCITY_UNKNOWN`.
+pub const FLAG_VELOCITY_UNKNOWN: u8 = 1 << 0;
+/// Ownship flag: vertical rate unknown; `vel_up_mps` is NaN.
+pub const FLAG_VERTICAL_RATE_UNKNOWN: u8 = 1 << 1;
+/// Ownship flag: geometric altitude made from mean-sea-level height without a geoid
+/// separation; `sigma_vertical_m` includes the geoid's range.
+pub const FLAG_GEOID_UNKNOWN: u8 = 1 << 2;
 
 impl Default for OwnshipPayload {
     /// An invalid state: zeros, unknowns NaN, no source.
@@ -74,7 +87,8 @@ impl Default for OwnshipPayload {
             sigma_velocity_mps: f64::NAN,
             source: SOURCE_NONE,
             valid: 0,
-            reserved: [0; 6],
+            flags: 0,
+            reserved: [0; 5],
         }
     }
 }

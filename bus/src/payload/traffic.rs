@@ -58,6 +58,39 @@ pub const PLAUSIBILITY_RANGE_VS_SIGNAL: u8 = 1 << 3;
 /// Plausibility flag: sources disagree on the position beyond their uncertainty.
 pub const PLAUSIBILITY_INCONSISTENT_SOURCES: u8 = 1 << 4;
 
+/// Plausibility flag: positions drift away from where the reported velocity takes them (issue
+/// 24: a slow spoof).
+pub const PLAUSIBILITY_POSITION_DRIFT: u8 = 1 << 5;
+
+// --- issue 24: fail-safe flags of `Target::flags` ---
+/// Fail-safe flag: the ownship's velocity is unknown; the geometry is from the present relative
+/// position alone (`rel_vel_*`, `range_rate_mps`, `tcpa_s`, `hmd_m`, `tau_mod_s`,
+/// `time_to_lowc_s` are NaN; the alert level is from the present separation).
+pub const FLAG_OWNSHIP_VELOCITY_UNKNOWN: u64 = 1 << 0;
+/// Fail-safe flag: the intruder's altitude is unknown; it is taken as co-altitude and its alert
+/// level is at most corrective (2); `vertical_separation_m` and `rel_vel_up_mps` are NaN.
+pub const FLAG_ALTITUDE_UNKNOWN: u64 = 1 << 1;
+/// Fail-safe flag: the intruder's velocity is unknown; position-only geometry as for
+/// [`FLAG_OWNSHIP_VELOCITY_UNKNOWN`], with the distance it may have flown taken off the range.
+pub const FLAG_VELOCITY_UNKNOWN: u64 = 1 << 2;
+/// Fail-safe flag: the intruder's vertical rate is unknown; the vertical test covers the rates
+/// its category allows; `rel_vel_up_mps` is NaN.
+pub const FLAG_VERTICAL_RATE_UNKNOWN: u64 = 1 << 3;
+/// Fail-safe flag: the newest position is older than the link's limit; no geometry (the
+/// geometric quantities are NaN, alert level 0).
+pub const FLAG_STALE: u64 = 1 << 4;
+/// Fail-safe flag: some `plausibility_flags` bit is set (the target is suspect).
+pub const FLAG_PLAUSIBILITY: u64 = 1 << 5;
+/// Fail-safe flag: the ownship's vertical rate is unknown; the vertical test covers its
+/// possible rates.
+pub const FLAG_OWNSHIP_VERTICAL_RATE_UNKNOWN: u64 = 1 << 6;
+/// Fail-safe flag: a pressure altitude was compared with a geometric one with no measured
+/// difference; the vertical test holds for any separation within the band of that difference.
+pub const FLAG_ALTITUDE_REFERENCE_MIXED: u64 = 1 << 7;
+/// Fail-safe flag: the report's time is its arrival (the protocol carries no time of
+/// applicability); the position is less certain.
+pub const FLAG_TIME_FROM_RECEIPT: u64 = 1 << 8;
+
 /// One target and its geometry relative to the ownship.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend, Serialize)]
@@ -104,8 +137,12 @@ pub struct Target {
     /// Time to loss of well-clear, s: 0 when well-clear is violated now, NaN when no loss is
     /// predicted within the look-ahead.
     pub time_to_lowc_s: f64,
-    /// Age of the freshest position report, s.
+    /// Age of the freshest report's data (from its time of applicability), s.
     pub age_s: f64,
+    // --- issue 24 ---
+    /// `FLAG_*` bits: which quantities were unknown and how the geometry treated them. A NaN in
+    /// this record is always "unknown", and a set bit says why.
+    pub flags: u64,
 }
 
 impl Target {
@@ -131,6 +168,7 @@ impl Target {
         tau_mod_s: f64::NAN,
         time_to_lowc_s: f64::NAN,
         age_s: 0.0,
+        flags: 0,
     };
 }
 

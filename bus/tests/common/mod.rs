@@ -149,6 +149,7 @@ pub fn traffic() -> TrafficPayload {
                 tau_mod_s: if i % 2 == 1 { f64::NAN } else { 20.0 + k },
                 time_to_lowc_s: if i == 0 { 0.0 } else { f64::NAN },
                 age_s: 0.25,
+                flags: vigil_bus::payload::traffic::FLAG_VERTICAL_RATE_UNKNOWN,
             }
         })
         .collect();

@@ -141,6 +141,7 @@ impl<F: DeviceDecoder<Message = RawFrame>> ModesDecoder<F> {
             malformed: i.malformed + self.extra_malformed,
             unsupported_version: i.unsupported_version,
             last_frame_start: i.last_frame_start,
+            invalid_values: i.invalid_values,
         };
     }
 

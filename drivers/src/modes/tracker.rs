@@ -606,6 +606,8 @@ fn report(key: u32, a: &Aircraft, msg: &ModeS, meta: &RxMeta) -> TrafficReport {
             .map(f64::from)
             .or_else(|| meta.signal_dbfs()),
         emergency_code: a.emergency,
+        // The frame's own time (TS24h) is the report's time; no further age (issue 24).
+        data_age_s: None,
         flarm_alarm_level: None,
         flags: TrafficFlags {
             on_ground: a.on_ground,

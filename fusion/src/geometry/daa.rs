@@ -63,10 +63,18 @@ pub struct Relative {
     pub s: Vector2<f64>,
     /// Horizontal velocity of the intruder relative to the ownship, east and north, m/s.
     pub v: Vector2<f64>,
-    /// Intruder altitude minus ownship altitude, m.
+    /// Intruder altitude minus ownship altitude, m: the middle of its possible range when the
+    /// altitudes are not known like with like.
     pub dz_m: f64,
-    /// Rate of `dz_m`, m/s.
+    /// Half-width of the range of `dz_m`, m: 0 when the altitudes are comparable; otherwise the
+    /// vertical test holds whenever some separation in `dz_m +- dz_spread_m` would.
+    pub dz_spread_m: f64,
+    /// Rate of `dz_m`, m/s: the middle of its possible range when a vertical rate is unknown.
     pub vz_mps: f64,
+    /// Half-width of the range of `vz_mps`, m/s: 0 when both vertical rates are known; with an
+    /// unknown rate, the vertical test holds whenever some rate in `vz_mps +- vz_spread_mps`
+    /// could bring the separation within the threshold (see [`crate::traffic::policy`]).
+    pub vz_spread_mps: f64,
 }
 
 /// A closed time interval, s from now.
@@ -104,14 +112,15 @@ impl Intervals {
 pub struct Geometry {
     /// Horizontal distance, m.
     pub horizontal_distance_m: f64,
-    /// Vertical separation (intruder above ownship positive), m.
-    pub vertical_separation_m: f64,
-    /// Range rate (horizontal), m/s; negative when closing.
-    pub range_rate_mps: f64,
-    /// Time to horizontal CPA, s (0 when diverging).
-    pub tcpa_s: f64,
-    /// Horizontal miss distance at CPA, m.
-    pub hmd_m: f64,
+    /// Vertical separation (intruder above ownship positive), m; `None` when the intruder's
+    /// altitude is unknown (the vertical test then takes it as co-altitude).
+    pub vertical_separation_m: Option<f64>,
+    /// Range rate (horizontal), m/s; negative when closing. `None` when a velocity is unknown.
+    pub range_rate_mps: Option<f64>,
+    /// Time to horizontal CPA, s (0 when diverging); `None` when a velocity is unknown.
+    pub tcpa_s: Option<f64>,
+    /// Horizontal miss distance at CPA, m; `None` when a velocity is unknown.
+    pub hmd_m: Option<f64>,
     /// Modified tau, s; `None` when diverging or inside DMOD.
     pub tau_mod_s: Option<f64>,
     /// The DWC volume holds now.
@@ -152,13 +161,15 @@ impl Relative {
         Relative {
             s: self.s + self.v * t,
             dz_m: self.dz_m + self.vz_mps * t,
+            // The reachable band widens with time; `violates` tests the centre only, so `at` is
+            // exact for known rates (spread 0), which is what the scan tests use.
             ..*self
         }
     }
 
     /// Whether the well-clear volume `th` holds now.
     pub fn violates(&self, th: &Thresholds) -> bool {
-        if self.dz_m.abs() > th.zthr_m {
+        if self.dz_m.abs() - self.dz_spread_m > th.zthr_m {
             return false;
         }
         let r = self.range_m();
@@ -213,7 +224,11 @@ impl Relative {
     /// Intersects horizontal intervals with the vertical one (`|dz| <= zthr_m`) and the lookahead.
     fn clip(&self, horizontal: &[Option<Interval>; 2], zthr_m: f64, lookahead_s: f64) -> Intervals {
         let mut out = Intervals::default();
-        let Some(vertical) = within(self.dz_m, self.vz_mps, zthr_m) else {
+        let Some(vertical) = within(
+            (self.dz_m, self.dz_spread_m),
+            (self.vz_mps, self.vz_spread_mps),
+            zthr_m,
+        ) else {
             return out;
         };
         for &(a, b) in horizontal.iter().flatten() {
@@ -266,14 +281,14 @@ impl Relative {
         let first = self.clip(&h, Thresholds::DWC.zthr_m, LOOKAHEAD_S).first();
         Geometry {
             horizontal_distance_m: r,
-            vertical_separation_m: self.dz_m,
-            range_rate_mps: if r > 0.0 {
+            vertical_separation_m: Some(self.dz_m),
+            range_rate_mps: Some(if r > 0.0 {
                 self.s.dot(&self.v) / r
             } else {
                 -self.v.norm()
-            },
-            tcpa_s: self.tcpa_s(),
-            hmd_m: self.hmd_m(),
+            }),
+            tcpa_s: Some(self.tcpa_s()),
+            hmd_m: Some(self.hmd_m()),
             tau_mod_s: self.tau_mod_s(Thresholds::DWC.dthr_m),
             // Inside the volume now exactly when the first interval starts at 0 (intervals are
             // clipped at 0, so a volume holding now starts there).
@@ -284,14 +299,39 @@ impl Relative {
     }
 }
 
-/// Times at which `|z + vz t| <= zthr`, as one interval (unbounded ends as +-infinity), or `None`.
-fn within(z: f64, vz: f64, zthr: f64) -> Option<Interval> {
-    if vz == 0.0 {
-        return (z.abs() <= zthr).then_some((f64::NEG_INFINITY, f64::INFINITY));
+/// Times at which some separation `y` in `z.0 +- z.1` and some rate `w` in `vz.0 +- vz.1` give
+/// `|y + w t| <= zthr`, as one interval (unbounded ends as +-infinity), or `None`. With both
+/// spreads 0 this is the plain `|z + vz t| <= zthr`. Only `t >= 0` matters to the callers (they
+/// clip at 0), and for `t >= 0` the reachable separations form the band
+/// `[z - zs + (vz - vs) t, z + zs + (vz + vs) t]`, which meets `[-zthr, zthr]` exactly when
+/// `z - zs + (vz - vs) t <= zthr` and `z + zs + (vz + vs) t >= -zthr`: two half-lines in `t`.
+fn within(z: (f64, f64), vz: (f64, f64), zthr: f64) -> Option<Interval> {
+    let ((z, zs), (vz, vs)) = (z, vz);
+    if zs <= 0.0 && vs <= 0.0 {
+        if vz == 0.0 {
+            return (z.abs() <= zthr).then_some((f64::NEG_INFINITY, f64::INFINITY));
+        }
+        let t1 = (-zthr - z) / vz;
+        let t2 = (zthr - z) / vz;
+        return Some((t1.min(t2), t1.max(t2)));
     }
-    let t1 = (-zthr - z) / vz;
-    let t2 = (zthr - z) / vz;
-    Some((t1.min(t2), t1.max(t2)))
+    // z - zs + (vz - vs) t <= zthr.
+    let a = half_line(vz - vs, zthr - z + zs)?;
+    // z + zs + (vz + vs) t >= -zthr  <=>  -(vz + vs) t <= zthr + z + zs.
+    let b = half_line(-(vz + vs), zthr + z + zs)?;
+    let iv = (a.0.max(b.0).max(0.0), a.1.min(b.1));
+    (iv.0 <= iv.1).then_some(iv)
+}
+
+/// The times `t` with `k t <= c`, as an interval (unbounded ends as +-infinity), or `None`.
+fn half_line(k: f64, c: f64) -> Option<Interval> {
+    if k == 0.0 {
+        (c >= 0.0).then_some((f64::NEG_INFINITY, f64::INFINITY))
+    } else if k > 0.0 {
+        Some((f64::NEG_INFINITY, c / k))
+    } else {
+        Some((c / k, f64::INFINITY))
+    }
 }
 
 /// The interval where `a t^2 + b t + c <= 0`, for `a >= 0`. With `a = 0` the linear case: an

@@ -50,6 +50,28 @@ impl OwnshipFrame {
         }
     }
 
+    /// The frame at a position alone (an ownship whose velocity is unknown): its velocity is
+    /// taken as zero, so use [`OwnshipFrame::position_of`] and [`OwnshipFrame::velocity_of`]
+    /// rather than [`OwnshipFrame::relative`], and let [`crate::traffic::policy`] decide.
+    pub fn at_position(lat_deg: f64, lon_deg: f64, alt_m: f64) -> Self {
+        Self {
+            frame: EnuFrame::at(lat_deg, lon_deg, alt_m),
+            velocity_enu: Vector3::zeros(),
+            alt_m,
+        }
+    }
+
+    /// An intruder's position in this plane (east, north, up), m.
+    pub fn position_of(&self, intruder: &IntruderEcef) -> Vector3<f64> {
+        self.frame.position(&intruder.position_ecef)
+    }
+
+    /// An intruder's horizontal velocity over ground in this plane (east, north), m/s.
+    pub fn velocity_of(&self, intruder: &IntruderEcef) -> Vector2<f64> {
+        let v = self.frame.vector(&intruder.velocity_ecef);
+        Vector2::new(v.x, v.y)
+    }
+
     /// The relative state of an intruder.
     pub fn relative(&self, intruder: &IntruderEcef) -> Relative {
         let p = self.frame.position(&intruder.position_ecef);
@@ -59,6 +81,8 @@ impl OwnshipFrame {
             v: Vector2::new(v.x - self.velocity_enu.x, v.y - self.velocity_enu.y),
             dz_m: intruder.alt_m - self.alt_m,
             vz_mps: intruder.vertical_rate_mps - self.velocity_enu.z,
+            vz_spread_mps: 0.0,
+            dz_spread_m: 0.0,
         }
     }
 }

@@ -17,6 +17,8 @@ fn rel(sx: f64, sy: f64, vx: f64, vy: f64, dz: f64, vz: f64) -> Relative {
         v: Vector2::new(vx, vy),
         dz_m: dz,
         vz_mps: vz,
+        vz_spread_mps: 0.0,
+        dz_spread_m: 0.0,
     }
 }
 
@@ -66,10 +68,10 @@ fn head_on() {
     let v = 2.0 * KT100; // 102.889 m/s closing
     let s0 = 5.0 * M_PER_NM; // 9260 m
     assert_relative_eq!(g.horizontal_distance_m, 9260.0);
-    assert_relative_eq!(g.range_rate_mps, -v, epsilon = 1e-9);
-    assert_relative_eq!(g.tcpa_s, s0 / v, epsilon = 1e-9); // 90.0 s
-    assert_relative_eq!(g.tcpa_s, 90.0, epsilon = 1e-9);
-    assert_relative_eq!(g.hmd_m, 0.0, epsilon = 1e-9);
+    assert_relative_eq!(g.range_rate_mps.unwrap(), -v, epsilon = 1e-9);
+    assert_relative_eq!(g.tcpa_s.unwrap(), s0 / v, epsilon = 1e-9); // 90.0 s
+    assert_relative_eq!(g.tcpa_s.unwrap(), 90.0, epsilon = 1e-9);
+    assert_relative_eq!(g.hmd_m.unwrap(), 0.0, epsilon = 1e-9);
     // tau_mod = (D^2 - r^2) / (s.v) = (1222.32^2 - 9260^2) / (9260 x -102.889) = 88.431 s.
     let tau = (D * D - s0 * s0) / (s0 * -v);
     assert_relative_eq!(g.tau_mod_s.unwrap(), tau, epsilon = 1e-9);
@@ -94,7 +96,7 @@ fn offset_head_on_beyond_dthr_is_clear() {
     // Lateral offset 0.7 NM > DTHR: HMD = 1296.4 m, never inside; tau is still defined.
     let r = rel(0.7 * M_PER_NM, 5.0 * M_PER_NM, 0.0, -2.0 * KT100, 0.0, 0.0);
     let g = r.geometry();
-    assert_relative_eq!(g.hmd_m, 0.7 * M_PER_NM, epsilon = 1e-6);
+    assert_relative_eq!(g.hmd_m.unwrap(), 0.7 * M_PER_NM, epsilon = 1e-6);
     assert!(g.tau_mod_s.is_some());
     assert_eq!(g.loss_of_well_clear_interval_s, None);
     // The 700 ft preventive volume uses the same DTHR, so no alert at all.
@@ -111,7 +113,7 @@ fn overtaking() {
     let closing = 40.0 * MPS_PER_KT;
     let r = rel(0.0, -M_PER_NM, 0.0, closing, 0.0, 0.0);
     let g = r.geometry();
-    assert_relative_eq!(g.tcpa_s, M_PER_NM / closing, epsilon = 1e-9); // 90 s
+    assert_relative_eq!(g.tcpa_s.unwrap(), M_PER_NM / closing, epsilon = 1e-9); // 90 s
     // Range reaches DTHR at (1852 - 1222.32) / 20.578 = 30.6 s; the tau clause starts earlier:
     // r^2 - 35 c r - D^2 = 0 gives r = 1688.3 m, t = 7.97 s.
     let r_start = (35.0 * closing + ((35.0 * closing).powi(2) + 4.0 * D * D).sqrt()) / 2.0;
@@ -129,8 +131,8 @@ fn crossing() {
     let r = rel(s.x, s.y, -KT100, -KT100, 0.0, 0.0);
     let g = r.geometry();
     // Relative velocity (-v, -v) aims straight at the ownship: tcpa = |s| / |v_rel| = 3 NM / v.
-    assert_relative_eq!(g.tcpa_s, 3.0 * M_PER_NM / KT100, epsilon = 1e-9);
-    assert_relative_eq!(g.hmd_m, 0.0, epsilon = 1e-6);
+    assert_relative_eq!(g.tcpa_s.unwrap(), 3.0 * M_PER_NM / KT100, epsilon = 1e-9);
+    assert_relative_eq!(g.hmd_m.unwrap(), 0.0, epsilon = 1e-6);
     assert_relative_eq!(
         g.horizontal_distance_m,
         3.0 * M_PER_NM * 2f64.sqrt(),
@@ -165,10 +167,10 @@ fn climb_into_an_intruder() {
 fn diverging() {
     let r = rel(0.0, 2.0 * M_PER_NM, 0.0, KT100, 0.0, 0.0);
     let g = r.geometry();
-    assert_eq!(g.tcpa_s, 0.0);
+    assert_eq!(g.tcpa_s.unwrap(), 0.0);
     assert_eq!(g.tau_mod_s, None);
-    assert_relative_eq!(g.hmd_m, 2.0 * M_PER_NM);
-    assert!(g.range_rate_mps > 0.0);
+    assert_relative_eq!(g.hmd_m.unwrap(), 2.0 * M_PER_NM);
+    assert!(g.range_rate_mps.unwrap() > 0.0);
     assert_eq!(g.loss_of_well_clear_interval_s, None);
     assert_eq!(g.alert_level, 0);
 }
@@ -214,9 +216,13 @@ fn hovering_ownship() {
         "{}",
         g.horizontal_distance_m
     );
-    assert!((g.range_rate_mps + 60.0 * MPS_PER_KT).abs() < 1e-3);
-    assert!(g.hmd_m < 1.0);
-    assert_relative_eq!(g.vertical_separation_m, 200.0 * M_PER_FT, epsilon = 1e-9);
+    assert!((g.range_rate_mps.unwrap() + 60.0 * MPS_PER_KT).abs() < 1e-3);
+    assert!(g.hmd_m.unwrap() < 1.0);
+    assert_relative_eq!(
+        g.vertical_separation_m.unwrap(),
+        200.0 * M_PER_FT,
+        epsilon = 1e-9
+    );
 }
 
 #[test]
@@ -274,7 +280,7 @@ fn date_line() {
         g.horizontal_distance_m
     );
     // The two easts differ by 0.02 deg about the polar axis: cos(0.02 deg) = 1 - 6e-8.
-    assert!((g.range_rate_mps + 2.0 * KT100).abs() < 1e-4);
+    assert!((g.range_rate_mps.unwrap() + 2.0 * KT100).abs() < 1e-4);
     // 2226 m > DTHR, but closing head-on with tau_mod = (D^2 - r^2) / (-r v) = 15.1 s <= 35 s
     // and HMD 0: inside the DWC volume now.
     let tau = (D * D - expected * expected) / (-expected * 2.0 * KT100);

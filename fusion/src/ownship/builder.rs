@@ -55,6 +55,10 @@ pub struct GnssFix {
     pub lon_deg: f64,
     /// Height above the ellipsoid, m.
     pub alt_wgs84_m: Option<f64>,
+    /// Half-width of the band `alt_wgs84_m` lies in beyond its noise, m: 0, or
+    /// [`GEOID_UNKNOWN_HALF_RANGE_M`] when it was made from MSL height without a geoid
+    /// separation (issue 24).
+    pub alt_band_m: f64,
     /// Track, deg true.
     pub track_deg: Option<f64>,
     /// Ground speed, m/s.
@@ -68,6 +72,15 @@ pub struct GnssFix {
     /// NACv, when reported.
     pub nac_v: Option<u8>,
 }
+
+/// Decision (issue 24, one altitude reference): no geoid model is vendored (none could be
+/// vetted offline here), so a GGA without its geoid-separation field gets the middle of the
+/// geoid's worldwide range, EGM96 -106 .. +85 m, as the separation, m ...
+pub const GEOID_UNKNOWN_MID_M: f64 = -10.5;
+/// ... and half that range as a bound on the error, m: the traffic geometry widens the vertical
+/// test by it (`alt_geometric_band_m`), and the ownship's vertical sigma is that of a uniform
+/// error over the range (95.5 / sqrt 3 = 55 m).
+pub const GEOID_UNKNOWN_HALF_RANGE_M: f64 = 95.5;
 
 /// 95 % horizontal bound of a NACp value, m (DO-260B; 0 or unknown: none).
 pub fn nacp_epu_m(nac_p: u8) -> Option<f64> {
@@ -113,7 +126,15 @@ impl GnssFix {
             t_gps_ns,
             lat_deg: lat,
             lon_deg: lon,
-            alt_wgs84_m: g.alt_wgs84_m,
+            // MSL only: the geoid's middle and range (see GEOID_UNKNOWN_MID_M).
+            alt_wgs84_m: g
+                .alt_wgs84_m
+                .or(g.alt_msl_m.map(|a| a + GEOID_UNKNOWN_MID_M)),
+            alt_band_m: if g.alt_wgs84_m.is_none() && g.alt_msl_m.is_some() {
+                GEOID_UNKNOWN_HALF_RANGE_M
+            } else {
+                0.0
+            },
             track_deg: track,
             ground_speed_mps: gs,
             vertical_rate_mps: g.velv_mps,
@@ -134,7 +155,14 @@ impl GnssFix {
             t_gps_ns,
             lat_deg: gga.lat_deg?,
             lon_deg: gga.lon_deg?,
-            alt_wgs84_m: gga.alt_msl_m.map(|a| a + gga.geoid_sep_m.unwrap_or(0.0)),
+            alt_wgs84_m: gga
+                .alt_msl_m
+                .map(|a| a + gga.geoid_sep_m.unwrap_or(GEOID_UNKNOWN_MID_M)),
+            alt_band_m: if gga.alt_msl_m.is_some() && gga.geoid_sep_m.is_none() {
+                GEOID_UNKNOWN_HALF_RANGE_M
+            } else {
+                0.0
+            },
             track_deg: rmc.and_then(|r| r.course_deg),
             ground_speed_mps: rmc.and_then(|r| r.speed_kt).map(|v| v * MPS_PER_KT),
             vertical_rate_mps: None,
@@ -162,7 +190,7 @@ pub struct OwnshipSolution {
     pub roll_deg: Option<f64>,
     /// Voted (or VN-200) pitch, deg.
     pub pitch_deg: Option<f64>,
-    /// Where the heading came from: "vote", "vn200" or "track".
+    /// Where the heading came from: "vote", "vn200", "track" or "none" (unknown).
     pub heading_source: &'static str,
 }
 
@@ -254,12 +282,13 @@ impl OwnshipBuilder {
                     lon_deg: lla[1],
                     alt_pressure_m: pressure,
                     alt_geometric_m: Some(lla[2]),
-                    track_deg: wrap_2pi(vel[1].atan2(vel[0])) / DEG,
-                    ground_speed_mps: vel[0].hypot(vel[1]),
-                    vertical_rate_mps: -vel[2],
-                    heading_deg: 0.0,
-                    position_sigma_m: v.pos_u_m.unwrap_or(f64::NAN),
+                    track_deg: Some(wrap_2pi(vel[1].atan2(vel[0])) / DEG),
+                    ground_speed_mps: Some(vel[0].hypot(vel[1])),
+                    vertical_rate_mps: Some(-vel[2]),
+                    heading_deg: None,
+                    position_sigma_m: v.pos_u_m.filter(|s| s.is_finite()),
                     source: PositionSource::Vn200Ins,
+                    alt_geometric_band_m: 0.0,
                 },
                 v.vel_u_mps,
                 None,
@@ -280,21 +309,25 @@ impl OwnshipBuilder {
                     lon_deg: g.lon_deg,
                     alt_pressure_m: pressure,
                     alt_geometric_m: g.alt_wgs84_m,
-                    track_deg: g.track_deg.unwrap_or(f64::NAN),
-                    ground_speed_mps: g.ground_speed_mps.unwrap_or(f64::NAN),
-                    vertical_rate_mps: g.vertical_rate_mps.unwrap_or(0.0),
-                    heading_deg: 0.0,
-                    position_sigma_m: g.position_sigma_m,
+                    // Unknown stays unknown (issue 24): no NaN, no guessed 0 climb rate. Track
+                    // and speed are only used together.
+                    track_deg: g.track_deg.filter(|_| g.ground_speed_mps.is_some()),
+                    ground_speed_mps: g.ground_speed_mps.filter(|_| g.track_deg.is_some()),
+                    vertical_rate_mps: g.vertical_rate_mps,
+                    heading_deg: None,
+                    position_sigma_m: Some(g.position_sigma_m),
                     source: PositionSource::TtMultiRfGnss,
+                    alt_geometric_band_m: g.alt_band_m,
                 },
                 nacv_sigma,
                 g.nac_p,
             )
         };
         let (heading, source) = match (vote.and_then(|v| v.3), vn_att) {
-            (Some(h), _) => (h, "vote"),
-            (None, Some((y, _, _))) => (wrap_2pi(y) / DEG, "vn200"),
-            (None, None) => (own.track_deg, "track"),
+            (Some(h), _) => (Some(h), "vote"),
+            (None, Some((y, _, _))) => (Some(wrap_2pi(y) / DEG), "vn200"),
+            (None, None) if own.track_deg.is_some() => (own.track_deg, "track"),
+            (None, None) => (None, "none"),
         };
         own.heading_deg = heading;
         Some(OwnshipSolution {
@@ -413,9 +446,9 @@ mod tests {
         let before = before.unwrap();
         assert_eq!(before.ownship.source, PositionSource::Vn200Ins);
         // Synthetic VN-200: north 0, east 40 m/s: track 90 deg, PosU 2 m.
-        assert!((before.ownship.track_deg - 90.0).abs() < 1e-9);
-        assert!((before.ownship.ground_speed_mps - 40.0).abs() < 1e-9);
-        assert_eq!(before.ownship.position_sigma_m, 2.0);
+        assert!((before.ownship.track_deg.unwrap() - 90.0).abs() < 1e-9);
+        assert!((before.ownship.ground_speed_mps.unwrap() - 40.0).abs() < 1e-9);
+        assert_eq!(before.ownship.position_sigma_m, Some(2.0));
         assert_eq!(before.velocity_sigma_mps, Some(0.1));
         // Pressure altitude from the BAHRS (truth height - 40 m, +- noise and LSB).
         assert!(before.ownship.alt_pressure_m.is_some());
@@ -424,12 +457,12 @@ mod tests {
         assert_eq!(after.ownship.source, PositionSource::TtMultiRfGnss);
         assert_eq!(after.ownship.lat_deg, 47.41);
         assert_eq!(after.ownship.alt_geometric_m, Some(650.0));
-        assert!((after.ownship.position_sigma_m - 12.5f64.sqrt()).abs() < 1e-12);
+        assert!((after.ownship.position_sigma_m.unwrap() - 12.5f64.sqrt()).abs() < 1e-12);
         assert_eq!(after.nac_p, Some(9));
         assert_eq!(after.velocity_sigma_mps, Some(1.5));
         // Attitude still valid in GnssLost: heading from the VN-200 yaw (about 90 deg true).
         assert_eq!(after.heading_source, "vn200");
-        assert!((after.ownship.heading_deg - 90.0).abs() < 2.0);
+        assert!((after.ownship.heading_deg.unwrap() - 90.0).abs() < 2.0);
     }
 
     #[test]

@@ -149,6 +149,10 @@ pub struct DeviceActivity {
     pub last_t_gps_ns: Option<i64>,
     /// Clock status of the newest aligned sample.
     pub last_status: Option<ClockStatus>,
+    // --- issue 24 ---
+    /// Records dropped at the fusion's entry for an impossible value (the decoders drop and count
+    /// their own; this catches what a decoder cannot see, e.g. raw Mode S decoded here).
+    pub invalid_values: u64,
 }
 
 /// Per-device activity, in [`Device::ALL`] order.
@@ -410,9 +414,18 @@ impl Pipeline {
         }
     }
 
+    /// One traffic report at its aligned time `t`: a report with an impossible value is dropped
+    /// and counted; the others go to the tracks at their time of applicability (the aligned time
+    /// less the age the protocol states, issue 24).
     fn report(&mut self, t: i64, r: &TrafficReport) {
         self.reports += 1;
-        self.tracks.update(t, r);
+        if r.check_values().is_err() {
+            self.activity[device_slot(Device::Ttmrf)].1.invalid_values += 1;
+            return;
+        }
+        let age_ns = r.data_age_s.map_or(0, |a| (a * NS_PER_S) as i64);
+        self.tracks
+            .update_at(t.saturating_sub(age_ns), r, r.source_time.is_none());
     }
 }
 

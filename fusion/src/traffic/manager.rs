@@ -7,10 +7,12 @@ use vigil_drivers::traffic::TrafficReport;
 
 use super::alert_filter::AlertFilterParams;
 use super::plausibility::{horizontal_distance_m, max_signal_dbm};
+use super::policy::{self, Encounter, FailSafeFlags};
 use super::track::{Fix, PlausibilityFlags, Source, TargetKey, Timed, Track, report_sigma_m};
 use crate::geometry::wgs84::A_M;
 use crate::geometry::{AircraftState, Geometry, IntruderEcef, OwnshipFrame};
 use crate::ownship::Ownship;
+use nalgebra::Vector2;
 
 /// Parameters of the traffic fusion, with units and defaults.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -32,10 +34,23 @@ pub struct TrafficParams {
     /// Sources disagree when their positions differ by more than this many combined sigmas (plus
     /// the distance the target can fly between the two reports).
     pub consistency_sigmas: f64,
-    /// How long a plausibility finding stays active after it was last seen, s.
+    /// A plausibility flag stays set until the target's reports have been consistent (no new
+    /// finding) for this long, s. A silent target stays flagged: only consistent reports clear.
     pub flag_hold_s: f64,
     /// Live alert filter.
     pub alert: AlertFilterParams,
+    // --- issue 24: fail-safe unknowns, report age, slow-drift plausibility ---
+    /// Newest position older than this (per link: ADS-B 1090, UAT 978, FLARM) is dropped from the
+    /// geometry and counted, s. Decision: 1090 and UAT targets report every second (the module's
+    /// list), so 5 s is four missed reports; FLARM sends 1 Hz with short range, 3 s.
+    pub stale_limit_s: [f64; 3],
+    /// Largest ownship climb or descent rate assumed when its vertical rate is unknown, m/s
+    /// (3000 ft/min: a small UAS's envelope with margin).
+    pub own_max_vertical_rate_mps: f64,
+    /// Window of the position-against-velocity consistency test, s.
+    pub drift_window_s: f64,
+    /// Allowance of that test for velocity error and rounding, m/s over the window.
+    pub drift_velocity_error_mps: f64,
 }
 
 impl Default for TrafficParams {
@@ -51,6 +66,10 @@ impl Default for TrafficParams {
             consistency_sigmas: 5.0,
             flag_hold_s: 60.0,
             alert: AlertFilterParams::default(),
+            stale_limit_s: [5.0, 5.0, 3.0],
+            own_max_vertical_rate_mps: 3_000.0 * 0.00508,
+            drift_window_s: 10.0,
+            drift_velocity_error_mps: 2.0,
         }
     }
 }
@@ -66,6 +85,10 @@ pub struct TrafficStats {
     pub tracks_timed_out: u64,
     /// Tracks evicted because the table was full.
     pub tracks_evicted: u64,
+    // --- issue 24 ---
+    /// Targets left out of the geometry because their newest position was older than the link's
+    /// limit (counted once per target and picture).
+    pub stale_dropped: u64,
 }
 
 /// Which altitudes a target's vertical geometry compares.
@@ -76,7 +99,10 @@ pub enum AltitudeKind {
     Pressure,
     /// Intruder geometric against ownship geometric (the intruder has no barometric altitude).
     Geometric,
-    /// No comparable pair: no vertical geometry.
+    /// One pressure and one geometric altitude, with no measured difference between them: the
+    /// separation is a band (issue 24, see [`super::policy`]).
+    Mixed,
+    /// No altitude to compare: the fail-safe policy takes the intruder as co-altitude.
     None,
 }
 
@@ -97,18 +123,21 @@ pub struct Target {
     pub lon_deg: f64,
     /// Extrapolated altitude used, m.
     pub alt_m: Option<f64>,
-    /// The intruder's velocity (north, east, down), m/s, from its reported track, ground speed
-    /// and vertical rate (0 when none was reported); `None` without a reported velocity.
-    pub velocity_ned_mps: Option<[f64; 3]>,
+    /// The intruder's horizontal velocity (north, east), m/s, from its reported track and ground
+    /// speed; `None` without them.
+    pub velocity_ne_mps: Option<[f64; 2]>,
+    /// The intruder's vertical rate, m/s up; `None` when not reported.
+    pub vertical_rate_mps: Option<f64>,
     /// Which altitudes were compared.
     pub altitude_kind: AltitudeKind,
     /// 1-sigma horizontal position uncertainty at the fusion time (grows with age), m.
     pub position_sigma_m: f64,
     /// Bearing from the ownship, deg true.
     pub bearing_true_deg: f64,
-    /// Bearing relative to the ownship heading, deg, (-180, 180].
-    pub bearing_relative_deg: f64,
-    /// DO-365 geometry (None without a comparable altitude).
+    /// Bearing relative to the ownship heading, deg, (-180, 180]; `None` when the heading is.
+    pub bearing_relative_deg: Option<f64>,
+    /// DO-365 geometry under the fail-safe policy; `None` only for a stale target (see
+    /// `fail_safe`).
     pub geometry: Option<Geometry>,
     /// Raw alert level of this step.
     pub raw_alert_level: u8,
@@ -118,6 +147,8 @@ pub struct Target {
     pub flarm_alarm_level: Option<u8>,
     /// Active plausibility flags.
     pub flags: PlausibilityFlags,
+    /// The fail-safe rules that applied (issue 24): which quantities were unknown.
+    pub fail_safe: FailSafeFlags,
 }
 
 /// Merges traffic reports into tracks and computes the picture against the ownship.
@@ -179,8 +210,16 @@ impl TrackManager {
         self.ownship = Some(own);
     }
 
-    /// Takes one report whose GPS time (ns) is `t_gps_ns`.
+    /// Takes one report whose GPS time (ns) is `t_gps_ns`: its time of applicability when the
+    /// report carries one, else its arrival (then `r.source_time` is `None`, and the target says
+    /// so). See [`TrackManager::update_at`].
     pub fn update(&mut self, t_gps_ns: i64, r: &TrafficReport) {
+        self.update_at(t_gps_ns, r, r.source_time.is_none());
+    }
+
+    /// Takes one report whose data apply at GPS time `t_gps_ns` (ns); `from_receipt` says that
+    /// time is only the arrival (issue 24: every report at its own time).
+    pub fn update_at(&mut self, t_gps_ns: i64, r: &TrafficReport, from_receipt: bool) {
         self.stats.reports += 1;
         let key = TargetKey {
             space: r.address_type.into(),
@@ -204,6 +243,22 @@ impl TrackManager {
             protocol: r.protocol,
         };
         check_and_merge(track, source, t_gps_ns, r, &p, own.as_ref());
+        if let Some(pos) = track.position.as_mut()
+            && pos.t_gps_ns == t_gps_ns
+            && pos.value.source == source
+        {
+            pos.value.time_from_receipt = from_receipt;
+            // Decision: a time from the arrival (or MAVLink's whole-second `tslc`) may be off by
+            // up to about half a second (the module reports its list once a second): the
+            // position sigma grows by the distance flown in that time.
+            if from_receipt {
+                pos.value.sigma_m += 0.5 * r.ground_speed_mps.unwrap_or(p.max_speed_mps);
+            }
+        }
+        check_drift(track, t_gps_ns, r, &p);
+        track
+            .findings
+            .close_report(t_gps_ns, (p.flag_hold_s * 1e9) as i64);
     }
 
     fn evict(&mut self, t_ns: i64) {
@@ -236,8 +291,9 @@ impl TrackManager {
     }
 
     /// The traffic picture at GPS time `t_ns` against `own`: drops timed-out targets, extrapolates
-    /// the rest, computes geometry and alert levels, and returns targets in priority order (alert
-    /// level, then time to loss of well-clear, then range).
+    /// the rest from each one's own time, computes geometry and alert levels under the fail-safe
+    /// policy ([`super::policy`]), and returns targets in priority order (alert level, then time
+    /// to loss of well-clear, then range).
     pub fn picture(&mut self, t_ns: i64, own: &Ownship) -> Vec<Target> {
         self.ownship = Some(*own);
         let timeout_ns = (self.params.timeout_s * 1e9) as i64;
@@ -245,86 +301,20 @@ impl TrackManager {
         self.tracks
             .retain(|_, t| t_ns.saturating_sub(t.last_update_ns) <= timeout_ns);
         self.stats.tracks_timed_out += (before - self.tracks.len()) as u64;
-        let hold_ns = (self.params.flag_hold_s * 1e9) as i64;
-        let p = self.params;
-        let frame_baro = own.alt_pressure_m.map(|a| OwnshipFrame::new(&own.state(a)));
-        let frame_geo = own
-            .alt_geometric_m
-            .map(|a| OwnshipFrame::new(&own.state(a)));
+        let frames = Frames {
+            baro: own.alt_pressure_m.map(|a| own.frame(a)),
+            geo: own.alt_geometric_m.map(|a| own.frame(a)),
+            any: own.frame(own.alt_geometric_m.or(own.alt_pressure_m).unwrap_or(0.0)),
+        };
         let mut out: Vec<Target> = Vec::with_capacity(self.tracks.len());
+        let mut stale = 0;
         for t in self.tracks.values_mut() {
-            let Some(pos) = t.position else { continue };
-            let dt_pos = t_ns.saturating_sub(pos.t_gps_ns) as f64 * 1e-9;
-            let (track_deg, gs) = t.velocity.map_or((0.0, 0.0), |v| v.value);
-            let (lat, lon) =
-                extrapolate(pos.value.lat_deg, pos.value.lon_deg, track_deg, gs, dt_pos);
-            let vs = t.vertical_rate.map_or(0.0, |v| v.value);
-            let alt_at = |a: Option<Timed<f64>>| {
-                a.map(|a| a.value + vs * t_ns.saturating_sub(a.t_gps_ns) as f64 * 1e-9)
-            };
-            let (kind, alt, frame) = match (
-                alt_at(t.alt_pressure),
-                frame_baro,
-                alt_at(t.alt_geometric),
-                frame_geo,
-            ) {
-                (Some(a), Some(f), _, _) => (AltitudeKind::Pressure, Some(a), Some(f)),
-                // Baro missing on either side (the intruder sent none, or the ownship has no
-                // BAHRS pressure altitude): geometric against geometric.
-                (_, _, Some(a), Some(f)) => (AltitudeKind::Geometric, Some(a), Some(f)),
-                _ => (AltitudeKind::None, None, None),
-            };
-            // Velocity uncertainty is not reported per target here; position uncertainty grows
-            // with the age of the fix at 1 m/s/s of unknown acceleration (0.5 a t^2).
-            let sigma = pos.value.sigma_m + 0.5 * dt_pos.abs().powi(2);
-            let state = AircraftState {
-                lat_deg: lat,
-                lon_deg: lon,
-                alt_m: alt.unwrap_or(0.0),
-                track_deg,
-                ground_speed_mps: gs,
-                vertical_rate_mps: vs,
-            };
-            let intruder = IntruderEcef::new(&state);
-            let any_frame = frame
-                .or(frame_baro)
-                .or(frame_geo)
-                .unwrap_or_else(|| OwnshipFrame::new(&own.state(0.0)));
-            let rel = any_frame.relative(&intruder);
-            let bearing = rel.s.x.atan2(rel.s.y).to_degrees().rem_euclid(360.0);
-            let geometry = frame.map(|_| rel.geometry());
-            let raw = geometry.map_or(0, |g| g.alert_level);
-            let filtered = t.alert.update(raw, t_ns, &p.alert);
-            out.push(Target {
-                key: t.key,
-                callsign: t.callsign.clone(),
-                sources: t
-                    .sources
-                    .iter()
-                    .map(|s| (s.value.0, t_ns.saturating_sub(s.t_gps_ns) as f64 * 1e-9))
-                    .collect(),
-                age_s: t.age_s(t_ns),
-                lat_deg: lat,
-                lon_deg: lon,
-                alt_m: alt,
-                velocity_ned_mps: t.velocity.map(|_| {
-                    let (s, c) = track_deg.to_radians().sin_cos();
-                    [gs * c, gs * s, -vs]
-                }),
-                altitude_kind: kind,
-                position_sigma_m: sigma,
-                bearing_true_deg: bearing,
-                bearing_relative_deg: crate::attitude::angles::wrap_pi(
-                    (bearing - own.heading_deg).to_radians(),
-                )
-                .to_degrees(),
-                geometry,
-                raw_alert_level: raw,
-                alert_level: filtered,
-                flarm_alarm_level: t.flarm_alarm_level,
-                flags: t.findings.active(t_ns, hold_ns),
-            });
+            if let Some(target) = target_at(t, t_ns, own, &frames, &self.params) {
+                stale += u64::from(target.fail_safe.stale);
+                out.push(target);
+            }
         }
+        self.stats.stale_dropped += stale;
         out.sort_by(|a, b| {
             let tl = |x: &Target| {
                 x.geometry
@@ -342,6 +332,163 @@ impl TrackManager {
                 .then(a.key.cmp(&b.key))
         });
         out
+    }
+}
+
+/// The ownship's planes of one picture: at its pressure altitude, at its geometric altitude, and
+/// one at whatever altitude it has (for horizontal quantities).
+struct Frames {
+    baro: Option<OwnshipFrame>,
+    geo: Option<OwnshipFrame>,
+    any: OwnshipFrame,
+}
+
+/// Which altitudes to compare: like with like when both sides have one; else pressure against
+/// geometric through the ownship's measured difference (it has both); else a band.
+fn vertical_pair(
+    t: &Track,
+    t_ns: i64,
+    own: &Ownship,
+    vs: Option<f64>,
+) -> (AltitudeKind, Option<f64>, Option<f64>, f64) {
+    let alt_at = |a: Option<Timed<f64>>| {
+        a.map(|a| a.value + vs.unwrap_or(0.0) * t_ns.saturating_sub(a.t_gps_ns) as f64 * 1e-9)
+    };
+    let (ip, ig) = (alt_at(t.alt_pressure), alt_at(t.alt_geometric));
+    let band_g = own.alt_geometric_band_m;
+    match (ip, own.alt_pressure_m, ig, own.alt_geometric_m) {
+        (Some(a), Some(o), _, _) => (AltitudeKind::Pressure, Some(a), Some(a - o), 0.0),
+        (_, _, Some(a), Some(o)) => (AltitudeKind::Geometric, Some(a), Some(a - o), band_g),
+        // Intruder pressure only, ownship geometric only (no BAHRS): no measured GNSS-baro
+        // difference. Decision: the two differ by the ISA temperature deviation (about 4 % of
+        // the height per 10 K) and the pressure datum (about 8 m/hPa, 250 m at 30 hPa): the band
+        // is 250 m + 10 % of the height, wide but honest.
+        (Some(a), None, None, Some(o)) => (
+            AltitudeKind::Mixed,
+            Some(a),
+            Some(a - o),
+            250.0 + 0.1 * o.abs() + band_g,
+        ),
+        // Intruder geometric only, ownship pressure only: the same band.
+        (None, Some(o), Some(a), None) => (
+            AltitudeKind::Mixed,
+            Some(a),
+            Some(a - o),
+            250.0 + 0.1 * a.abs(),
+        ),
+        _ => (AltitudeKind::None, None, None, 0.0),
+    }
+}
+
+/// One target of the picture at `t_ns`; `None` for a track without a position.
+fn target_at(
+    t: &mut Track,
+    t_ns: i64,
+    own: &Ownship,
+    frames: &Frames,
+    p: &TrafficParams,
+) -> Option<Target> {
+    let pos = t.position?;
+    let dt_pos = t_ns.saturating_sub(pos.t_gps_ns) as f64 * 1e-9;
+    let velocity = t.velocity.map(|v| v.value);
+    let (track_deg, gs) = velocity.unwrap_or((0.0, 0.0));
+    let (lat, lon) = extrapolate(pos.value.lat_deg, pos.value.lon_deg, track_deg, gs, dt_pos);
+    let vs = t.vertical_rate.map(|v| v.value);
+    let (kind, alt, dz, mut dz_band) = vertical_pair(t, t_ns, own, vs);
+    let category = t.emitter_category;
+    let vz_max = policy::max_vertical_rate_mps(category, p.max_vertical_rate_mps);
+    if vs.is_none() {
+        // The altitude was not moved on from its report: it may have changed by the category's
+        // rate since.
+        dz_band += vz_max * dt_pos.abs();
+    }
+    let margin = if velocity.is_none() {
+        policy::max_speed_mps(category, p.max_speed_mps) * dt_pos.abs()
+    } else {
+        0.0
+    };
+    // Position uncertainty grows with the age of the fix at 1 m/s/s of unknown acceleration
+    // (0.5 a t^2), and by the distance it may have flown when its velocity is unknown.
+    let sigma = pos.value.sigma_m + 0.5 * dt_pos.abs().powi(2) + margin;
+    let intruder = IntruderEcef::new(&AircraftState {
+        lat_deg: lat,
+        lon_deg: lon,
+        alt_m: alt.unwrap_or(0.0),
+        track_deg,
+        ground_speed_mps: gs,
+        vertical_rate_mps: vs.unwrap_or(0.0),
+    });
+    let frame = match kind {
+        AltitudeKind::Pressure => frames.baro.as_ref(),
+        AltitudeKind::Geometric => frames.geo.as_ref(),
+        _ => None,
+    }
+    .unwrap_or(&frames.any);
+    let rel = frame.position_of(&intruder);
+    let bearing = rel.x.atan2(rel.y).to_degrees().rem_euclid(360.0);
+    let stale = dt_pos > p.stale_limit_s[link_slot(pos.value.source.link)];
+    let own_v = own.velocity_en_mps().map(|v| Vector2::new(v[0], v[1]));
+    let assessed = policy::assess(&Encounter {
+        s_m: Vector2::new(rel.x, rel.y),
+        own_velocity_mps: own_v,
+        own_vertical_rate_mps: own.vertical_rate_mps,
+        own_max_vertical_rate_mps: p.own_max_vertical_rate_mps,
+        intruder_velocity_mps: velocity.map(|_| frame.velocity_of(&intruder)),
+        dz_m: dz,
+        dz_band_m: dz_band,
+        intruder_vertical_rate_mps: vs,
+        intruder_max_vertical_rate_mps: vz_max,
+        position_margin_m: margin,
+    });
+    let (geometry, mut fail_safe) = match assessed {
+        Some((g, f)) if !stale => (Some(g), f),
+        Some((_, f)) => (None, f),
+        None => (None, FailSafeFlags::default()),
+    };
+    fail_safe.stale = stale;
+    fail_safe.time_from_receipt = pos.value.time_from_receipt;
+    let raw = geometry.map_or(0, |g| g.alert_level);
+    let filtered = t.alert.update(raw, t_ns, &p.alert);
+    let hold_ns = (p.flag_hold_s * 1e9) as i64;
+    Some(Target {
+        key: t.key,
+        callsign: t.callsign.clone(),
+        sources: t
+            .sources
+            .iter()
+            .map(|s| (s.value.0, t_ns.saturating_sub(s.t_gps_ns) as f64 * 1e-9))
+            .collect(),
+        age_s: t.age_s(t_ns),
+        lat_deg: lat,
+        lon_deg: lon,
+        alt_m: alt,
+        velocity_ne_mps: velocity.map(|_| {
+            let (s, c) = track_deg.to_radians().sin_cos();
+            [gs * c, gs * s]
+        }),
+        vertical_rate_mps: vs,
+        altitude_kind: kind,
+        position_sigma_m: sigma,
+        bearing_true_deg: bearing,
+        bearing_relative_deg: own
+            .heading_deg
+            .map(|h| crate::attitude::angles::wrap_pi((bearing - h).to_radians()).to_degrees()),
+        geometry,
+        raw_alert_level: raw,
+        alert_level: filtered,
+        flarm_alarm_level: t.flarm_alarm_level,
+        flags: t.findings.active(t_ns, hold_ns),
+        fail_safe,
+    })
+}
+
+/// Index of a link in [`TrafficParams::stale_limit_s`].
+fn link_slot(l: vigil_drivers::traffic::Link) -> usize {
+    use vigil_drivers::traffic::Link;
+    match l {
+        Link::Adsb1090 => 0,
+        Link::Uat978 => 1,
+        Link::Flarm => 2,
     }
 }
 
@@ -397,6 +544,7 @@ fn check_and_merge(
                     lon_deg: lon,
                     sigma_m: sigma,
                     source,
+                    time_from_receipt: false,
                 },
             });
         }
@@ -460,6 +608,37 @@ fn check_and_merge(
             t_gps_ns: t,
             value: (source, r.clone()),
         }),
+    }
+}
+
+/// The position-against-velocity test over [`TrafficParams::drift_window_s`] (issue 24): a
+/// residual beyond 5 combined position sigmas plus the velocity allowance over the span is a
+/// drift finding. Needs position and velocity in the same report.
+fn check_drift(track: &mut Track, t: i64, r: &TrafficReport, p: &TrafficParams) {
+    let (Some(lat), Some(lon), Some(trk), Some(gs)) =
+        (r.lat_deg, r.lon_deg, r.track_deg, r.ground_speed_mps)
+    else {
+        if r.lat_deg.is_some() {
+            track.drift.clear();
+        }
+        return;
+    };
+    let (sn, cs) = trk.to_radians().sin_cos();
+    let sigma = report_sigma_m(r);
+    let sample = super::track::DriftSample {
+        t_gps_ns: t,
+        lat_deg: lat,
+        lon_deg: lon,
+        velocity_en_mps: [gs * sn, gs * cs],
+        sigma_m: sigma,
+    };
+    let window_ns = (p.drift_window_s * 1e9) as i64;
+    if let Some((residual, span_s, base_sigma)) = track.drift.push(sample, window_ns) {
+        let allowed = p.consistency_sigmas * (sigma * sigma + base_sigma * base_sigma).sqrt()
+            + p.drift_velocity_error_mps * span_s;
+        if residual > allowed {
+            track.findings.position_drift = Some(t);
+        }
     }
 }
 

@@ -19,6 +19,7 @@ pub mod accuracy;
 pub mod alert_filter;
 mod manager;
 pub mod plausibility;
+pub mod policy;
 pub mod track;
 
 pub use manager::{AltitudeKind, Target, TrackManager, TrafficParams, TrafficStats};

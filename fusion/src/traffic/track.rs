@@ -79,11 +79,13 @@ pub struct Fix {
     pub sigma_m: f64,
     /// Source that gave it.
     pub source: Source,
+    /// Its time is the arrival time (the protocol carries no time of applicability), issue 24.
+    pub time_from_receipt: bool,
 }
 
-/// Plausibility findings on a target, each with the GPS time (ns) it was last seen. A finding is
-/// active for [`super::TrafficParams::flag_hold_s`] after it was last seen, and never drops the
-/// target.
+/// Plausibility findings on a target, each with the GPS time (ns) it was last seen. A finding
+/// stays active until the target's reports have been consistent for
+/// [`super::TrafficParams::flag_hold_s`], and never drops the target.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Findings {
     /// Reported ground speed beyond what any aircraft of the traffic picture flies.
@@ -98,6 +100,14 @@ pub struct Findings {
     /// Two sources place the same address at positions that disagree beyond their uncertainty
     /// (includes ADS-B against FLARM).
     pub inconsistent_sources: Option<i64>,
+    // --- issue 24 ---
+    /// Positions that drift away from where the reported velocity takes them, over a window (a
+    /// patient spoofer moving a target slower than the jump test sees).
+    pub position_drift: Option<i64>,
+    /// GPS time (ns) since which every report has been consistent (no finding); `None` while the
+    /// last report raised one. Flags clear only after consistent reports for
+    /// [`super::TrafficParams::flag_hold_s`].
+    pub consistent_since: Option<i64>,
 }
 
 /// Active plausibility flags of a target at one time.
@@ -113,6 +123,8 @@ pub struct PlausibilityFlags {
     pub range_vs_signal: bool,
     /// See [`Findings::inconsistent_sources`].
     pub inconsistent_sources: bool,
+    /// See [`Findings::position_drift`] (issue 24).
+    pub position_drift: bool,
 }
 
 impl PlausibilityFlags {
@@ -123,20 +135,123 @@ impl PlausibilityFlags {
             || self.altitude_jump
             || self.range_vs_signal
             || self.inconsistent_sources
+            || self.position_drift
     }
 }
 
 impl Findings {
-    /// The flags active at `t_ns`, for findings held `hold_ns`.
+    /// The flags at `t_ns`: every finding seen stays active until the reports have been
+    /// consistent for `hold_ns` (a silent target keeps its flags until it times out).
     pub fn active(&self, t_ns: i64, hold_ns: i64) -> PlausibilityFlags {
-        let on = |f: Option<i64>| f.is_some_and(|seen| t_ns.saturating_sub(seen) <= hold_ns);
+        let cleared = self
+            .consistent_since
+            .is_some_and(|c| t_ns.saturating_sub(c) >= hold_ns);
+        let on = |f: Option<i64>| f.is_some() && !cleared;
         PlausibilityFlags {
             impossible_speed: on(self.impossible_speed),
             position_jump: on(self.position_jump),
             altitude_jump: on(self.altitude_jump),
             range_vs_signal: on(self.range_vs_signal),
             inconsistent_sources: on(self.inconsistent_sources),
+            position_drift: on(self.position_drift),
         }
+    }
+
+    /// After the tests of one report at `t_ns`: restarts the consistent run when the report
+    /// raised a finding, starts it at the first clean report, and forgets findings once the run
+    /// is `hold_ns` long.
+    pub fn close_report(&mut self, t_ns: i64, hold_ns: i64) {
+        let all = [
+            self.impossible_speed,
+            self.position_jump,
+            self.altitude_jump,
+            self.range_vs_signal,
+            self.inconsistent_sources,
+            self.position_drift,
+        ];
+        if all.contains(&Some(t_ns)) {
+            self.consistent_since = None;
+        } else if self.consistent_since.is_none() {
+            self.consistent_since = Some(t_ns);
+        }
+        if self
+            .consistent_since
+            .is_some_and(|c| t_ns.saturating_sub(c) >= hold_ns)
+        {
+            *self = Findings {
+                consistent_since: self.consistent_since,
+                ..Findings::default()
+            };
+        }
+    }
+}
+
+/// One report in the drift window: time (ns), position (deg), velocity over ground (east, north,
+/// m/s) and position sigma (m).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DriftSample {
+    /// GPS time, ns.
+    pub t_gps_ns: i64,
+    /// Latitude, deg.
+    pub lat_deg: f64,
+    /// Longitude, deg.
+    pub lon_deg: f64,
+    /// Velocity (east, north), m/s.
+    pub velocity_en_mps: [f64; 2],
+    /// 1-sigma horizontal position, m.
+    pub sigma_m: f64,
+}
+
+/// Position-against-velocity consistency over a window (issue 24): the displacement since the
+/// oldest report in the window against the reported velocities integrated (trapezoids) over the
+/// same reports. A spoofer moving a target's positions at 20 m/s while reporting its true
+/// velocity builds a residual of 20 m per second, far below what the jump test sees.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct DriftWindow {
+    samples: std::collections::VecDeque<DriftSample>,
+}
+
+impl DriftWindow {
+    /// Adds a report and returns `(residual_m, span_s, base_sigma_m)` once the window spans at
+    /// least a third of `window_ns`; out-of-order reports are ignored.
+    pub fn push(&mut self, s: DriftSample, window_ns: i64) -> Option<(f64, f64, f64)> {
+        if self
+            .samples
+            .back()
+            .is_some_and(|b| s.t_gps_ns <= b.t_gps_ns)
+        {
+            return None;
+        }
+        while self
+            .samples
+            .front()
+            .is_some_and(|f| s.t_gps_ns.saturating_sub(f.t_gps_ns) > window_ns)
+        {
+            self.samples.pop_front();
+        }
+        self.samples.push_back(s);
+        let base = *self.samples.front()?;
+        let span_s = s.t_gps_ns.saturating_sub(base.t_gps_ns) as f64 * 1e-9;
+        if span_s * 3e9 < window_ns as f64 {
+            return None;
+        }
+        let mut predicted = [0.0, 0.0];
+        for (a, b) in self.samples.iter().zip(self.samples.iter().skip(1)) {
+            let dt = b.t_gps_ns.saturating_sub(a.t_gps_ns) as f64 * 1e-9;
+            for (k, p) in predicted.iter_mut().enumerate() {
+                *p += 0.5 * (a.velocity_en_mps[k] + b.velocity_en_mps[k]) * dt;
+            }
+        }
+        let frame = crate::geometry::wgs84::EnuFrame::at(base.lat_deg, base.lon_deg, 0.0);
+        let (p, _) = crate::geometry::wgs84::geodetic_to_ecef(s.lat_deg, s.lon_deg, 0.0);
+        let actual = frame.position(&p);
+        let residual = (actual.x - predicted[0]).hypot(actual.y - predicted[1]);
+        Some((residual, span_s, base.sigma_m))
+    }
+
+    /// Forgets the window (a report without velocity breaks the chain).
+    pub fn clear(&mut self) {
+        self.samples.clear();
     }
 }
 
@@ -175,6 +290,8 @@ pub struct Track {
     pub findings: Findings,
     /// Live alert filter state.
     pub alert: super::alert_filter::AlertFilter,
+    /// Position-against-velocity window (issue 24).
+    pub drift: DriftWindow,
 }
 
 /// 1-sigma horizontal uncertainty of a report's position, m: from NACp (EPU) when given, else from
@@ -211,6 +328,7 @@ impl Track {
             last_update_ns: t_gps_ns,
             findings: Findings::default(),
             alert: Default::default(),
+            drift: DriftWindow::default(),
         }
     }
 

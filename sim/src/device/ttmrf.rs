@@ -327,16 +327,34 @@ impl TtmrfModel {
         self.module.poll_output().map(|(_, b)| b)
     }
 
-    fn traffic(&mut self, t: i64, i: usize, it: &IntruderTruth) -> Option<Emission> {
-        let [lat, lon, h] = it
-            .reported_position
-            .unwrap_or([it.lat_deg, it.lon_deg, it.height_m]);
-        let [vn, ve, vd] = it.vel_ned_mps;
-        let track_deg = round_to(it.track_rad.to_degrees().rem_euclid(360.0), 0.1) % 360.0;
+    /// One traffic message of intruder `i` at `t`: `it` is its truth at `t`, `rep` the state its
+    /// report carries (its truth `report_age_s` earlier, issue 24; else `it` again).
+    fn traffic(
+        &mut self,
+        t: i64,
+        i: usize,
+        it: &IntruderTruth,
+        rep: &IntruderTruth,
+    ) -> Option<Emission> {
+        if it.silent {
+            return None;
+        }
+        let [lat, lon, h] =
+            rep.reported_position
+                .unwrap_or([rep.lat_deg, rep.lon_deg, rep.height_m]);
+        let [vn, ve, vd] = rep.vel_ned_mps;
+        let track_deg = round_to(rep.track_rad.to_degrees().rem_euclid(360.0), 0.1) % 360.0;
         let velh_kt = (vn.hypot(ve) * KT_PER_MPS).round();
         let velv_fpm = round_to(-vd * FPM_PER_MPS, 64.0);
-        let alt_baro_ft = (it.alt_pressure_m * FT_PER_M).round();
+        let alt_baro_ft = (rep.alt_pressure_m * FT_PER_M).round();
         let alt_geo_ft = (h * FT_PER_M).round();
+        // Issue 24: the fields the scenario leaves out (JSON and CSV output).
+        let (no_alt, no_vel, no_vs) = (
+            it.omits("altitude"),
+            it.omits("velocity"),
+            it.omits("vertical_rate"),
+        );
+        let keep = |omit: bool, v: f64| (!omit).then_some(v);
         let (lat, lon) = (round_to(lat, 1e-6), round_to(lon, 1e-6));
         let icao = u32::from_str_radix(&it.address, 16).unwrap_or(0) & 0xFF_FFFF;
         let ecat = ecat_number(&it.emitter_category);
@@ -366,11 +384,12 @@ impl TtmrfModel {
                     lat_deg: lat,
                     lon_deg: lon,
                     height_m: h,
-                    alt_pressure_m: it.alt_pressure_m,
-                    vel_ned_mps: it.vel_ned_mps,
+                    alt_pressure_m: rep.alt_pressure_m,
+                    vel_ned_mps: rep.vel_ned_mps,
                     track_deg,
                     callsign: it.callsign.clone(),
                     ecat,
+                    age_s: it.report_age_s.round().clamp(0.0, 255.0) as u8,
                 };
                 let bytes = match b {
                     Binary::Mavlink => {
@@ -396,10 +415,10 @@ impl TtmrfModel {
                     id_type: Some(1),
                     lat_deg: Some(lat),
                     lon_deg: Some(lon),
-                    alt_m: Some(h.round()),
-                    track_deg: Some(track_deg),
-                    velh_mps: Some(round_to(vn.hypot(ve), 0.1)),
-                    velv_mps: Some(round_to(-vd, 0.1)),
+                    alt_m: keep(no_alt, h.round()),
+                    track_deg: keep(no_vel, track_deg),
+                    velh_mps: keep(no_vel, round_to(vn.hypot(ve), 0.1)),
+                    velv_mps: keep(no_vs, round_to(-vd, 0.1)),
                     ..Default::default()
                 })
                 .to_line()
@@ -413,15 +432,15 @@ impl TtmrfModel {
                     squawk: None,
                     lat_deg: Some(lat),
                     lon_deg: Some(lon),
-                    alt_baro_ft: Some(alt_baro_ft),
-                    track_deg: Some(track_deg),
-                    velh_kt: Some(velh_kt),
-                    velv_fpm: Some(velv_fpm),
+                    alt_baro_ft: keep(no_alt, alt_baro_ft),
+                    track_deg: keep(no_vel, track_deg),
+                    velh_kt: keep(no_vel, velh_kt),
+                    velv_fpm: keep(no_vs, velv_fpm),
                     sig_dbm: Some(-70.0),
                     sig_q: Some(10.0),
                     fps: Some(5),
                     nicnac: Some(NicNac::from_raw(NicNac::pack(8, 1, 9, 1))),
-                    alt_geo_ft: Some(alt_geo_ft),
+                    alt_geo_ft: keep(no_alt, alt_geo_ft),
                     ecat,
                 };
                 if link == Link::Uat978 {
@@ -453,11 +472,11 @@ impl TtmrfModel {
                             fps: Some(5),
                             lat_deg: Some(lat),
                             lon_deg: Some(lon),
-                            alt_baro_ft: Some(alt_baro_ft),
-                            alt_geo_ft: Some(alt_geo_ft),
-                            track_deg: Some(track_deg),
-                            velh_kt: Some(velh_kt),
-                            velv_fpm: Some(velv_fpm),
+                            alt_baro_ft: keep(no_alt, alt_baro_ft),
+                            alt_geo_ft: keep(no_alt, alt_geo_ft),
+                            track_deg: keep(no_vel, track_deg),
+                            velh_kt: keep(no_vel, velh_kt),
+                            velv_fpm: keep(no_vs, velv_fpm),
                             callsign,
                             ecat,
                             nac_p: Some(9),
@@ -474,11 +493,11 @@ impl TtmrfModel {
                             callsign,
                             lat_deg: Some(lat),
                             lon_deg: Some(lon),
-                            alt_baro_ft: Some(alt_baro_ft),
-                            alt_geo_ft: Some(alt_geo_ft),
-                            track_deg: Some(track_deg),
-                            velh_kt: Some(velh_kt),
-                            velv_fpm: Some(velv_fpm),
+                            alt_baro_ft: keep(no_alt, alt_baro_ft),
+                            alt_geo_ft: keep(no_alt, alt_geo_ft),
+                            track_deg: keep(no_vel, track_deg),
+                            velh_kt: keep(no_vel, velh_kt),
+                            velv_fpm: keep(no_vs, velv_fpm),
                             sig_dbm: Some(-75.0),
                             fps: Some(1),
                             nicnac: Some(UatNicNac {
@@ -499,10 +518,10 @@ impl TtmrfModel {
                             fps: Some(1),
                             lat_deg: Some(lat),
                             lon_deg: Some(lon),
-                            alt_m: Some(h.round()),
-                            track_deg: Some(track_deg),
-                            velh_mps: Some(round_to(vn.hypot(ve), 0.1)),
-                            velv_mps: Some(round_to(-vd, 0.1)),
+                            alt_m: keep(no_alt, h.round()),
+                            track_deg: keep(no_vel, track_deg),
+                            velh_mps: keep(no_vel, round_to(vn.hypot(ve), 0.1)),
+                            velv_mps: keep(no_vs, round_to(-vd, 0.1)),
                             ..Default::default()
                         });
                         "flarm"
@@ -526,7 +545,8 @@ impl TtmrfModel {
             "reported_lat_deg": lat,
             "reported_lon_deg": lon,
             "reported_height_m": h,
-            "spoofed": it.reported_position.is_some(),
+            "spoofed": rep.reported_position.is_some(),
+            "report_age_s": it.report_age_s,
             "nic": 8,
             "nac_p": 9,
             "ts_ms": ts_ms,
@@ -541,6 +561,9 @@ impl TtmrfModel {
     }
 
     fn raw(&mut self, t: i64, e: Event, it: &IntruderTruth) -> Option<Emission> {
+        if it.silent {
+            return None;
+        }
         let icao = u32::from_str_radix(&it.address, 16).ok()? & 0xFF_FFFF;
         let [lat, lon, _] = it
             .reported_position
@@ -742,9 +765,15 @@ impl DeviceModel for TtmrfModel {
                 }
                 (Event::Second, DecodedProtocol::Asterix) => self.asterix_status(t),
                 (Event::Second, _) => None,
-                (Event::Traffic(i), _) => {
-                    world.intruder(i, t).and_then(|it| self.traffic(t, i, &it))
-                }
+                (Event::Traffic(i), _) => world.intruder(i, t).and_then(|it| {
+                    let age_ns = (it.report_age_s * 1e9) as i64;
+                    let rep = if age_ns > 0 {
+                        world.intruder(i, t - age_ns)
+                    } else {
+                        None
+                    };
+                    self.traffic(t, i, &it, rep.as_ref().unwrap_or(&it))
+                }),
                 (Event::Position(i, _) | Event::Velocity(i) | Event::Ident(i), _) => {
                     world.intruder(i, t).and_then(|it| self.raw(t, e, &it))
                 }

@@ -89,6 +89,9 @@ pub struct Target {
     pub callsign: String,
     /// Emitter category, DO-260B / GDL90 numbering.
     pub ecat: Option<u8>,
+    // --- issue 24 ---
+    /// Age of the reported state, s (MAVLink `tslc`, whole seconds).
+    pub age_s: u8,
 }
 
 impl Target {
@@ -152,7 +155,7 @@ pub fn mavlink_vehicle(seq: u8, t: &Target) -> Vec<u8> {
         callsign: t.callsign.clone(),
         // ADSB_EMITTER_TYPE is the DO-260B numbering up to 19.
         emitter_type: t.ecat.filter(|&e| e <= 19).unwrap_or(0),
-        tslc_s: 0,
+        tslc_s: t.age_s,
     };
     let frame = FrameInfo {
         version: 2,
@@ -396,6 +399,7 @@ mod tests {
             track_deg: 0.0,
             callsign: "SPOOF1".into(),
             ecat: Some(14),
+            age_s: 0,
         }
     }
 

@@ -50,8 +50,15 @@ impl TtmrfModel {
                 alt_wgs84_m: Some(h),
                 // The simulated geoid is the ellipsoid.
                 alt_msl_m: Some(h),
-                track_deg: Some(round_to(ve.atan2(vn).to_degrees().rem_euclid(360.0), 0.1) % 360.0),
-                velh_kt: Some(round_to(vn.hypot(ve) * KT_PER_MPS, 0.1)),
+                // Issue 24: `gnss_velocity = false` models a receiver that leaves them out.
+                track_deg: self
+                    .cfg
+                    .gnss_velocity
+                    .then(|| round_to(ve.atan2(vn).to_degrees().rem_euclid(360.0), 0.1) % 360.0),
+                velh_kt: self
+                    .cfg
+                    .gnss_velocity
+                    .then(|| round_to(vn.hypot(ve) * KT_PER_MPS, 0.1)),
                 velv_mps: Some(round_to(-vd, 0.1)),
                 acc: Some(GnssAccuracy {
                     lat_m: Some(GNSS_H_SIGMA_M),
@@ -131,8 +138,9 @@ impl TtmrfModel {
             satellites: Some(if lost { 0 } else { 10 }),
             hdop: (!lost).then_some(0.9),
             alt_msl_m: h,
-            // The simulated geoid is the ellipsoid.
-            geoid_sep_m: (!lost).then_some(0.0),
+            // The simulated geoid is the ellipsoid; `nmea_geoid_separation = false` (issue 24)
+            // leaves the field empty, as some receivers do.
+            geoid_sep_m: (!lost && self.cfg.nmea_geoid_separation).then_some(0.0),
             ..Default::default()
         };
         let rmc = Rmc {
@@ -140,8 +148,9 @@ impl TtmrfModel {
             valid: Some(!lost),
             lat_deg: lat,
             lon_deg: lon,
-            speed_kt: (!lost).then(|| round_to(vn.hypot(ve) * KT_PER_MPS, 0.1)),
-            course_deg: (!lost)
+            speed_kt: (!lost && self.cfg.gnss_velocity)
+                .then(|| round_to(vn.hypot(ve) * KT_PER_MPS, 0.1)),
+            course_deg: (!lost && self.cfg.gnss_velocity)
                 .then(|| round_to(ve.atan2(vn).to_degrees().rem_euclid(360.0), 0.1) % 360.0),
             date: Some(date),
             mode: Some(if lost { 'N' } else { 'A' }),

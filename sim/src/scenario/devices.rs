@@ -307,6 +307,12 @@ pub struct TtmrfConfig {
     /// JSON `ts` from the time of the message (issue 18: the manual does not say): false
     /// truncates it to the ms, true rounds it to the nearest ms.
     pub ts_rounded: bool,
+    // --- issue 24 ---
+    /// Whether the GNSS section / RMC carries track and speed (false: a receiver that leaves
+    /// them out, so the ownship velocity is unknown when the VN-200 is not tracking).
+    pub gnss_velocity: bool,
+    /// Whether GGA carries the geoid separation (false: mean-sea-level height only).
+    pub nmea_geoid_separation: bool,
 }
 
 impl Default for TtmrfConfig {
@@ -317,6 +323,8 @@ impl Default for TtmrfConfig {
             raw: "off".into(),
             gnss: true,
             ts_rounded: false,
+            gnss_velocity: true,
+            nmea_geoid_separation: true,
         }
     }
 }

@@ -163,6 +163,26 @@ pub struct Intruder {
     /// reports its true position, so a receiver sees the reported position jump when it starts.
     #[serde(default)]
     pub spoof_from_s: f64,
+    // --- issue 24: fail-safe scenarios ---
+    /// A slow-drift spoof: from `spoof_from_s` the reported position moves away from the true one
+    /// at this rate (north, east, m/s) while the reported velocity stays the true one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spoof_drift_ne_mps: Option<[f64; 2]>,
+    /// Fields the target's reports leave out (JSON and CSV output): "altitude", "velocity"
+    /// (track and speed), "vertical_rate".
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub omit: Vec<String>,
+    /// Age of the data the module sends for this target, s: each report carries the state of
+    /// this long ago (MAVLink says so in `tslc`, rounded to whole seconds).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub report_age_s: f64,
+    /// Scenario time from which the target is no longer received (it flies on in the truth).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub silent_from_s: Option<f64>,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 fn default_category() -> String {
@@ -219,6 +239,10 @@ impl TrafficGenerator {
                     ],
                     spoof_offset_ned_m: None,
                     spoof_from_s: 0.0,
+                    spoof_drift_ne_mps: None,
+                    omit: Vec::new(),
+                    report_age_s: 0.0,
+                    silent_from_s: None,
                 }
             })
             .collect()
@@ -292,6 +316,22 @@ impl Scenario {
             }
             for (j, s) in t.segments.iter().enumerate() {
                 check_segment(&format!("{key}.segments[{j}]"), s)?;
+            }
+            if let Some(f) = t
+                .omit
+                .iter()
+                .find(|f| !["altitude", "velocity", "vertical_rate"].contains(&f.as_str()))
+            {
+                return Err(invalid(
+                    &format!("{key}.omit"),
+                    format!("unknown field '{f}': altitude, velocity or vertical_rate"),
+                ));
+            }
+            if !(0.0..=60.0).contains(&t.report_age_s) {
+                return Err(invalid(
+                    &format!("{key}.report_age_s"),
+                    "must be 0 ..= 60 s",
+                ));
             }
         }
         self.devices.validate()?;

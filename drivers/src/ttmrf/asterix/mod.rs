@@ -211,8 +211,22 @@ impl DeviceDecoder for AsterixDecoder {
                 return None;
             }
             match parse_block(cat, &buf[3..len]) {
-                Ok(msgs) => {
+                Ok(mut msgs) => {
                     self.in_sync = true;
+                    // Issue 24: a CAT021 record with an impossible value is dropped alone and
+                    // counted; the block's other records are kept.
+                    let n = msgs.len();
+                    msgs.retain(|m| match m {
+                        AsterixMessage::Cat021(r) => {
+                            cat021::traffic::to_traffic(r).check_values().is_ok()
+                        }
+                        _ => true,
+                    });
+                    self.stats.invalid_values += (n - msgs.len()) as u64;
+                    if msgs.is_empty() {
+                        self.stats.skip(buf, len);
+                        continue;
+                    }
                     self.stats.take_frame(buf, len);
                     self.pending_start = self.stats.last_frame_start;
                     let mut it = msgs.into_iter();

@@ -92,6 +92,10 @@ pub enum CsvError {
     /// Not ASCII/UTF-8 text.
     #[error("csv line is not text")]
     NotText,
+    /// An aircraft record with an impossible value (issue 24): dropped alone, counted in
+    /// `invalid_values`.
+    #[error("csv aircraft record: {0}")]
+    InvalidValue(crate::traffic::InvalidValue),
 }
 
 impl CsvError {
@@ -241,14 +245,25 @@ fn parse_line_inner(line: &[u8], verify: bool) -> Result<CsvMessage, CsvError> {
         n += 1;
     }
     let f = Fields::new(&split[..n]);
-    Ok(match tag {
+    let m = match tag {
         "A" => CsvMessage::Adsb(AdsbAircraft::parse(&f)?),
         "U" => CsvMessage::Uat(UatAircraft::parse(&f)?),
         "ALRM" => CsvMessage::Flarm(FlarmAircraft::parse(&f)?),
         "S" => CsvMessage::SystemStats(SystemStats::parse(&f)?),
         "AS" => CsvMessage::AdsbStats(AdsbStats::parse(&f)?),
         _ => CsvMessage::FlarmStats(FlarmStats::parse(&f)?),
-    })
+    };
+    // Issue 24: an aircraft line whose values are impossible is one record, dropped alone.
+    let report = match &m {
+        CsvMessage::Adsb(a) => Some(a.to_traffic()),
+        CsvMessage::Uat(u) => Some(u.to_traffic()),
+        CsvMessage::Flarm(a) => Some(a.to_traffic()),
+        _ => None,
+    };
+    if let Some(r) = report {
+        r.check_values().map_err(CsvError::InvalidValue)?;
+    }
+    Ok(m)
 }
 
 /// Counts a rejected line in the decoder counters.
@@ -256,6 +271,7 @@ pub(crate) fn count_error(stats: &mut DecodeStats, e: &CsvError) {
     match e {
         CsvError::Checksum { .. } | CsvError::BadCrcField { .. } => stats.checksum_failures += 1,
         CsvError::UnknownType(_) => stats.unknown_types += 1,
+        CsvError::InvalidValue(_) => stats.invalid_values += 1,
         _ => stats.malformed += 1,
     }
 }

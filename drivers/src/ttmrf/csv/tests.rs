@@ -576,7 +576,15 @@ proptest! {
         let line = m.to_line();
         let mut d = CsvDecoder::new();
         let out = decode_slice(&mut d, line.as_bytes());
-        prop_assert_eq!(out, vec![m]);
+        // Issue 24: a record with an impossible value (e.g. a negative speed) is dropped and
+        // counted; every other one comes back as it went.
+        let CsvMessage::Adsb(a) = &m else { unreachable!() };
+        if a.to_traffic().check_values().is_ok() {
+            prop_assert_eq!(out, vec![m]);
+        } else {
+            prop_assert!(out.is_empty());
+            prop_assert_eq!(d.stats().invalid_values, 1);
+        }
     }
 
     #[test]
@@ -587,7 +595,14 @@ proptest! {
             uat_flags: uf.map(UatFlags::from_raw),
             extra_fields: vec![],
         });
-        prop_assert_eq!(parse_line(m.to_line().trim_end().as_bytes()), Ok(m));
+        let CsvMessage::Uat(u) = &m else { unreachable!() };
+        match u.to_traffic().check_values() {
+            Ok(()) => prop_assert_eq!(parse_line(m.to_line().trim_end().as_bytes()), Ok(m)),
+            Err(e) => prop_assert_eq!(
+                parse_line(m.to_line().trim_end().as_bytes()),
+                Err(CsvError::InvalidValue(e))
+            ),
+        }
     }
 
     #[test]

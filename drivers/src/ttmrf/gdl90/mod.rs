@@ -134,6 +134,16 @@ pub enum TrafficAltitude {
     GeometricPreferred,
 }
 
+/// True when a Traffic or Ownship Report holds a value out of its range (issue 24).
+fn record_invalid(m: &Gdl90Message, altitude: TrafficAltitude) -> bool {
+    match m {
+        Gdl90Message::TrafficReport(r) | Gdl90Message::OwnshipReport(r) => {
+            target_to_traffic(r, altitude).check_values().is_err()
+        }
+        _ => false,
+    }
+}
+
 /// Maps a GDL90 target report to the common [`TrafficReport`].
 pub fn target_to_traffic(r: &TargetReport, altitude: TrafficAltitude) -> TrafficReport {
     let address_type = match r.address_type {
@@ -268,6 +278,13 @@ impl DeviceDecoder for Gdl90Decoder {
                     // Leave the closing flag: it may open the next frame.
                     self.after_flag = false;
                     self.stats.skip(buf, end);
+                }
+                // Issue 24: a Traffic or Ownship Report is one record; an impossible value drops
+                // it alone (bytes counted as skipped) and counts it.
+                Ok(Ok(msg)) if record_invalid(&msg, self.altitude) => {
+                    self.stats.invalid_values += 1;
+                    self.after_flag = true;
+                    self.stats.skip(buf, end + 1);
                 }
                 Ok(Ok(msg)) => {
                     self.after_flag = true;

@@ -29,6 +29,7 @@ pub use sections::{
     UatNicNac, UatStatusFlags, UatTarget,
 };
 
+use crate::traffic::limits::{ALT_MAX_M, ALT_MIN_M, SPEED_MAX_MPS, VERTICAL_RATE_MAX_MPS};
 use crate::traffic::{Link, Protocol, SourceTime, TrafficFlags, TrafficReport};
 use crate::ttmrf::csv::aircraft::{FPM_TO_MPS, FT_TO_M, KT_TO_MPS};
 use crate::ttmrf::{csv, flarm_category};
@@ -88,6 +89,11 @@ pub struct JsonMessage {
     /// `raw` Mode S frames.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub raw: Vec<RawFrame>,
+    // --- issue 24 ---
+    /// Records (targets, the `gnss` section) dropped from this message for an impossible value;
+    /// the decoder adds them to `invalid_values`. Not on the wire.
+    #[serde(skip)]
+    pub invalid_records: u32,
 }
 
 /// Parses one JSON message and applies the version and range rules.
@@ -101,18 +107,33 @@ pub fn parse_message(bytes: &[u8]) -> Result<JsonMessage, JsonError> {
     if m.ts_ms.is_some_and(|t| t >= MAX_TS_MS) {
         return Err(JsonError::Range("ts"));
     }
-    let pos_ok = |lat: Option<f64>, lon: Option<f64>| {
-        lat.is_none_or(|v| (-90.0..=90.0).contains(&v))
-            && lon.is_none_or(|v| (-180.0..=180.0).contains(&v))
+    Ok(drop_invalid_records(m))
+}
+
+/// Issue 24: a target (or the `gnss` section) with an impossible value is dropped alone and
+/// counted in [`JsonMessage::invalid_records`]; the message's other records are kept.
+fn drop_invalid_records(mut m: JsonMessage) -> JsonMessage {
+    let n = m.adsb.len() + m.uat.len() + m.flarm.len();
+    m.adsb.retain(|a| a.to_traffic(None).check_values().is_ok());
+    m.uat.retain(|u| u.to_traffic(None).check_values().is_ok());
+    m.flarm
+        .retain(|f| f.to_traffic(None).check_values().is_ok());
+    let mut dropped = n - (m.adsb.len() + m.uat.len() + m.flarm.len());
+    let gnss_ok = |g: &Gnss| {
+        let ok = |v: Option<f64>, lo: f64, hi: f64| v.is_none_or(|x| (lo..=hi).contains(&x));
+        ok(g.lat_deg, -90.0, 90.0)
+            && ok(g.lon_deg, -180.0, 180.0)
+            && ok(g.alt_wgs84_m, ALT_MIN_M, ALT_MAX_M)
+            && ok(g.velh_kt, 0.0, SPEED_MAX_MPS / KT_TO_MPS)
+            && ok(g.track_deg, 0.0, 360.0)
+            && ok(g.velv_mps, -VERTICAL_RATE_MAX_MPS, VERTICAL_RATE_MAX_MPS)
     };
-    if !m.adsb.iter().all(|a| pos_ok(a.lat_deg, a.lon_deg))
-        || !m.uat.iter().all(|a| pos_ok(a.lat_deg, a.lon_deg))
-        || !m.flarm.iter().all(|a| pos_ok(a.lat_deg, a.lon_deg))
-        || !m.gnss.as_ref().is_none_or(|g| pos_ok(g.lat_deg, g.lon_deg))
-    {
-        return Err(JsonError::Range("lat/lon"));
+    if m.gnss.as_ref().is_some_and(|g| !gnss_ok(g)) {
+        m.gnss = None;
+        dropped += 1;
     }
-    Ok(m)
+    m.invalid_records = u32::try_from(dropped).unwrap_or(u32::MAX);
+    m
 }
 
 /// Counts a rejected message.
@@ -347,6 +368,7 @@ pub(crate) fn step_object(
         } => match parse_message(&buf[..object_len]) {
             Ok(m) => {
                 stats.take_frame(buf, frame_len);
+                stats.invalid_values += u64::from(m.invalid_records);
                 Step::Message(Box::new(m))
             }
             Err(e) => {

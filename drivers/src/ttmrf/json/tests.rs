@@ -242,10 +242,12 @@ fn version_and_range_rules() {
         parse_message(br#"{"ver":1,"ts":86401000}"#),
         Err(JsonError::Range("ts"))
     ));
-    assert!(matches!(
-        parse_message(br#"{"ver":1,"flarm":[{"id":"1","lat":91}]}"#),
-        Err(JsonError::Range(_))
-    ));
+    // Issue 24: an impossible target is dropped alone and counted, not the whole message.
+    let m =
+        parse_message(br#"{"ver":1,"flarm":[{"id":"1","lat":91},{"id":"2","lat":47}]}"#).unwrap();
+    assert_eq!(m.flarm.len(), 1);
+    assert_eq!(m.flarm[0].id, 2);
+    assert_eq!(m.invalid_records, 1);
     assert!(
         parse_message(br#"{"ver":1,"adsb":[{"nic":1}]}"#).is_err(),
         "icao is required"
@@ -495,7 +497,11 @@ mod round_trip {
             };
             let wire = m.to_wire();
             let mut d = JsonDecoder::new();
-            prop_assert_eq!(decode_slice(&mut d, wire.as_bytes()), vec![m]);
+            // Issue 24: targets with impossible values come back dropped and counted.
+            let expected = super::super::drop_invalid_records(m);
+            let dropped = u64::from(expected.invalid_records);
+            prop_assert_eq!(decode_slice(&mut d, wire.as_bytes()), vec![expected]);
+            prop_assert_eq!(d.stats().invalid_values, dropped);
         }
     }
 }

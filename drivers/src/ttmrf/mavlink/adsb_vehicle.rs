@@ -177,6 +177,10 @@ impl AdsbVehicle {
                 test: self.has(FLAG_SIMULATED),
                 ..Default::default()
             },
+            // Decision (issue 24): `tslc` is whole seconds and the manual does not say whether
+            // it is truncated or rounded; it is taken as the age itself (the rounded reading),
+            // and the fusion widens the position uncertainty for the half second either way.
+            data_age_s: Some(f64::from(self.tslc_s)),
             ..Default::default()
         }
     }

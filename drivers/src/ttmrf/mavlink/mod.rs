@@ -331,6 +331,15 @@ impl DeviceDecoder for MavlinkDecoder {
                             self.last_vehicle = None;
                             self.stats.skip(buf, len);
                         }
+                        // Issue 24: one ADSB_VEHICLE is one record; an impossible value drops it
+                        // alone (its bytes counted as skipped) and counts it.
+                        Parsed::Message(MavlinkMessage::AdsbVehicle { vehicle, .. })
+                            if vehicle.to_traffic().check_values().is_err() =>
+                        {
+                            self.stats.invalid_values += 1;
+                            self.last_vehicle = None;
+                            self.stats.skip(buf, len);
+                        }
                         Parsed::Message(mut msg) => {
                             let previous = self.last_vehicle.take();
                             match &mut msg {

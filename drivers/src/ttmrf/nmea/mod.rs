@@ -44,6 +44,10 @@ pub enum NmeaError {
     /// A field that does not parse or is out of range.
     #[error("nmea: bad {0} field")]
     Field(&'static str),
+    /// A fix whose value is impossible for physics (issue 24): the sentence (one record) is
+    /// dropped alone and counted in `invalid_values`.
+    #[error("nmea: impossible {0}")]
+    InvalidValue(&'static str),
 }
 
 /// The decoded body of a sentence.
@@ -110,10 +114,39 @@ pub fn parse_sentence(line: &[u8]) -> Result<NmeaSentence, NmeaError> {
         "ZDA" => NmeaBody::Zda(Zda::parse(&f)?),
         _ => return Err(NmeaError::UnknownType(address.to_owned())),
     };
+    check_values(&body)?;
     Ok(NmeaSentence {
         talker: talker.to_owned(),
         body,
     })
+}
+
+/// Issue 24: physics ranges of a fix (the parser already bounds latitude and longitude):
+/// altitude and geoid separation, speed not negative and within the traffic limits, course
+/// within 0..360, HDOP not negative.
+fn check_values(body: &NmeaBody) -> Result<(), NmeaError> {
+    use crate::traffic::limits::{ALT_MAX_M, ALT_MIN_M, SPEED_MAX_MPS};
+    let ok = |v: Option<f64>, lo: f64, hi: f64, name| match v {
+        Some(x) if !(lo..=hi).contains(&x) => Err(NmeaError::InvalidValue(name)),
+        _ => Ok(()),
+    };
+    let max_kt = SPEED_MAX_MPS * 3600.0 / 1852.0;
+    match body {
+        NmeaBody::Gga(g) => {
+            ok(g.alt_msl_m, ALT_MIN_M, ALT_MAX_M, "altitude")?;
+            ok(g.geoid_sep_m, -200.0, 200.0, "geoid separation")?;
+            ok(g.hdop, 0.0, 100.0, "hdop")
+        }
+        NmeaBody::Rmc(r) => {
+            ok(r.speed_kt, 0.0, max_kt, "speed")?;
+            ok(r.course_deg, 0.0, 360.0, "course")
+        }
+        NmeaBody::Vtg(v) => {
+            ok(v.speed_kt, 0.0, max_kt, "speed")?;
+            ok(v.course_true_deg, 0.0, 360.0, "course")
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Counts a rejected sentence.
@@ -121,6 +154,7 @@ pub(crate) fn count_error(stats: &mut DecodeStats, e: &NmeaError) {
     match e {
         NmeaError::Checksum { .. } => stats.checksum_failures += 1,
         NmeaError::UnknownType(_) => stats.unknown_types += 1,
+        NmeaError::InvalidValue(_) => stats.invalid_values += 1,
         _ => stats.malformed += 1,
     }
 }

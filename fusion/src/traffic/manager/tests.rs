@@ -14,12 +14,13 @@ fn own() -> Ownship {
         lon_deg: 8.0,
         alt_pressure_m: Some(1000.0),
         alt_geometric_m: Some(1050.0),
-        track_deg: 0.0,
-        ground_speed_mps: 0.0,
-        vertical_rate_mps: 0.0,
-        heading_deg: 90.0,
-        position_sigma_m: 2.0,
+        track_deg: Some(0.0),
+        ground_speed_mps: Some(0.0),
+        vertical_rate_mps: Some(0.0),
+        heading_deg: Some(90.0),
+        position_sigma_m: Some(2.0),
         source: PositionSource::External,
+        alt_geometric_band_m: 0.0,
     }
 }
 
@@ -89,11 +90,9 @@ fn extrapolates_along_velocity() {
     assert!((pic[0].lon_deg - 8.0).abs() < 1e-12);
     assert!((pic[0].age_s - 10.0).abs() < 1e-12);
     // Its velocity: 100 kt = 51.444 m/s due south, level.
-    let v = pic[0].velocity_ned_mps.unwrap();
-    assert!(
-        (v[0] + 51.444).abs() < 1e-3 && v[1].abs() < 1e-9 && v[2] == 0.0,
-        "{v:?}"
-    );
+    let v = pic[0].velocity_ne_mps.unwrap();
+    assert!((v[0] + 51.444).abs() < 1e-3 && v[1].abs() < 1e-9, "{v:?}");
+    assert_eq!(pic[0].vertical_rate_mps, Some(0.0));
 }
 
 #[test]
@@ -154,12 +153,16 @@ fn altitude_like_with_like() {
     let pic = m.picture(0, &own());
     let by = |a: u32| pic.iter().find(|t| t.key.address == a).unwrap();
     assert_eq!(by(1).altitude_kind, AltitudeKind::Pressure);
-    assert_eq!(by(1).geometry.unwrap().vertical_separation_m, 0.0);
+    assert_eq!(by(1).geometry.unwrap().vertical_separation_m, Some(0.0));
     assert_eq!(by(2).altitude_kind, AltitudeKind::Geometric);
     // 1100 m geometric against the ownship's 1050 m geometric, not its 1000 m pressure altitude.
-    assert!((by(2).geometry.unwrap().vertical_separation_m - 50.0).abs() < 1e-9);
+    assert!((by(2).geometry.unwrap().vertical_separation_m.unwrap() - 50.0).abs() < 1e-9);
     assert_eq!(by(3).altitude_kind, AltitudeKind::None);
-    assert!(by(3).geometry.is_none());
+    // Issue 24: no altitude is co-altitude (horizontal geometry decides), flagged, not "no
+    // geometry".
+    let g = by(3).geometry.unwrap();
+    assert_eq!(g.vertical_separation_m, None);
+    assert!(by(3).fail_safe.altitude_unknown);
 }
 
 #[test]
@@ -246,7 +249,7 @@ fn priority_order_and_relative_bearing() {
         (pic[0].bearing_true_deg - 0.0).abs() < 1e-6
             || (pic[0].bearing_true_deg - 360.0).abs() < 1e-6
     );
-    assert!((pic[0].bearing_relative_deg + 90.0).abs() < 1e-6);
+    assert!((pic[0].bearing_relative_deg.unwrap() + 90.0).abs() < 1e-6);
     // Then by range among non-alerting targets.
     assert_eq!(pic[1].key.address, 3);
     assert_eq!(pic[2].key.address, 1);
@@ -263,4 +266,81 @@ fn flarm_alarm_level_is_carried() {
     };
     m.update(0, &r);
     assert_eq!(m.picture(0, &own())[0].flarm_alarm_level, Some(2));
+}
+
+/// Issue 24: a report moving south at 100 kt from (47.1, 8.0), at time `t` s, its position
+/// shifted east by `drift_m`.
+fn moving(t: f64, drift_m: f64) -> TrafficReport {
+    let v = 100.0 * MPS_PER_KT;
+    let (m_lat, m_lon) = (111_200.0, 111_200.0 * 47.1f64.to_radians().cos());
+    report(7, 47.1 - v * t / m_lat, 8.0 + drift_m / m_lon)
+}
+
+#[test]
+fn regression_24_a_slow_drift_is_flagged_and_held_until_consistent() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    // Honest for 20 s: no flag (the window integrates the reported velocity).
+    for s in 0..20 {
+        m.update(s * S, &moving(s as f64, 0.0));
+    }
+    assert!(!m.picture(20 * S, &own())[0].flags.any());
+    // Then 20 m/s east of where its velocity takes it: far below the 350 m/s jump test. NACp 9
+    // (sigma 12.2 m): the limit is 5 x 17.3 + 2 m/s x span, about 106 m: crossed after ~6 s.
+    let mut first = None;
+    for s in 20..40 {
+        m.update(s * S, &moving(s as f64, 20.0 * (s - 20) as f64));
+        let x = &m.picture(s * S, &own())[0];
+        assert!(!x.flags.position_jump);
+        if x.flags.position_drift && first.is_none() {
+            first = Some(s - 20);
+        }
+    }
+    let first = first.expect("flagged");
+    assert!((5..=8).contains(&first), "after {first} s");
+    // Silent: stays flagged (only consistent reports clear it), until the track times out.
+    assert!(m.picture(50 * S, &own())[0].flags.position_drift);
+    // Consistent again (a new, honest chain): cleared after 60 s of it, not before.
+    let off = 20.0 * 19.0;
+    for s in 51..=115 {
+        m.update(s * S, &moving(s as f64, off));
+        let x = &m.picture(s * S, &own())[0];
+        if s < 105 {
+            assert!(x.flags.any(), "cleared too early at {s} s");
+        }
+    }
+    assert!(!m.picture(115 * S, &own())[0].flags.any());
+}
+
+#[test]
+fn regression_24_a_report_is_placed_at_its_time_of_applicability() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    // Data 2 s old at arrival (t = 10 s): applicable at 8 s. At the picture (10 s) vigil moves it
+    // on by 2 s at 100 kt = 102.9 m south; the age is the data's.
+    m.update_at(8 * S, &report(5, 47.1, 8.0), true);
+    let x = &m.picture(10 * S, &own())[0];
+    let moved_m = (47.1 - x.lat_deg) * 111_200.0;
+    assert!((moved_m - 102.9).abs() < 1.0, "{moved_m}");
+    assert!((x.age_s - 2.0).abs() < 1e-9);
+    assert!(x.fail_safe.time_from_receipt);
+    // Older than the ADS-B limit (5 s): no geometry, counted.
+    let x = &m.picture(14 * S, &own())[0];
+    assert!(x.fail_safe.stale && x.geometry.is_none());
+    assert_eq!(m.stats().stale_dropped, 1);
+}
+
+#[test]
+fn regression_24_unknown_ownship_velocity_is_not_nan() {
+    // Today's bug: NaN track and speed put every co-altitude target at level 3.
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(0, &report(1, 47.0 + 5.0 * 1852.0 / 111_200.0, 8.0));
+    let o = Ownship {
+        track_deg: None,
+        ground_speed_mps: None,
+        ..own()
+    };
+    let x = &m.picture(0, &o)[0];
+    assert!(x.fail_safe.ownship_velocity_unknown);
+    assert_eq!(x.raw_alert_level, 0);
+    let g = x.geometry.unwrap();
+    assert!((g.horizontal_distance_m - 9260.0).abs() < 20.0);
 }

@@ -165,7 +165,20 @@ pub fn to_traffic(r: &Cat021Record) -> TrafficReport {
             test: ext1.is_some_and(|e| e.sim || e.tst),
         },
         source_time: source_time(r),
+        data_age_s: data_age_s(r),
     }
+}
+
+/// Age of the position at the report's transmission, s: I021/077 minus I021/071 (times of day,
+/// the difference taken across midnight); `None` without both, or when the difference is not in
+/// [0, 60) s (a time that cannot be an age is not used).
+pub fn data_age_s(r: &Cat021Record) -> Option<f64> {
+    let (tx, app) = (
+        r.time_report_transmission_s?,
+        r.time_applicability_position_s?,
+    );
+    let d = (tx - app).rem_euclid(86_400.0);
+    (d.is_finite() && d < 60.0).then_some(d)
 }
 
 #[cfg(test)]
