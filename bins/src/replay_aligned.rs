@@ -237,6 +237,21 @@ impl AlignedReplay {
         Some(kind)
     }
 
+    /// Port `device` (wire `protocol`) runs at `baud` bit/s, as configured or recorded (issue 18
+    /// point 2): the aligner computes that port's transmission times with it. 0 keeps the
+    /// built-in rate. Returns the device kind it was applied to, if any.
+    pub fn set_baud(&mut self, device: &str, protocol: &str, baud: u32) -> Option<Device> {
+        let named =
+            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
+        let kind = ["bahrs", "watson", "vn200", "ttmrf"]
+            .into_iter()
+            .zip([Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf])
+            .find(|(k, _)| named(k))?
+            .1;
+        self.aligner.set_baud(kind, baud);
+        Some(kind)
+    }
+
     /// The aligner (its clock models, for the live service's integrity report).
     pub fn aligner(&self) -> &Aligner {
         &self.aligner
@@ -368,14 +383,17 @@ pub fn replay_aligned_with(
             t_host_ns,
             bytes,
             read_interval_ns,
+            baud,
         } = m
         else {
             return Ok(());
         };
-        // The live service's pacing, as it modelled it (a channel's metadata: set once).
+        // The live service's pacing, as it modelled it, and the port's recorded baud (a
+        // channel's metadata: set once).
         if !seen.iter().any(|d| d == device) {
             seen.push(device.to_string());
             let _ = r.set_read_interval(device, protocol, read_interval_ns);
+            let _ = r.set_baud(device, protocol, baud);
         }
         r.feed(device, protocol, t_host_ns, bytes, &mut f)
     })?;

@@ -274,6 +274,8 @@ pub enum Recorded<'a> {
         /// How often the port was read, ns (channel metadata `read_interval_ns`); 0: as its
         /// bytes arrived (also when absent, and when unreadable).
         read_interval_ns: u64,
+        /// Baud rate of the port (channel metadata `baud`); 0 when absent or unreadable.
+        baud: u32,
     },
     /// A truth record (JSON).
     Truth {
@@ -358,6 +360,13 @@ pub fn read_recording<E>(
                     .channel
                     .metadata
                     .get("read_interval_ns")
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(0),
+
+                baud: m
+                    .channel
+                    .metadata
+                    .get("baud")
                     .and_then(|v| v.parse().ok())
                     .unwrap_or(0),
             }

@@ -105,6 +105,8 @@ impl Service {
         let mut replay = AlignedReplay::new();
         for p in ports {
             let _ = replay.set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
+            // Issue 18 point 2: the configured baud reaches the aligner.
+            let _ = replay.set_baud(&p.device, p.protocol.name(), p.baud);
         }
         Ok(Self {
             ports: ports
