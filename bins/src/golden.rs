@@ -11,7 +11,11 @@
 //! - `ownship`: every step: source, position, altitudes, velocity, heading;
 //! - `traffic`: every step: per target (priority order) address, range, bearings, vertical
 //!   separation, range rate, CPA, modified tau, loss-of-well-clear interval, raw and filtered
-//!   alert levels, plausibility flags.
+//!   alert levels, plausibility flags;
+//! - `alert` (format 2, issue 20): every transition of the integrity monitor (`vigil run`'s
+//!   monitor, with the flight's configuration: see `replay_config`), exactly, with its reason;
+//!   then `alerts_active`: the active set after the evaluation. A regression of the monitor (or
+//!   a changed threshold) shows in the diff like any other field.
 //!
 //! `--check` compares field by field, record by record, with a tolerance per field chosen by the
 //! unit in its name (below); the replay is deterministic, so on one machine the outputs are
@@ -26,10 +30,13 @@ use anyhow::{Context, Result, bail};
 use serde_json::{Map, Value, json};
 use vigil_fusion::attitude::record::{AttitudeRecord, PairRecord};
 use vigil_fusion::ownship::OwnshipSolution;
-use vigil_fusion::pipeline::{Fused, PipelineConfig, TrafficPicture};
+use vigil_fusion::pipeline::{Fused, TrafficPicture};
 
-/// Format version of the golden files.
-pub const FORMAT: u64 = 1;
+use crate::replay_fused::{FusedEvent, active_line, alert_line};
+use crate::service::config::Config;
+
+/// Format version of the golden files (2: alert transitions and active sets added).
+pub const FORMAT: u64 = 2;
 
 /// Every n-th attitude record is kept (plus every change of verdict).
 const ATTITUDE_EVERY: u64 = 10;
@@ -76,6 +83,19 @@ pub struct Projector {
 }
 
 impl Projector {
+    /// The golden lines of a fused replay's event (alerts: each transition, then the active set).
+    pub fn project_event(&mut self, e: FusedEvent<'_>) -> Vec<Value> {
+        match e {
+            FusedEvent::Fused(o) => self.project(o).into_iter().collect(),
+            FusedEvent::Alerts(alerts, active) => {
+                let mut v: Vec<Value> = alerts.iter().map(alert_line).collect();
+                let t = alerts.last().map_or(0, |a| a.header.gps_time_ns);
+                v.push(active_line(t, active));
+                v
+            }
+        }
+    }
+
     /// The golden line of `o`, or `None` for an attitude record that is decimated away.
     pub fn project(&mut self, o: &Fused) -> Option<Value> {
         match o {
@@ -384,12 +404,13 @@ fn header(recording: &Path) -> Value {
     })
 }
 
-/// Replays `mcap` and projects its fused outputs onto golden lines.
-pub fn golden_lines(mcap: &[u8], cfg: PipelineConfig) -> Result<Vec<Value>> {
+/// Replays a recording with configuration `cfg` and projects its fused outputs and alerts onto
+/// golden lines.
+pub fn golden_lines(input: impl std::io::Read, cfg: &Config) -> Result<Vec<Value>> {
     let mut proj = Projector::default();
     let mut lines = Vec::new();
-    let summary = crate::replay_fused::replay_fused_with(mcap, cfg, |o| {
-        lines.extend(proj.project(o));
+    let summary = crate::replay_fused::replay_fused_with(input, cfg, |e| {
+        lines.extend(proj.project_event(e));
         Ok(())
     })?;
     if summary.mcap_messages == 0 {
@@ -431,9 +452,11 @@ pub fn read_golden(path: &Path) -> Result<Vec<Value>> {
         .collect()
 }
 
-/// Runs `--check GOLDEN [--bless]` on the recording `input` (its bytes `mcap`).
-pub fn check(input: &Path, mcap: &[u8], golden: &Path, bless: bool) -> Result<()> {
-    let now = golden_lines(mcap, PipelineConfig::default())?;
+/// Runs `--check GOLDEN [--bless]` on the recording `input`, replayed with `cfg`.
+pub fn check(input: &Path, cfg: &Config, golden: &Path, bless: bool) -> Result<()> {
+    let file =
+        std::fs::File::open(input).with_context(|| format!("cannot read {}", input.display()))?;
+    let now = golden_lines(std::io::BufReader::with_capacity(1 << 16, file), cfg)?;
     if bless {
         write_golden(golden, input, &now)?;
         eprintln!("{}: blessed, {} records", golden.display(), now.len());
@@ -504,5 +527,67 @@ mod tests {
             text.contains("record count: golden 2, now 1 (1 missing at the end)"),
             "{text}"
         );
+    }
+
+    /// Issue 20: the golden replay of the head-on recording holds the traffic alert's raise (the
+    /// 30 s recording ends before the intruder is clear, so no clear is in it), and a changed
+    /// monitor threshold changes the golden diff.
+    #[test]
+    fn regression_20_golden_alerts_follow_the_monitor_configuration() {
+        let mcap = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../tests/data/replay/headon.mcap");
+        let read = || std::io::BufReader::new(std::fs::File::open(&mcap).unwrap());
+        let base = Config::default();
+        let lines = golden_lines(read(), &base).unwrap();
+        let traffic_alerts: Vec<&Value> = lines
+            .iter()
+            .filter(|l| l["kind"] == "alert" && l["rule"] == "traffic_alert")
+            .collect();
+        let states: Vec<&str> = traffic_alerts
+            .iter()
+            .map(|l| l["state"].as_str().unwrap())
+            .collect();
+        assert!(states.contains(&"raised"), "{states:?}");
+        // Each transition is followed by the active set; the raise puts the alert in it.
+        let i = lines
+            .iter()
+            .position(|l| {
+                l["kind"] == "alert" && l["state"] == "raised" && l["rule"] == "traffic_alert"
+            })
+            .unwrap();
+        let set = lines[i..]
+            .iter()
+            .find(|l| l["kind"] == "alerts_active")
+            .unwrap();
+        let id = &lines[i]["alert_id"];
+        assert!(
+            set["active"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|a| &a["alert_id"] == id)
+        );
+        // A longer raise delay for traffic alerts: the raises come later, the diff says so, and
+        // only alert records differ.
+        let mut slow = base.clone();
+        slow.monitor.traffic_alert.raise_delay_s = 3.0;
+        let changed = golden_lines(read(), &slow).unwrap();
+        let diffs = compare(&lines, &changed);
+        assert!(!diffs.is_empty() || lines.len() != changed.len());
+        let n = lines.len().min(changed.len());
+        let first = (0..n).find(|&k| lines[k] != changed[k]).unwrap();
+        assert!(
+            lines[first]["kind"].as_str().unwrap().starts_with("alert"),
+            "{}",
+            lines[first]
+        );
+        // Fusion outputs are the same.
+        let fused = |v: &[Value]| -> Vec<Value> {
+            v.iter()
+                .filter(|l| !l["kind"].as_str().unwrap().starts_with("alert"))
+                .cloned()
+                .collect()
+        };
+        assert_eq!(fused(&lines), fused(&changed));
     }
 }

@@ -6,17 +6,21 @@ mod decode;
 mod demo;
 mod geometry;
 mod golden;
+mod info;
 mod listen;
 #[cfg(target_os = "linux")]
 mod measure;
 mod monitor_cmd;
 mod progress;
 mod record_cmd;
+mod recording;
 mod replay;
 mod replay_aligned;
+mod replay_config;
 mod replay_fused;
 #[cfg(target_os = "linux")]
 mod replay_publish;
+mod replay_rich;
 #[cfg(target_os = "linux")]
 mod service;
 mod sim_cmd;
@@ -50,6 +54,9 @@ enum Command {
     Record(record_cmd::RecordArgs),
     /// Decode a recording's raw chunks into JSON Lines (device, index, host receive time, message).
     Replay(replay::ReplayArgs),
+    /// Summarise a recording like `mcap info`: time range, chunks, channels with counts,
+    /// rates and schemas, metadata.
+    Info(info::InfoArgs),
     /// Print what a vigil iceoryx2 service publishes, as JSON Lines (or latency statistics).
     Listen(listen::ListenArgs),
     /// The integrity monitor as a separate process: subscribes to the fused topics, publishes alerts.
@@ -76,6 +83,7 @@ fn main() -> ExitCode {
         Command::Sim(args) => sim_cmd::run(&args),
         Command::Record(args) => record_cmd::run(&args),
         Command::Replay(args) => replay::run(&args),
+        Command::Info(args) => info::run(&args),
         Command::Listen(args) => listen::run(&args),
         Command::Monitor(args) => monitor_cmd::run(&args),
         #[cfg(target_os = "linux")]

@@ -70,6 +70,11 @@ pub struct MeasureArgs {
     /// needs root; 0 keeps idle CPUs polling).
     #[arg(long)]
     pub cpu_wakeup_latency_us: Option<u32>,
+    // --- issue 20 ---
+    /// Record with `vigil run` (`[record]`, into the temporary directory) with these channels,
+    /// to measure the recording's cost; the output states the file's size.
+    #[arg(long, value_enum)]
+    pub record: Option<crate::recording::ChannelSet>,
 }
 
 /// CPU time and memory of a process at one moment.
@@ -150,6 +155,9 @@ pub struct Report {
     pub peak_rss_mb: f64,
     /// Attitude payloads the subscriber missed (overflow).
     pub missed: u64,
+    /// With `--record`: the channels recorded and the recording's size at the end, bytes (issue
+    /// 20).
+    pub recording: Option<(crate::recording::ChannelSet, u64)>,
 }
 
 /// Parses DEVICE=MS.
@@ -231,6 +239,9 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let mut text = crate::demo::run_config(prefix, &links);
     if let Some(us) = args.cpu_wakeup_latency_us {
         text += &format!("[realtime]\ncpu_wakeup_latency_us = {us}\n");
+    }
+    if let Some(set) = args.record {
+        text += &crate::demo::record_section(&dir.join("flight.mcap"), set);
     }
     std::fs::write(&config, text)?;
     let log = dir.join("run.log");
@@ -335,5 +346,9 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         rss_mb: p1.rss_kb as f64 / 1024.0,
         peak_rss_mb: p1.hwm_kb as f64 / 1024.0,
         missed: sub.missed(),
+        recording: args.record.map(|set| {
+            let bytes = std::fs::metadata(dir.join("flight.mcap")).map_or(0, |m| m.len());
+            (set, bytes)
+        }),
     })
 }

@@ -17,16 +17,25 @@
 //! Output is a deterministic function of the file: replaying twice gives identical bytes. Ports of an
 //! unknown protocol are counted in the summary on stderr, with each decoder's counters and any
 //! damage found in the file.
+//!
+//! Issue 20: every mode but `--publish` streams the file ([`vigil_sim::record_read`]: one chunk
+//! in memory at a time, raw messages in receive order per port, damaged chunks skipped and
+//! listed in the summary's `damage`). `--emit fused`, `--check` and `--out` run with the flight's
+//! configuration (`--config FILE`, else the recording's own, see `replay_config`). `--out
+//! RICH.mcap` writes the recording again with its decoded and fused channels
+//! (`replay_rich`).
 
 use std::collections::BTreeMap;
-use std::io::{self, BufWriter, Write};
+use std::fs::File;
+use std::io::{self, BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use serde::Serialize;
-use vigil_sim::record::{Recorded, read_recording, recorded_span};
+use vigil_sim::record::Recorded;
+use vigil_sim::record_read::{read_recording_from, recorded_span_from};
 use vigil_sim::replay::{Decoded, PortSummary, Replayer};
 
 use crate::progress::ProgressBar;
@@ -59,6 +68,18 @@ pub struct ReplayArgs {
     /// With --check: rewrite the golden file from this replay instead of comparing.
     #[arg(long, requires = "check")]
     pub bless: bool,
+    // --- issue 20 ---
+    /// The flight's configuration (a `vigil run` TOML file) for --emit fused, --check and --out;
+    /// default: the one recorded in the file, else `vigil run`'s defaults.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Write the recording again to this MCAP file with decoded and fused channels (see
+    /// `--channels`), re-processed with the flight's configuration.
+    #[arg(long, value_name = "RICH.mcap", conflicts_with_all = ["check", "publish"])]
+    pub out: Option<PathBuf>,
+    /// With --out: the channels to write.
+    #[arg(long, value_enum, default_value = "all", requires = "out")]
+    pub channels: crate::recording::ChannelSet,
 }
 
 /// Output of `vigil replay`.
@@ -92,18 +113,24 @@ pub struct ReplaySummary {
     pub devices: BTreeMap<String, PortSummary>,
 }
 
-/// Replays `mcap` into `out`. `speed`: pace at this multiple of real time.
-pub fn replay<W: Write>(mcap: &[u8], out: &mut W, speed: Option<f64>) -> Result<ReplaySummary> {
+/// Replays `mcap` into `out`. `speed`: pace at this multiple of real time. `span`: the
+/// recording's first and last host time, ns, for the progress bar.
+pub fn replay<W: Write>(
+    mcap: impl Read,
+    out: &mut W,
+    speed: Option<f64>,
+    span: Option<(u64, u64)>,
+) -> Result<ReplaySummary> {
     let mut replayer = Replayer::new();
     let mut pace: Option<(u64, Instant)> = None;
-    let mut bar = recorded_span(mcap).map(|(t0, t1)| {
+    let mut bar = span.map(|(t0, t1)| {
         (
             t0,
             ProgressBar::stderr("vigil replay", t1.saturating_sub(t0)),
         )
     });
     let mut emit = |d: Decoded<'_>| write_line(out, d);
-    let outcome = read_recording(mcap, |m| -> Result<()> {
+    let outcome = read_recording_from(mcap, |m| -> Result<()> {
         let Recorded::Raw {
             device,
             protocol,
@@ -156,11 +183,17 @@ fn publish(_: &ReplayArgs, _: &[u8]) -> Result<()> {
     ))
 }
 
+/// The recording, buffered for streaming.
+fn open(input: &PathBuf) -> Result<BufReader<File>> {
+    let f = File::open(input).with_context(|| format!("cannot read {}", input.display()))?;
+    Ok(BufReader::with_capacity(1 << 16, f))
+}
+
 /// Runs `vigil replay`.
 pub fn run(args: &ReplayArgs) -> Result<()> {
-    let data = std::fs::read(&args.input)
-        .with_context(|| format!("cannot read {}", args.input.display()))?;
     if args.publish {
+        let data = std::fs::read(&args.input)
+            .with_context(|| format!("cannot read {}", args.input.display()))?;
         return publish(args, &data);
     }
     let speed = match args.speed.as_deref() {
@@ -170,27 +203,41 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
             _ => return Err(anyhow!("--speed must be a positive number")),
         },
     };
+    let (cfg, source) = crate::replay_config::replay_config(args.config.as_deref(), &args.input)?;
     if let Some(golden) = &args.check {
         if args.speed.is_some() {
             return Err(anyhow!("--speed does not apply to --check"));
         }
-        return crate::golden::check(&args.input, &data, golden, args.bless);
+        return crate::golden::check(&args.input, &cfg, golden, args.bless);
+    }
+    if let Some(rich) = &args.out {
+        if args.speed.is_some() {
+            return Err(anyhow!("--speed does not apply to --out"));
+        }
+        let summary =
+            crate::replay_rich::replay_rich(&args.input, &cfg, &source, rich, args.channels)?;
+        eprintln!("{}", serde_json::to_string(&summary)?);
+        return Ok(());
     }
     let stdout = io::stdout();
     let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+    let input = open(&args.input)?;
     let result = match args.emit {
-        Emit::Decoded => replay(&data, &mut out, speed),
+        Emit::Decoded => {
+            let span = File::open(&args.input).ok().and_then(recorded_span_from);
+            replay(input, &mut out, speed, span)
+        }
         Emit::Aligned => {
             if args.speed.is_some() {
                 return Err(anyhow!("--speed applies to --emit decoded only"));
             }
-            crate::replay_aligned::replay_aligned(&data, &mut out)
+            crate::replay_aligned::replay_aligned(input, &mut out)
         }
         Emit::Fused => {
             if args.speed.is_some() {
                 return Err(anyhow!("--speed applies to --emit decoded only"));
             }
-            crate::replay_fused::replay_fused(&data, &mut out)
+            crate::replay_fused::replay_fused(input, &cfg, &mut out)
         }
     };
     let summary = match result {

@@ -31,7 +31,8 @@ use vigil_drivers::{Codec, DecodeStats, DeviceDecoder};
 use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Device, Sample};
 use vigil_fusion::time::host_timed::ChunkClock;
 use vigil_fusion::time::{ClockStatus, NotAligned, TimeSource};
-use vigil_sim::record::{Recorded, read_recording};
+use vigil_sim::record::Recorded;
+use vigil_sim::record_read::read_recording_from;
 use vigil_sim::replay::{Decoded, Message, PortSummary, Replayer};
 
 use crate::replay::ReplaySummary;
@@ -371,12 +372,12 @@ impl OwnPort {
 /// Replays `mcap` through decoding and alignment, handing every aligned sample to `f` in the
 /// order the aligner finalises them (also the front half of `vigil replay --emit fused`).
 pub fn replay_aligned_with(
-    mcap: &[u8],
+    mcap: impl std::io::Read,
     mut f: impl FnMut(&AlignedSample) -> Result<()>,
 ) -> Result<ReplaySummary> {
     let mut r = AlignedReplay::new();
     let mut seen: Vec<String> = Vec::new();
-    let outcome = read_recording(mcap, |m| -> Result<()> {
+    let outcome = read_recording_from(mcap, |m| -> Result<()> {
         let Recorded::Raw {
             device,
             protocol,
@@ -407,7 +408,7 @@ pub fn replay_aligned_with(
 }
 
 /// Replays `mcap` into `out` as aligned JSON lines.
-pub fn replay_aligned<W: Write>(mcap: &[u8], out: &mut W) -> Result<ReplaySummary> {
+pub fn replay_aligned<W: Write>(mcap: impl std::io::Read, out: &mut W) -> Result<ReplaySummary> {
     replay_aligned_with(mcap, |s| {
         serde_json::to_writer(&mut *out, &AlignedLine::of(s))?;
         out.write_all(b"\n")?;

@@ -31,6 +31,7 @@ pub mod geo;
 pub mod link;
 pub mod magnetic;
 pub mod record;
+pub mod record_read;
 pub mod replay;
 pub mod rng;
 pub mod scenario;

@@ -3,10 +3,14 @@
 //! `vigil.sim` metadata record with the run parameters.
 //!
 //! - Topics: `/<device>/raw` (message encoding `application/octet-stream`, channel metadata
-//!   `device`, `protocol`, `baud`) and `/truth` (encoding `json`). No schemas.
-//! - Chunks of at most 64 KiB, uncompressed: a writer that dies loses at most its open chunk, and a
-//!   truncated file is read message by message up to the damage ([`read_recording`] stops there
-//!   and says so).
+//!   `device`, `protocol`, `baud`; schema `vigil.raw.<protocol>` with the empty schema encoding:
+//!   the bytes are the device's own wire format, the device document is their schema) and
+//!   `/truth` (encoding `json`). [`RawRecorder::add_schema_channel`] adds JSON channels with a
+//!   JSON Schema (`vigil run`'s decoded and fused channels, issue 20).
+//! - Chunks of at most [`CHUNK_BYTES`] uncompressed, zstd-compressed (issue 20; single-threaded,
+//!   so the same input gives the same bytes): a writer that dies loses at most its open chunk
+//!   (live recorders flush it every second), and a damaged chunk costs only its own messages
+//!   ([`crate::record_read`] skips it and says so).
 //! - The writer's library string is fixed ("vigil"), so the same run gives the same bytes.
 
 use std::collections::BTreeMap;
@@ -23,8 +27,27 @@ use crate::truth::TruthRecord;
 pub const TRUTH_TOPIC: &str = "/truth";
 /// Name of the metadata record with the run parameters.
 pub const METADATA_NAME: &str = "vigil.sim";
-/// Largest uncompressed chunk, bytes.
-pub const CHUNK_BYTES: u64 = 64 * 1024;
+/// Largest uncompressed chunk, bytes. Live recorders also close the chunk at every flush (at most
+/// 1 s), which bounds what a kill loses; this bounds what one damaged chunk costs and the
+/// reader's memory (issue 20: 256 KiB compresses to within a few per cent of 1 MiB chunks).
+pub const CHUNK_BYTES: u64 = 256 * 1024;
+
+/// Whether chunks are compressed (zstd) by default.
+pub const COMPRESS_BY_DEFAULT: bool = true;
+
+/// Prefix of a raw channel's schema name (then the wire protocol, else the device name).
+pub const RAW_SCHEMA_PREFIX: &str = "vigil.raw.";
+
+/// The writer options of every vigil recording: chunked, zstd when `compress` (one thread, the
+/// default level), fixed library string.
+pub fn write_options(compress: bool) -> WriteOptions {
+    WriteOptions::new()
+        .compression(compress.then_some(mcap::Compression::Zstd))
+        .compression_threads(0)
+        .chunk_size(Some(CHUNK_BYTES))
+        .profile("vigil")
+        .library("vigil")
+}
 
 /// Topic of a device port's raw channel.
 pub fn raw_topic(device: &str) -> String {
@@ -54,39 +77,95 @@ impl<W: Write + Seek> RawRecorder<W> {
         ports: &[(&str, &str, u32)],
         read_intervals_ns: &[u64],
     ) -> Result<Self, mcap::McapError> {
-        let mut writer = WriteOptions::new()
-            .compression(None)
-            .chunk_size(Some(CHUNK_BYTES))
-            .profile("vigil")
-            .library("vigil")
-            .create(w)?;
-        let mut port_channels = Vec::with_capacity(ports.len());
-        for (i, (device, protocol, baud)) in ports.iter().enumerate() {
-            let mut meta = BTreeMap::from([
-                ("device".to_string(), device.to_string()),
-                ("protocol".to_string(), protocol.to_string()),
-                ("baud".to_string(), baud.to_string()),
-            ]);
-            if let Some(&ns) = read_intervals_ns.get(i).filter(|&&ns| ns > 0) {
-                meta.insert("read_interval_ns".to_string(), ns.to_string());
-            }
-            port_channels.push(writer.add_channel(
-                0,
-                &raw_topic(device),
-                "application/octet-stream",
-                &meta,
-            )?);
-        }
-        Ok(Self {
+        let writer = write_options(COMPRESS_BY_DEFAULT).create(w)?;
+        let mut rec = Self {
             writer,
-            port_channels,
+            port_channels: Vec::with_capacity(ports.len()),
             sequences: BTreeMap::new(),
-        })
+        };
+        for (i, (device, protocol, baud)) in ports.iter().enumerate() {
+            let interval = read_intervals_ns.get(i).copied().unwrap_or(0);
+            rec.add_port(device, protocol, *baud, interval)?;
+        }
+        Ok(rec)
+    }
+
+    /// Adds a port's `/<device>/raw` channel (next port index; see
+    /// [`RawRecorder::with_read_intervals`] for the read interval) and returns its index.
+    pub fn add_port(
+        &mut self,
+        device: &str,
+        protocol: &str,
+        baud: u32,
+        read_interval_ns: u64,
+    ) -> Result<u16, mcap::McapError> {
+        let mut meta = BTreeMap::from([
+            ("device".to_string(), device.to_string()),
+            ("protocol".to_string(), protocol.to_string()),
+            ("baud".to_string(), baud.to_string()),
+        ]);
+        if read_interval_ns > 0 {
+            meta.insert("read_interval_ns".to_string(), read_interval_ns.to_string());
+        }
+        let name = if protocol.is_empty() {
+            device
+        } else {
+            protocol
+        };
+        let schema = self
+            .writer
+            .add_schema(&format!("{RAW_SCHEMA_PREFIX}{name}"), "", &[])?;
+        let id = self.writer.add_channel(
+            schema,
+            &raw_topic(device),
+            "application/octet-stream",
+            &meta,
+        )?;
+        self.port_channels.push(id);
+        u16::try_from(self.port_channels.len() - 1).map_err(|_| mcap::McapError::TooManyChannels)
     }
 
     /// Adds a JSON channel and returns its id.
     pub fn add_json_channel(&mut self, topic: &str) -> Result<u16, mcap::McapError> {
         self.writer.add_channel(0, topic, "json", &BTreeMap::new())
+    }
+
+    /// Adds a JSON channel whose messages follow the JSON Schema `schema` (schema encoding
+    /// `jsonschema`, named `schema_name`) and returns its id.
+    pub fn add_schema_channel(
+        &mut self,
+        topic: &str,
+        schema_name: &str,
+        schema: &[u8],
+        metadata: &BTreeMap<String, String>,
+    ) -> Result<u16, mcap::McapError> {
+        let id = self.writer.add_schema(schema_name, "jsonschema", schema)?;
+        self.writer.add_channel(id, topic, "json", metadata)
+    }
+
+    /// Writes one message with distinct log and publish times, ns (`vigil run`: log time on the
+    /// UTC timeline, publish time the host monotonic receive time).
+    pub fn write_at(
+        &mut self,
+        channel_id: u16,
+        log_time: u64,
+        publish_time: u64,
+        data: &[u8],
+    ) -> Result<(), mcap::McapError> {
+        let seq = self.sequences.entry(channel_id).or_insert(0);
+        *seq = seq.wrapping_add(1);
+        let header = MessageHeader {
+            channel_id,
+            sequence: *seq,
+            log_time,
+            publish_time,
+        };
+        self.writer.write_to_known_channel(&header, data)
+    }
+
+    /// The channel id of port `port`'s raw channel.
+    pub fn raw_channel(&self, port: u16) -> Option<u16> {
+        self.port_channels.get(usize::from(port)).copied()
     }
 
     /// Writes a metadata record.
@@ -101,22 +180,14 @@ impl<W: Write + Seek> RawRecorder<W> {
         })
     }
 
-    /// Writes one message on a channel.
+    /// Writes one message on a channel (log and publish time both `t_host_ns`).
     pub fn write(
         &mut self,
         channel_id: u16,
         t_host_ns: u64,
         data: &[u8],
     ) -> Result<(), mcap::McapError> {
-        let seq = self.sequences.entry(channel_id).or_insert(0);
-        *seq = seq.wrapping_add(1);
-        let header = MessageHeader {
-            channel_id,
-            sequence: *seq,
-            log_time: t_host_ns,
-            publish_time: t_host_ns,
-        };
-        self.writer.write_to_known_channel(&header, data)
+        self.write_at(channel_id, t_host_ns, t_host_ns, data)
     }
 
     /// Writes one raw chunk of port `port` (index in the order given to [`RawRecorder::new`]).
@@ -291,14 +362,7 @@ pub enum Recorded<'a> {
     },
 }
 
-/// How reading a recording ended.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct ReadOutcome {
-    /// Messages read.
-    pub messages: u64,
-    /// Where reading stopped early and why (a truncated or damaged file), if it did.
-    pub damage: Option<String>,
-}
+pub use crate::record_read::ReadOutcome;
 
 /// First and last log time of a recording's messages, ns, from its MCAP statistics record (for
 /// progress reports); `None` when the file has no readable summary (a truncated recording) or no
@@ -308,89 +372,18 @@ pub fn recorded_span(mcap: &[u8]) -> Option<(u64, u64)> {
     (stats.message_count > 0).then_some((stats.message_start_time, stats.message_end_time))
 }
 
-/// Reads every message of an MCAP file in file order and hands it to `f`. A damaged or truncated
-/// file is read up to the damage; the outcome says where it stopped. `f` may stop the reading by
-/// returning an error, which is passed back.
+/// Reads every message of an MCAP file held in memory and hands it to `f`: raw chunks in receive
+/// order, damaged chunks skipped, a truncated file read up to the damage; the outcome says what
+/// was skipped ([`crate::record_read::read_recording_from`], which reads any stream). `f` may
+/// stop the reading by returning an error, which is passed back.
 pub fn read_recording<E>(
     buf: &[u8],
-    mut f: impl FnMut(Recorded<'_>) -> Result<(), E>,
+    f: impl FnMut(Recorded<'_>) -> Result<(), E>,
 ) -> Result<ReadOutcome, E> {
-    let mut outcome = ReadOutcome::default();
-    let stream = match mcap::MessageStream::new_with_options(
-        buf,
-        mcap::read::Options::IgnoreEndMagic.into(),
-    ) {
-        Ok(s) => s,
-        Err(e) => {
-            outcome.damage = Some(format!("not an mcap file: {e}"));
-            return Ok(outcome);
-        }
-    };
-    for m in stream {
-        let m = match m {
-            Ok(m) => m,
-            Err(e) => {
-                outcome.damage = Some(format!("stopped after {} messages: {e}", outcome.messages));
-                break;
-            }
-        };
-        outcome.messages += 1;
-        let topic = m.channel.topic.as_str();
-        let rec = if topic == TRUTH_TOPIC {
-            Recorded::Truth {
-                t_host_ns: m.log_time,
-                json: &m.data,
-            }
-        } else if let Some(stripped) = topic.strip_suffix("/raw") {
-            let device = m
-                .channel
-                .metadata
-                .get("device")
-                .map_or(stripped.trim_start_matches('/'), |d| d.as_str());
-            Recorded::Raw {
-                device,
-                protocol: m
-                    .channel
-                    .metadata
-                    .get("protocol")
-                    .map_or("", |p| p.as_str()),
-                t_host_ns: m.log_time,
-                bytes: &m.data,
-                read_interval_ns: m
-                    .channel
-                    .metadata
-                    .get("read_interval_ns")
-                    .and_then(|v| v.parse().ok())
-                    .unwrap_or(0),
-
-                baud: m
-                    .channel
-                    .metadata
-                    .get("baud")
-                    .and_then(|v| v.parse().ok())
-                    .unwrap_or(0),
-            }
-        } else {
-            Recorded::Other { topic }
-        };
-        f(rec)?;
-    }
-    Ok(outcome)
+    crate::record_read::read_recording_from(buf, f)
 }
 
 /// The `vigil.sim` metadata of a recording, if present and readable.
 pub fn read_metadata(buf: &[u8]) -> Option<BTreeMap<String, String>> {
-    let reader =
-        mcap::read::LinearReader::new_with_options(buf, mcap::read::Options::IgnoreEndMagic.into())
-            .ok()?;
-    for rec in reader {
-        match rec {
-            Ok(mcap::records::Record::Metadata(m)) if m.name == METADATA_NAME => {
-                return Some(m.metadata);
-            }
-            Ok(_) => {}
-            Err(_) => return None,
-        }
-    }
-    None
+    crate::record_read::read_metadata_from(buf, METADATA_NAME)
 }

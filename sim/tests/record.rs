@@ -173,3 +173,78 @@ fn read_intervals_are_kept_per_channel_and_read_back() {
         [("vn200".to_string(), 0), ("ttmrf".to_string(), 10_000_000)]
     );
 }
+
+/// Issue 20: messages grouped by channel inside a chunk (a writer that buffers per port) replay
+/// in receive order, and the file is zstd-compressed by default.
+#[test]
+fn regression_20_any_order_within_a_chunk_replays_in_receive_order() {
+    use vigil_sim::record::RawRecorder;
+    let ports = [
+        ("bahrs", "bahrs-2.0", 115_200),
+        ("vn200", "vn200-icd", 921_600),
+    ];
+    let mut rec = RawRecorder::new(Cursor::new(Vec::new()), &ports).unwrap();
+    // Port 0 at 10, 30, 50 ns, then port 1 at 20, 40, 60 ns: grouped, not in time order.
+    for (port, t) in [(0u16, 10u64), (0, 30), (0, 50), (1, 20), (1, 40), (1, 60)] {
+        rec.write_raw(port, t, &[t as u8]).unwrap();
+    }
+    rec.flush().unwrap();
+    // The next chunk starts later: everything before it is released in order.
+    rec.write_raw(1, 70, &[70]).unwrap();
+    let bytes = rec.finish().unwrap().into_inner();
+    let mut got = Vec::new();
+    let o = read_recording::<()>(&bytes, |m| {
+        if let Recorded::Raw {
+            t_host_ns, bytes, ..
+        } = m
+        {
+            assert_eq!(bytes, [t_host_ns as u8]);
+            got.push(t_host_ns);
+        }
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(got, [10, 20, 30, 40, 50, 60, 70]);
+    assert_eq!(o.damage, None);
+    let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
+    assert!(
+        summary
+            .chunk_indexes
+            .iter()
+            .all(|c| c.compression == "zstd")
+    );
+}
+
+/// Issue 20: a damaged chunk is skipped and said so; the chunks after it are read.
+#[test]
+fn regression_20_a_damaged_chunk_is_skipped_and_the_rest_replays() {
+    let bytes = record("nominal", 20, 1);
+    let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
+    let chunks = &summary.chunk_indexes;
+    assert!(chunks.len() > 4, "{} chunks", chunks.len());
+    let count = |b: &[u8]| {
+        let mut n = 0u64;
+        let o = read_recording::<()>(b, |_| {
+            n += 1;
+            Ok(())
+        })
+        .unwrap();
+        (n, o)
+    };
+    let (all, _) = count(&bytes);
+    // Flip bytes in the middle of the third chunk's compressed records.
+    let c = &chunks[2];
+    let mut bad = bytes.clone();
+    let mid = (c.chunk_start_offset + c.chunk_length / 2) as usize;
+    for b in &mut bad[mid..mid + 16] {
+        *b ^= 0x5A;
+    }
+    let (n, o) = count(&bad);
+    assert_eq!(o.skipped_chunks, 1, "{o:?}");
+    let damage = o.damage.unwrap();
+    assert!(
+        damage.contains(&format!("chunk at byte {}", c.chunk_start_offset)),
+        "{damage}"
+    );
+    assert!(n < all && n > all / 2, "{n} of {all}");
+}

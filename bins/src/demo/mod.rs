@@ -42,6 +42,27 @@ pub struct DemoArgs {
     /// Seed of the simulation.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    // --- issue 20 ---
+    /// Record the flight to this MCAP file (`vigil run`'s `[record] path`); it is kept after the
+    /// demo.
+    #[arg(long, value_name = "FILE.mcap")]
+    pub record: Option<PathBuf>,
+    /// With --record: the channels recorded.
+    #[arg(long, value_enum, default_value = "raw+fused", requires = "record")]
+    pub record_channels: crate::recording::ChannelSet,
+}
+
+/// The `[record]` section of a `vigil run` configuration writing `path` with `channels`.
+pub(crate) fn record_section(path: &Path, channels: crate::recording::ChannelSet) -> String {
+    let set = match channels {
+        crate::recording::ChannelSet::Raw => "raw",
+        crate::recording::ChannelSet::RawFused => "raw+fused",
+        crate::recording::ChannelSet::All => "all",
+    };
+    format!(
+        "[record]\npath = {:?}\nchannels = \"{set}\"\n",
+        path.display().to_string()
+    )
 }
 
 /// Devices the simulator may serve, in the order of `vigil run`'s ports.
@@ -190,7 +211,12 @@ fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
         std::thread::sleep(Duration::from_millis(50));
     };
     let config = dir.join("vigil.toml");
-    std::fs::write(&config, run_config(prefix, &ports))?;
+    let mut text = run_config(prefix, &ports);
+    if let Some(path) = &args.record {
+        let path = std::path::absolute(path).context("the --record path")?;
+        text += &record_section(&path, args.record_channels);
+    }
+    std::fs::write(&config, text)?;
     let mut run = spawn(
         "run",
         &["run", "--config", config.to_str().context("config path")?],

@@ -242,6 +242,9 @@ pub struct RecordSection {
     pub path: Option<PathBuf>,
     /// Period of the flush to disk, s (at most 1 s: a killed process loses at most that much).
     pub flush_period_s: f64,
+    // --- issue 20: decoded and fused channels ---
+    /// Channels recorded: `raw`, `raw+fused` (default) or `all` (see `recording`).
+    pub channels: crate::recording::ChannelSet,
 }
 
 impl Default for RecordSection {
@@ -249,6 +252,7 @@ impl Default for RecordSection {
         Self {
             path: None,
             flush_period_s: 1.0,
+            channels: crate::recording::ChannelSet::default(),
         }
     }
 }
@@ -486,6 +490,10 @@ ttmrf_gnss_nmea = true
 # path = "/var/lib/vigil/flight.mcap"
 # Flush to disk at least this often, s (0 < value <= 1).
 flush_period_s = 1.0
+# Channels: "raw" (the port bytes, what replays read), "raw+fused" (plus attitude checks,
+# ownship, traffic, integrity and alerts as JSON with schemas, on the UTC timeline) or "all"
+# (plus every decoded message per device). See README, "Recordings".
+channels = "raw+fused"
 
 [pipeline]
 # Period of the ownship and traffic outputs, s (GPS-time grid).

@@ -11,7 +11,6 @@
 //! and stops cleanly on SIGINT or SIGTERM (recording finalised).
 
 use std::cell::RefCell;
-use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -28,6 +27,8 @@ use vigil_bus::{
     Publisher, Topic, TrafficPayload,
 };
 use vigil_sim::record::RawRecorder;
+
+use crate::recording::{METADATA_RUN, RichRecorder, run_metadata};
 
 use super::config::{Config, LinkSection, Port};
 use super::live_view::{Tee, View};
@@ -189,16 +190,35 @@ struct Ctx {
 }
 
 impl Ctx {
-    /// A chunk of port `i` read at host time `t` (ns): recorded, then processed and published.
+    /// A chunk of port `i` read at host time `t` (ns): processed and published, then recorded
+    /// with what it produced.
     fn chunk(&mut self, i: usize, t: u64, bytes: &[u8]) {
-        if let Some(rec) = &mut self.recorder
-            && let Err(e) = rec.write_raw(i as u16, t, bytes)
-        {
+        self.service.on_chunk(i, t, bytes, &mut self.out);
+        if let Some(rec) = &mut self.recorder {
+            let r = rec
+                .set_clock(t, self.service.utc_offset_ns(t))
+                .and_then(|()| rec.raw(i as u16, t, bytes));
+            self.recorded(r);
+            self.record_tap();
+        }
+    }
+
+    /// Records what the service produced since the last call (issue 20).
+    fn record_tap(&mut self) {
+        let tapped = self.service.drain_tap();
+        if let Some(rec) = &mut self.recorder {
+            let r = tapped.iter().try_for_each(|(t, x)| rec.tapped(*t, x));
+            self.recorded(r);
+        }
+    }
+
+    /// A recording error stops the recording (logged once), never the service.
+    fn recorded(&mut self, r: Result<()>) {
+        if let Err(e) = r {
             self.record_errors += 1;
             error!("recording stopped: {e}");
             self.recorder = None;
         }
-        self.service.on_chunk(i, t, bytes, &mut self.out);
     }
 
     fn opened(&mut self, i: usize) {
@@ -219,43 +239,42 @@ impl Ctx {
     }
 
     fn flush(&mut self) {
-        if let Some(rec) = &mut self.recorder
-            && let Err(e) = rec.flush()
-        {
-            self.record_errors += 1;
-            error!("recording stopped: {e}");
-            self.recorder = None;
+        self.record_tap();
+        if let Some(rec) = &mut self.recorder {
+            let r = rec.flush();
+            self.recorded(r);
         }
     }
 }
 
-type Recorder = RawRecorder<BufWriter<File>>;
+type Recorder = RichRecorder<BufWriter<File>>;
 
-fn open_recorder(path: &PathBuf, ports: &[Port]) -> Result<Recorder> {
+fn open_recorder(config: &Config, path: &PathBuf, ports: &[Port]) -> Result<Recorder> {
     let out = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
     let specs: Vec<(&str, &str, u32)> = ports
         .iter()
         .map(|p| (p.device.as_str(), p.protocol.name(), p.baud))
         .collect();
     let intervals: Vec<u64> = ports.iter().map(|p| p.read_interval_ns).collect();
-    let mut rec = RawRecorder::with_read_intervals(BufWriter::new(out), &specs, &intervals)?;
-    rec.write_metadata(
-        "vigil.run",
-        BTreeMap::from([
-            (
-                "ports".to_string(),
-                specs.iter().map(|s| s.0).collect::<Vec<_>>().join(","),
-            ),
-            (
-                "paths".to_string(),
-                ports
-                    .iter()
-                    .map(|p| p.path.to_string_lossy().into_owned())
-                    .collect::<Vec<_>>()
-                    .join(","),
-            ),
-        ]),
-    )?;
+    let raw = RawRecorder::with_read_intervals(BufWriter::new(out), &specs, &intervals)?;
+    let mut rec = RichRecorder::new(raw, config.record.channels)?;
+    let toml = toml::to_string(config).context("writing the configuration as TOML")?;
+    let mut meta = run_metadata("vigil run", &toml);
+    meta.extend([
+        (
+            "ports".to_string(),
+            specs.iter().map(|s| s.0).collect::<Vec<_>>().join(","),
+        ),
+        (
+            "paths".to_string(),
+            ports
+                .iter()
+                .map(|p| p.path.to_string_lossy().into_owned())
+                .collect::<Vec<_>>()
+                .join(","),
+        ),
+    ]);
+    rec.write_metadata(METADATA_RUN, meta)?;
     Ok(rec)
 }
 
@@ -276,15 +295,19 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         super::live_view::start(&config.live_view),
     );
     let recorder = match &config.record.path {
-        Some(p) => Some(open_recorder(p, &ports)?),
+        Some(p) => Some(open_recorder(&config, p, &ports)?),
         None => None,
     };
-    let service = Service::new(
+    let mut service = Service::new(
         &ports,
         config.pipeline.pipeline_config(),
         config.monitor,
         config.link.silence_s,
     )?;
+    if recorder.is_some() {
+        let set = config.record.channels;
+        service.set_tap(set.fused(), set.decoded());
+    }
     let ctx = Rc::new(RefCell::new(Ctx {
         ports: ports.clone(),
         service,
@@ -339,6 +362,7 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
                 let mut c = ctx.borrow_mut();
                 let c = &mut *c;
                 c.service.tick(monotonic_ns(), &mut c.out);
+                c.record_tap();
                 if let Some(r) = bus.cleanup_if_due()
                     && r.cleaned > 0
                 {
@@ -368,6 +392,7 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
         t.abort();
     }
     let mut c = ctx.borrow_mut();
+    c.record_tap();
     if let Some(rec) = c.recorder.take() {
         let path = config
             .record

@@ -32,6 +32,7 @@ use vigil_fusion::pipeline::{Fused, Pipeline, PipelineConfig};
 use vigil_fusion::time::aligner::AlignedSample;
 use vigil_monitor::{Monitor, MonitorParams};
 
+use crate::recording::{Tapped, identity, messages::active_set};
 use crate::replay_aligned::AlignedReplay;
 use config::Port;
 use convert::PortReport;
@@ -79,6 +80,21 @@ struct PortState {
     last_message_host_ns: Option<u64>,
 }
 
+impl PortState {
+    fn new(p: &Port) -> Self {
+        Self {
+            port: p.clone(),
+            open: false,
+            closed_seen: false,
+            opened_host_ns: None,
+            opens: 0,
+            bytes: 0,
+            frames: 0,
+            last_message_host_ns: None,
+        }
+    }
+}
+
 /// The processing path of `vigil run` (see the module documentation).
 pub struct Service {
     ports: Vec<PortState>,
@@ -92,6 +108,18 @@ pub struct Service {
     last_gps: Option<(i64, u64)>,
     silence_ns: u64,
     counters: Counters,
+    // --- issue 20: what the service produced, kept for a recorder (`None`: not kept) ---
+    tap: Option<Tap>,
+}
+
+/// The outputs kept for a recorder (issue 20): (host time, output).
+#[derive(Debug, Default)]
+struct Tap {
+    /// Every decoded sample too (else only the devices' identity messages).
+    samples: bool,
+    /// Fused outputs, integrity reports and alerts too.
+    fused: bool,
+    events: Vec<(u64, Tapped)>,
 }
 
 impl Service {
@@ -109,19 +137,7 @@ impl Service {
             let _ = replay.set_baud(&p.device, p.protocol.name(), p.baud);
         }
         Ok(Self {
-            ports: ports
-                .iter()
-                .map(|p| PortState {
-                    port: p.clone(),
-                    open: false,
-                    closed_seen: false,
-                    opened_host_ns: None,
-                    opens: 0,
-                    bytes: 0,
-                    frames: 0,
-                    last_message_host_ns: None,
-                })
-                .collect(),
+            ports: ports.iter().map(PortState::new).collect(),
             replay,
             pipeline: Pipeline::new(pipeline, Box::new(Wmm))
                 .map_err(|e| anyhow!("pipeline parameters: {e}"))?,
@@ -132,6 +148,7 @@ impl Service {
             last_gps: None,
             silence_ns: (silence_s.max(0.0) * 1e9) as u64,
             counters: Counters::default(),
+            tap: None,
         })
     }
 
@@ -163,8 +180,9 @@ impl Service {
         self.counters.chunks += 1;
         self.counters.bytes += bytes.len() as u64;
         p.bytes += bytes.len() as u64;
-        let (pipeline, fused) = (&mut self.pipeline, &mut self.fused);
+        let (pipeline, fused, tap) = (&mut self.pipeline, &mut self.fused, &mut self.tap);
         let mut sink = |s: &AlignedSample| -> Result<()> {
+            tap_sample(tap, t_host_ns, s);
             pipeline.handle(s, fused);
             Ok(())
         };
@@ -190,6 +208,13 @@ impl Service {
     fn publish_fused(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
         let mut fused = std::mem::take(&mut self.fused);
         for f in fused.drain(..) {
+            if let Some(tap) = &mut self.tap
+                && tap.fused
+                && !matches!(f, Fused::Prompt(_))
+            {
+                tap.events
+                    .push((t_host_ns, Tapped::Fused(Box::new(f.clone()))));
+            }
             // The newest output time (a check record is older than the prompts around it).
             if self.last_gps.is_none_or(|(t, _)| f.t_gps_ns() > t) {
                 self.last_gps = Some((f.t_gps_ns(), t_host_ns));
@@ -229,8 +254,9 @@ impl Service {
     // Used by the tests now, and by `vigil replay --publish` (issue 11) next.
     #[cfg_attr(not(test), allow(dead_code))]
     pub fn finish(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
-        let (pipeline, fused) = (&mut self.pipeline, &mut self.fused);
+        let (pipeline, fused, tap) = (&mut self.pipeline, &mut self.fused, &mut self.tap);
         let mut sink = |s: &AlignedSample| -> Result<()> {
+            tap_sample(tap, t_host_ns, s);
             pipeline.handle(s, fused);
             Ok(())
         };
@@ -331,9 +357,17 @@ impl Service {
         let mut p = self.integrity(t_host_ns);
         self.monitor.integrity(&p);
         if let Some(t) = self.gps_time(t_host_ns) {
-            for a in self.monitor.poll(t) {
-                out.publish::<AlertPayload>(&a);
+            let alerts = self.monitor.poll(t);
+            for a in &alerts {
+                out.publish::<AlertPayload>(a);
                 self.counters.alerts += 1;
+            }
+            if let Some(tap) = &mut self.tap
+                && tap.fused
+                && !alerts.is_empty()
+            {
+                let active = active_set(self.monitor.active());
+                tap.events.push((t_host_ns, Tapped::Alerts(alerts, active)));
             }
         }
         // Issue 25: the integrity report carries the active set after this poll's transitions
@@ -341,6 +375,60 @@ impl Service {
         self.monitor.fill_active(&mut p);
         out.publish(&p);
         self.counters.integrity += 1;
+        if let Some(tap) = &mut self.tap
+            && tap.fused
+        {
+            tap.events.push((t_host_ns, Tapped::Integrity(Box::new(p))));
+        }
+    }
+
+    // --- issue 20: recording tap and timeline; ports added as a replay meets them ---
+
+    /// Adds a port after the start (a replay meets its ports as their channels appear) and
+    /// returns its index.
+    pub fn add_port(&mut self, p: &Port) -> usize {
+        let _ = self
+            .replay
+            .set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
+        // Issue 18 point 2: the configured (or recorded) baud reaches the aligner.
+        let _ = self.replay.set_baud(&p.device, p.protocol.name(), p.baud);
+        self.ports.push(PortState::new(p));
+        self.ports.len() - 1
+    }
+
+    /// The decoder counters of port `device` so far.
+    pub fn port_stats(&self, device: &str) -> Option<vigil_drivers::DecodeStats> {
+        self.replay.port_stats(device)
+    }
+
+    /// Keeps what the service produces for a recorder, from now on ([`Service::drain_tap`]):
+    /// the devices' identity messages; with `fused` the fused outputs, integrity reports and
+    /// alert transitions with the active set; with `samples` every decoded sample.
+    pub fn set_tap(&mut self, fused: bool, samples: bool) {
+        self.tap = Some(Tap {
+            samples,
+            fused,
+            events: Vec::new(),
+        });
+    }
+
+    /// What was kept since the last call, in order, with the host time it was produced at.
+    pub fn drain_tap(&mut self) -> Vec<(u64, Tapped)> {
+        self.tap
+            .as_mut()
+            .map(|t| std::mem::take(&mut t.events))
+            .unwrap_or_default()
+    }
+
+    /// UTC (ns since the Unix epoch) minus host time at host time `t_host_ns`, from the host-clock
+    /// model and the VN-200's GPS - UTC leap seconds (else the table); `None` while the model is
+    /// unlocked.
+    pub fn utc_offset_ns(&self, t_host_ns: u64) -> Option<i64> {
+        let h = i64::try_from(t_host_ns).ok()?;
+        let (t_gps, _) = self.replay.aligner().host_clock().to_gps(h)?;
+        let leap = self.replay.aligner().vn200().gps_minus_utc(t_gps);
+        let unix = vigil_fusion::time::gps::unix_ns_from_gps_ns(t_gps, leap.gps_minus_utc_s);
+        Some(unix - h)
     }
 
     /// One line of status: per port its link, bytes, messages and bad frames (checksum failures,
@@ -380,6 +468,16 @@ impl Service {
             c.alerts,
             c.errors
         )
+    }
+}
+
+/// Keeps a sample in the tap when it is wanted (every sample, or a device identity).
+fn tap_sample(tap: &mut Option<Tap>, t_host_ns: u64, s: &AlignedSample) {
+    if let Some(t) = tap
+        && (t.samples || identity(s).is_some())
+    {
+        t.events
+            .push((t_host_ns, Tapped::Sample(Box::new(s.clone()))));
     }
 }
 

@@ -253,7 +253,13 @@ fn service_and_fused_replay_agree() {
     let mcap = rec.finish().unwrap().into_inner();
     let (mut att, mut own, mut traffic) = (Vec::new(), Vec::new(), Vec::new());
     let mut last_own = None;
-    crate::replay_fused::replay_fused_with(&mcap, PipelineConfig::default(), |f| {
+    // The replay's configuration with the pipeline of `service_for` (checks, not prompts).
+    let mut cfg = crate::service::config::Config::default();
+    cfg.pipeline.attitude_output = crate::service::config::AttitudeOutput::Checks;
+    crate::replay_fused::replay_fused_with(&mcap[..], &cfg, |e| {
+        let crate::replay_fused::FusedEvent::Fused(f) = e else {
+            return Ok(());
+        };
         match f {
             Fused::Attitude(r) | Fused::Prompt(r) => att.push(json(&convert::attitude(r))),
             Fused::Ownship(o) => {

@@ -1,0 +1,198 @@
+//! `vigil replay FLIGHT.mcap --out RICH.mcap [--channels SET] [--config FILE]` (issue 20): the
+//! recording written again with its decoded and fused channels, re-processed through the path of
+//! `vigil run` ([`Service`]) with the flight's configuration. The raw channels are copied as they
+//! are (every chunk, in receive order, with its host time), so RICH.mcap replays like the
+//! original; the derived channels are what `vigil run` with `[record] channels = SET` would have
+//! written (see `recording`), on the UTC timeline. Streams: one chunk in memory at a time.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use vigil_sim::record::RawRecorder;
+
+use crate::recording::{ChannelSet, METADATA_RUN, RichRecorder, run_metadata};
+use crate::replay::ReplaySummary;
+use crate::replay_config::ConfigSource;
+use crate::replay_fused::{Discard, Step, replay_service};
+use crate::service::Service;
+use crate::service::config::Config;
+
+/// Writes `out` from `input` (see the module documentation).
+pub fn replay_rich(
+    input: &Path,
+    cfg: &Config,
+    source: &ConfigSource,
+    out: &Path,
+    set: ChannelSet,
+) -> Result<ReplaySummary> {
+    let reader = BufReader::with_capacity(
+        1 << 16,
+        File::open(input).with_context(|| format!("cannot read {}", input.display()))?,
+    );
+    let file = File::create(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let raw = RawRecorder::new(BufWriter::new(file), &[])?;
+    let mut rec = RichRecorder::new(raw, set)?;
+    let mut meta = run_metadata("vigil replay --out", &toml::to_string(cfg)?);
+    meta.insert(
+        "source_recording".to_string(),
+        input
+            .file_name()
+            .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+    );
+    meta.insert(
+        "config_source".to_string(),
+        match source {
+            ConfigSource::File(p) => format!("file {p}"),
+            ConfigSource::Recording => "recording".to_string(),
+            ConfigSource::Defaults => "defaults".to_string(),
+        },
+    );
+    rec.write_metadata(METADATA_RUN, meta)?;
+    let mut service = Service::new(
+        &[],
+        cfg.pipeline.pipeline_config(),
+        cfg.monitor,
+        cfg.link.silence_s,
+    )?;
+    service.set_tap(set.fused(), set.decoded());
+    // Recorder port index of each device, in order of appearance.
+    let mut ports: BTreeMap<String, u16> = BTreeMap::new();
+    let summary = replay_service(reader, cfg, &mut service, &mut Discard, |s, step| {
+        if let Step::Chunk {
+            device,
+            protocol,
+            read_interval_ns,
+            t_host_ns,
+            bytes,
+            ..
+        } = step
+        {
+            let port = match ports.get(device) {
+                Some(&p) => p,
+                None => {
+                    let p = rec.add_port(device, protocol, 0, read_interval_ns)?;
+                    ports.insert(device.to_string(), p);
+                    p
+                }
+            };
+            rec.set_clock(t_host_ns, s.utc_offset_ns(t_host_ns))?;
+            rec.raw(port, t_host_ns, bytes)?;
+        }
+        for (t, x) in s.drain_tap() {
+            rec.tapped(t, &x)?;
+        }
+        Ok(())
+    })?;
+    for (t, x) in service.drain_tap() {
+        rec.tapped(t, &x)?;
+    }
+    let mut w = rec
+        .finish()
+        .with_context(|| format!("finishing {}", out.display()))?;
+    w.flush()?;
+    Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+    use vigil_sim::record::McapSink;
+    use vigil_sim::scenario::builtin;
+
+    /// Issue 20: a re-processed recording has a schema on every channel, the original raw
+    /// chunks (host times in `publish_time`), the fused channels, and log times on the flight's
+    /// UTC timeline: the first within a second of the simulator's start (its own truth), every
+    /// raw one at its host time plus one constant offset (to the rounding of the clock model).
+    #[test]
+    fn regression_20_rich_recording_is_on_the_utc_timeline_with_schemas() {
+        let dir = std::env::temp_dir().join(format!("vigil-rich-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (src, out) = (dir.join("headon.mcap"), dir.join("rich.mcap"));
+        let mut sim = vigil_sim::Simulator::new(&builtin("headon").unwrap(), 3).unwrap();
+        let mut sink = McapSink::new(File::create(&src).unwrap(), None)
+            .unwrap()
+            .without_truth_channel();
+        sim.run(40_000_000_000, &mut sink).unwrap();
+        sink.finish().unwrap();
+        let start_gps_ns: i64 = vigil_sim::record::read_metadata(&std::fs::read(&src).unwrap())
+            .unwrap()["start_gps_ns"]
+            .parse()
+            .unwrap();
+        let summary = replay_rich(
+            &src,
+            &Config::default(),
+            &ConfigSource::Defaults,
+            &out,
+            ChannelSet::All,
+        )
+        .unwrap();
+        assert_eq!(summary.damage, None);
+        let bytes = std::fs::read(&out).unwrap();
+        let mut topics = BTreeSet::new();
+        let mut raw = 0u64;
+        let mut first_log = u64::MAX;
+        let mut offsets = Vec::new();
+        for m in mcap::MessageStream::new(&bytes).unwrap() {
+            let m = m.unwrap();
+            let schema = m
+                .channel
+                .schema
+                .as_ref()
+                .expect("every channel has a schema");
+            if m.channel.message_encoding == "json" {
+                assert_eq!(schema.encoding, "jsonschema", "{}", m.channel.topic);
+                let v: serde_json::Value = serde_json::from_slice(&m.data).unwrap();
+                assert!(v.is_object());
+            } else {
+                assert!(schema.name.starts_with("vigil.raw."), "{}", schema.name);
+                raw += 1;
+                offsets.push(m.log_time as i64 - m.publish_time as i64);
+            }
+            topics.insert(m.channel.topic.clone());
+            first_log = first_log.min(m.log_time);
+        }
+        let in_raw: u64 = summary
+            .devices
+            .values()
+            .map(|d| match d {
+                vigil_sim::replay::PortSummary::Decoded(_) => 0,
+                vigil_sim::replay::PortSummary::NoDecoder { chunks, .. } => *chunks,
+            })
+            .sum::<u64>();
+        assert_eq!(in_raw, 0, "every port decoded");
+        let mut n_in = 0u64;
+        vigil_sim::record::read_recording::<()>(&std::fs::read(&src).unwrap(), |m| {
+            n_in += u64::from(matches!(m, vigil_sim::record::Recorded::Raw { .. }));
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(raw, n_in);
+        for t in [
+            "/vigil/attitude_check",
+            "/vigil/ownship",
+            "/vigil/ownship/fix",
+            "/vigil/traffic",
+            "/vigil/traffic/geojson",
+            "/vigil/integrity",
+            "/vigil/alerts",
+            "/vigil/alerts/log",
+            "/vn200/decoded",
+        ] {
+            assert!(topics.contains(t), "{t} missing: {topics:?}");
+        }
+        // GPS -> UTC by hand: the GPS epoch is 315 964 800 s after the Unix epoch; 18 leap s.
+        let start_utc_ns = start_gps_ns + (315_964_800 - 18) * 1_000_000_000;
+        let d = first_log as i64 - start_utc_ns;
+        assert!(
+            d.abs() < 1_000_000_000,
+            "first log time {d} ns from the start"
+        );
+        let (lo, hi) = (offsets.iter().min().unwrap(), offsets.iter().max().unwrap());
+        assert!(hi - lo < 5_000_000, "offset varies by {} ns", hi - lo);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
