@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Args;
@@ -130,7 +130,7 @@ fn from_summary(mut f: File) -> Option<Info> {
 }
 
 /// A file without a summary: streamed, counting messages per topic.
-fn by_streaming(input: &PathBuf) -> Result<Info> {
+fn by_streaming(input: &Path) -> Result<Info> {
     let f = File::open(input).with_context(|| format!("cannot read {}", input.display()))?;
     let mut info = Info::default();
     let mut topics: BTreeMap<String, u64> = BTreeMap::new();
@@ -159,7 +159,7 @@ fn by_streaming(input: &PathBuf) -> Result<Info> {
     Ok(info)
 }
 
-fn render(path: &PathBuf, bytes: u64, info: &Info) -> String {
+fn render(path: &Path, bytes: u64, info: &Info) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "file:     {} ({bytes} bytes)", path.display());
     if !info.from_summary {

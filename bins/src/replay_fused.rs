@@ -83,6 +83,7 @@ pub fn replay_service<R: Read>(
             t_host_ns,
             bytes,
             read_interval_ns,
+            baud,
         } = m
         else {
             return Ok(());
@@ -94,7 +95,8 @@ pub fn replay_service<R: Read>(
                     service.add_port(&Port {
                         device: device.to_string(),
                         path: Default::default(),
-                        baud: protocol.default_baud(),
+                        // Issue 18: the recorded baud, else the protocol's default.
+                        baud: if baud > 0 { baud } else { protocol.default_baud() },
                         protocol,
                         setup: None,
                         read_interval_ns,
