@@ -184,8 +184,8 @@ fn type_names_are_explicit_and_versioned() {
         names,
         [
             "vigil.Attitude.v2",
-            "vigil.Ownship.v1",
-            "vigil.Traffic.v1",
+            "vigil.Ownship.v2",
+            "vigil.Traffic.v2",
             "vigil.Integrity.v2",
             "vigil.Alert.v1"
         ]

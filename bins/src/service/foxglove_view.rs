@@ -144,11 +144,11 @@ impl Channels {
             ownship: json_channel(
                 ctx,
                 TOPIC_OWNSHIP,
-                "vigil.Ownship.v1",
+                "vigil.Ownship.v2",
                 &OwnshipPayload::default(),
             )?,
             ownship_fix: ctx.channel_builder(TOPIC_OWNSHIP_FIX).build(),
-            traffic: json_channel(ctx, TOPIC_TRAFFIC, "vigil.Traffic.v1", &traffic_sample)?,
+            traffic: json_channel(ctx, TOPIC_TRAFFIC, "vigil.Traffic.v2", &traffic_sample)?,
             traffic_geojson: ctx.channel_builder(TOPIC_TRAFFIC_GEOJSON).build(),
             alerts: json_channel(
                 ctx,

@@ -335,8 +335,8 @@ fn foxglove_server_advertises_the_channels_and_delivers_ownship() {
         ],
     );
     for (topic, name, field) in [
-        (TOPIC_OWNSHIP, "vigil.Ownship.v1", "lat_deg"),
-        (TOPIC_TRAFFIC, "vigil.Traffic.v1", "targets"),
+        (TOPIC_OWNSHIP, "vigil.Ownship.v2", "lat_deg"),
+        (TOPIC_TRAFFIC, "vigil.Traffic.v2", "targets"),
         (TOPIC_ALERTS, "vigil.Alert.v1", "reason"),
         (TOPIC_ATTITUDE, "vigil.Attitude.v2", "roll_rad"),
     ] {

@@ -92,7 +92,7 @@ impl ActiveAlert {
 /// One device's link and decoder counters (counters since start; a consumer takes differences).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.DeviceIntegrity.v1")]
+#[type_name("vigil.DeviceIntegrity.v2")]
 pub struct DeviceIntegrity {
     /// Device name as configured (e.g. the port role), NUL-padded UTF-8.
     #[serde(serialize_with = "ser_text")]

@@ -18,7 +18,7 @@ pub const SOURCE_EXTERNAL: u8 = 3;
 /// The ownship at one GPS time (`header.gps_time_ns`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.Ownship.v1")]
+#[type_name("vigil.Ownship.v2")]
 pub struct OwnshipPayload {
     /// Common header; `gps_time_ns` is the time of the state.
     pub header: Header,

@@ -94,7 +94,7 @@ pub const FLAG_TIME_FROM_RECEIPT: u64 = 1 << 8;
 /// One target and its geometry relative to the ownship.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.Target.v1")]
+#[type_name("vigil.Target.v2")]
 pub struct Target {
     /// 24-bit address (upper byte 0).
     pub address: u32,
@@ -181,7 +181,7 @@ impl Default for Target {
 /// The traffic picture: `targets[..count]` are valid, sorted by priority.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("vigil.Traffic.v1")]
+#[type_name("vigil.Traffic.v2")]
 pub struct TrafficPayload {
     /// Common header; `gps_time_ns` is the time the geometry was computed for.
     pub header: Header,
