@@ -96,7 +96,11 @@ pub fn replay_service<R: Read>(
                         device: device.to_string(),
                         path: Default::default(),
                         // Issue 18: the recorded baud, else the protocol's default.
-                        baud: if baud > 0 { baud } else { protocol.default_baud() },
+                        baud: if baud > 0 {
+                            baud
+                        } else {
+                            protocol.default_baud()
+                        },
                         protocol,
                         setup: None,
                         read_interval_ns,

@@ -42,7 +42,13 @@ fn fused_lines_have_the_named_fields_and_replays_are_identical() {
         .collect();
     let of = |k: &str| -> Vec<&Value> { lines.iter().filter(|l| l["kind"] == k).collect() };
     let (att, own, traffic) = (of("attitude_check"), of("ownship"), of("traffic"));
-    assert_eq!(att.len() + own.len() + traffic.len(), lines.len());
+    // Issue 20: the monitor's alert transitions and the active set after each are fused outputs too.
+    let (alerts, active) = (of("alert"), of("alerts_active"));
+    assert_eq!(alerts.len(), active.len());
+    assert_eq!(
+        att.len() + own.len() + traffic.len() + alerts.len() + active.len(),
+        lines.len()
+    );
     // BAHRS navigation at 50 Hz for 25 s (minus the start-up before the clocks lock).
     assert!(att.len() > 20 * 50, "{} attitude checks", att.len());
     for r in &att {

@@ -351,6 +351,15 @@ pub fn plausibility_names(flags: u8) -> Vec<&'static str> {
     .collect()
 }
 
+/// `x` formatted by `f` when it is finite, else "unknown" (the bus's NaN sentinel).
+fn known(x: f64, f: impl Fn(f64) -> String) -> String {
+    if x.is_finite() {
+        f(x)
+    } else {
+        "unknown".to_string()
+    }
+}
+
 /// Traffic rules: per-target alert level and suspected spoofing.
 pub(crate) fn traffic(targets: &[TargetSummary], params: &MonitorParams, out: &mut Active) {
     for t in targets {
@@ -361,12 +370,13 @@ pub(crate) fn traffic(targets: &[TargetSummary], params: &MonitorParams, out: &m
                 ALERT_CORRECTIVE => (SEVERITY_CAUTION, "corrective"),
                 _ => (SEVERITY_WARNING, "warning"),
             };
+            // The payload encodes an unknown quantity as NaN (issue 24): say "unknown" instead.
             let reason = format!(
-                "traffic {} {level}: range {:.0} m, vertical {:+.0} m, time to LoWC {:.1} s",
+                "traffic {} {level}: range {}, vertical {}, time to LoWC {}",
                 t.name(),
-                t.horizontal_distance_m,
-                t.vertical_separation_m,
-                t.time_to_lowc_s
+                known(t.horizontal_distance_m, |x| format!("{x:.0} m")),
+                known(t.vertical_separation_m, |x| format!("{x:+.0} m")),
+                known(t.time_to_lowc_s, |x| format!("{x:.1} s"))
             );
             let id = target_alert_id(Rule::TrafficAlert, t.address, t.address_type);
             push(out, params, Rule::TrafficAlert, id, severity, reason);

@@ -203,6 +203,22 @@ pub struct TrafficGenerator {
     pub seed: u64,
 }
 
+/// Lowest height a generated intruder flies at, m above the WGS-84 ellipsoid.
+const GENERATED_FLOOR_M: f64 = 150.0;
+
+/// The height of a generated intruder `offset_m` from the ownship's start height. An offset that
+/// would put it below [`GENERATED_FLOOR_M`] is mirrored upwards (a band of +-1500 m around an
+/// ownship at 600 m drew intruders 900 m below the ellipsoid: impossible values that vigil now
+/// rejects, issue 24). The random draw is the same, so the other intruders do not change.
+fn generated_height_m(origin_height_m: f64, offset_m: f64) -> f64 {
+    let h = origin_height_m + offset_m;
+    if h < GENERATED_FLOOR_M {
+        origin_height_m + offset_m.abs()
+    } else {
+        h
+    }
+}
+
 impl TrafficGenerator {
     /// The generated intruders. Links cycle ADS-B, ADS-B, UAT, FLARM; addresses start at 0xA00000.
     pub fn generate(&self, origin_height_m: f64) -> Vec<Intruder> {
@@ -225,7 +241,10 @@ impl TrafficGenerator {
                     },
                     north_m: r * bearing.cos(),
                     east_m: r * bearing.sin(),
-                    height_m: origin_height_m + rng.range(-self.height_band_m, self.height_band_m),
+                    height_m: generated_height_m(
+                        origin_height_m,
+                        rng.range(-self.height_band_m, self.height_band_m),
+                    ),
                     track_deg: rng.range(0.0, 360.0),
                     speed_mps: rng.range(20.0, 120.0),
                     segments: vec![
