@@ -258,7 +258,9 @@ fn truth_channel_can_be_left_out() {
         std::fs::metadata(&a).unwrap().len(),
         std::fs::metadata(&b).unwrap().len(),
     );
-    assert!(lb * 3 < la, "{lb} vs {la}");
+    // With zstd chunks (issue 20) the truth channel compresses better than the raw bytes, so the
+    // file without it is smaller, no longer a third of the size.
+    assert!(lb < la, "{lb} vs {la}");
     let ra = vigil(&["replay", a.to_str().unwrap()]);
     let rb = vigil(&["replay", b.to_str().unwrap()]);
     assert!(ra.stdout == rb.stdout);
