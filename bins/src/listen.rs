@@ -17,8 +17,8 @@ use clap::Args;
 use serde::Serialize;
 use serde_json::{Map, Value};
 use vigil_bus::{
-    AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
-    Topic, TrafficPayload,
+    AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, IntegrityPayload, OwnshipPayload,
+    Topic,
 };
 
 /// Arguments of `vigil listen`.
@@ -107,20 +107,78 @@ pub fn run(args: &ListenArgs) -> Result<()> {
     match args.topic {
         Topic::Attitude => listen::<AttitudePayload>(&mut bus, args, &mut out),
         Topic::Ownship => listen::<OwnshipPayload>(&mut bus, args, &mut out),
-        Topic::Traffic => listen::<TrafficPayload>(&mut bus, args, &mut out),
+        Topic::Traffic => listen_traffic(&mut bus, args, &mut out),
         Topic::Integrity => listen::<IntegrityPayload>(&mut bus, args, &mut out),
         Topic::Alerts => listen::<AlertPayload>(&mut bus, args, &mut out),
     }
 }
 
-fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) -> Result<()> {
+/// One received sample as `listen` needs it, whatever the topic's wire form.
+struct Got {
+    json: Value,
+    missed_before: u64,
+    latency_ns: u64,
+}
+
+fn listen<T: FixedPayload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) -> Result<()> {
     let mut sub = bus
         .subscriber::<T>()
         .with_context(|| format!("subscribing to {}", args.topic))?;
+    let mut next = |wait: Option<Duration>| -> Result<Option<Got>> {
+        if let Some(w) = wait {
+            sub.wait(w)?;
+            return Ok(None);
+        }
+        Ok(match sub.try_receive()? {
+            Some(r) => Some(Got {
+                json: serde_json::to_value(r.payload())?,
+                missed_before: r.missed_before,
+                latency_ns: r.latency_ns(),
+            }),
+            None => None,
+        })
+    };
+    let latencies = listen_loop(bus, args, T::TOPIC, &mut next, out)?;
+    finish(args, latencies, sub.missed(), out)
+}
+
+/// [`listen`] for the traffic picture (a header and a slice on the wire).
+fn listen_traffic(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) -> Result<()> {
+    let mut sub = bus
+        .traffic_subscriber()
+        .context("subscribing to traffic")?;
+    let mut next = |wait: Option<Duration>| -> Result<Option<Got>> {
+        if let Some(w) = wait {
+            sub.wait(w)?;
+            return Ok(None);
+        }
+        Ok(match sub.try_receive()? {
+            Some(r) => Some(Got {
+                json: serde_json::to_value(&r)?,
+                missed_before: r.missed_before,
+                latency_ns: r.latency_ns(),
+            }),
+            None => None,
+        })
+    };
+    let latencies = listen_loop(bus, args, Topic::Traffic, &mut next, out)?;
+    finish(args, latencies, sub.missed(), out)
+}
+
+/// Receives until the count, the deadline or a signal: `next(None)` takes a sample,
+/// `next(Some(timeout))` waits for the publisher's wake-up. Returns the receive latencies (ns)
+/// with `--latency`.
+fn listen_loop(
+    bus: &mut Bus,
+    args: &ListenArgs,
+    topic: Topic,
+    next: &mut dyn FnMut(Option<Duration>) -> Result<Option<Got>>,
+    out: &mut impl Write,
+) -> Result<Vec<u64>> {
     // On stderr, so a script (or test) can wait for it before starting the publisher.
     eprintln!(
         "vigil listen: subscribed to {}",
-        T::TOPIC.service_name(bus.prefix())
+        topic.service_name(bus.prefix())
     );
     let deadline = args
         .duration
@@ -128,15 +186,15 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
     let mut latencies = Vec::new();
     let mut seen = 0u64;
     'outer: loop {
-        while let Some(r) = sub.try_receive()? {
+        while let Some(r) = next(None)? {
             seen += 1;
             if args.latency {
-                latencies.push(r.latency_ns());
+                latencies.push(r.latency_ns);
             } else {
                 let mut line = Map::new();
-                line.insert("topic".into(), Value::from(T::TOPIC.as_str()));
+                line.insert("topic".into(), Value::from(topic.as_str()));
                 line.insert("missed_before".into(), Value::from(r.missed_before));
-                if let Value::Object(fields) = serde_json::to_value(r.payload())? {
+                if let Value::Object(fields) = r.json {
                     line.extend(fields);
                 }
                 serde_json::to_writer(&mut *out, &line)?;
@@ -153,10 +211,15 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
         }
         bus.cleanup_if_due();
         // Wake on the publisher's event; the timeout bounds the reaction to a signal or deadline.
-        sub.wait(Duration::from_millis(100))?;
+        next(Some(Duration::from_millis(100)))?;
     }
+    Ok(latencies)
+}
+
+/// With `--latency`, prints the statistics of the samples received; flushes.
+fn finish(args: &ListenArgs, latencies: Vec<u64>, missed: u64, out: &mut impl Write) -> Result<()> {
     if args.latency {
-        match LatencyStats::from_ns(latencies, sub.missed()) {
+        match LatencyStats::from_ns(latencies, missed) {
             Some(stats) => serde_json::to_writer(&mut *out, &stats)?,
             None => out.write_all(b"{\"samples\":0}")?,
         }

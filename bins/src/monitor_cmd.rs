@@ -36,8 +36,8 @@ use vigil_bus::payload::alerts::{
     STATE_RAISED,
 };
 use vigil_bus::{
-    AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
-    Publisher, Subscriber, Topic, TrafficPayload,
+    AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, IntegrityPayload,
+    OwnshipPayload, Payload, Publisher, Subscriber, Topic, TrafficSubscriber,
 };
 use vigil_monitor::{Monitor, MonitorParams};
 
@@ -138,7 +138,7 @@ impl Runner {
 
     /// Takes every waiting sample of `sub`, feeding each to the monitor and evaluating after it.
     /// Returns the number taken.
-    fn drain<T: Payload>(
+    fn drain<T: FixedPayload>(
         &mut self,
         sub: &mut Subscriber<T>,
         feed: impl Fn(&mut Monitor, &T),
@@ -149,6 +149,22 @@ impl Runner {
                 .observe(r.payload().header().gps_time_ns, r.receive_mono_ns);
             feed(&mut self.monitor, r.payload());
             drop(r);
+            self.poll();
+            n += 1;
+        }
+        Ok(n)
+    }
+
+    /// [`Runner::drain`] for the traffic picture (a header and a slice, copied out for the
+    /// monitor).
+    fn drain_traffic(&mut self, sub: &mut TrafficSubscriber) -> Result<usize> {
+        let mut n = 0;
+        while let Some(r) = sub.try_receive()? {
+            self.clock
+                .observe(r.header().gps_time_ns, r.receive_mono_ns);
+            let picture = r.to_payload();
+            drop(r);
+            self.monitor.traffic(&picture);
             self.poll();
             n += 1;
         }
@@ -230,7 +246,7 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
         .subscriber::<OwnshipPayload>()
         .context("subscribing to ownship")?;
     let mut traffic = bus
-        .subscriber::<TrafficPayload>()
+        .traffic_subscriber()
         .context("subscribing to traffic")?;
     let mut integrity = bus
         .subscriber::<IntegrityPayload>()
@@ -259,7 +275,7 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
         // Slow topics first, so the attitude (the fastest) is judged with the latest of them.
         let mut n = runner.drain(&mut integrity, Monitor::integrity)?;
         n += runner.drain(&mut ownship, Monitor::ownship)?;
-        n += runner.drain(&mut traffic, Monitor::traffic)?;
+        n += runner.drain_traffic(&mut traffic)?;
         n += runner.drain(&mut attitude, Monitor::attitude)?;
         if n == 0 {
             runner.poll();

@@ -6,7 +6,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use vigil_bus::payload::alerts::SEVERITY_CAUTION;
-use vigil_bus::{AlertPayload, AttitudePayload, Bus, BusConfig, Payload, Publisher};
+use vigil_bus::{AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, Publisher};
 
 fn bus(prefix: &str) -> Bus {
     Bus::new(&BusConfig {
@@ -19,7 +19,7 @@ fn bus(prefix: &str) -> Bus {
 
 /// Runs `vigil listen ARGS` while publishing `make(i)` every `period` until it exits; returns
 /// its stdout lines.
-fn listen_while_publishing<T: Payload>(
+fn listen_while_publishing<T: FixedPayload>(
     args: &[&str],
     publ: &mut Publisher<T>,
     period: Duration,

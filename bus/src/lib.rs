@@ -7,11 +7,12 @@
 //!
 //! - [`names`]: every service name, `[PREFIX/]vigil/{attitude,ownship,traffic,integrity,alerts}`,
 //!   each with an event service `.../event` for wake-up.
-//! - [`payload`]: every payload, `#[repr(C)]`, fixed size, with a schema version and a sequence
-//!   number.
+//! - [`payload`]: every payload, `#[repr(C)]`, fixed size (traffic: a fixed-size header and a
+//!   slice of fixed-size targets sized by the count), with a schema version and a sequence number.
 //! - [`policy`]: what a full subscriber buffer does, per topic (a slow or dead subscriber never
 //!   blocks the publisher).
-//! - [`Bus`], [`Publisher`], [`Subscriber`]: the wrappers that apply all of the above.
+//! - [`Bus`], [`Publisher`], [`Subscriber`]: the wrappers that apply all of the above;
+//!   [`TrafficPublisher`], [`TrafficSubscriber`] for the traffic picture's slices.
 #![deny(missing_docs)]
 
 pub mod clock;
@@ -19,14 +20,16 @@ pub mod names;
 pub mod payload;
 pub mod policy;
 mod port;
+mod traffic_port;
 
 pub use names::{SERVICE_ROOT, Topic, UnknownTopic, service_name};
 pub use payload::alerts::AlertPayload;
 pub use payload::attitude::{AttitudePayload, UnitAttitude};
 pub use payload::integrity::{DeviceIntegrity, IntegrityPayload};
 pub use payload::ownship::OwnshipPayload;
-pub use payload::traffic::{MAX_TARGETS, Target, TrafficPayload};
-pub use payload::{Header, Payload, SCHEMA_VERSION};
+pub use payload::traffic::{MAX_TARGETS, Target, TrafficHeader, TrafficPayload};
+pub use payload::{FixedPayload, Header, Payload, SCHEMA_VERSION};
 pub use port::{
     Bus, BusConfig, BusError, CleanupReport, LOSSLESS_BUFFER, Publisher, Received, Subscriber,
 };
+pub use traffic_port::{ReceivedTraffic, TrafficPublisher, TrafficSubscriber};

@@ -48,7 +48,8 @@ impl Topic {
     /// The topic's delivery policy.
     pub const fn policy(self) -> Policy {
         match self {
-            // 140 KiB per sample: keep the number of samples in shared memory small.
+            // A sample slot holds MAX_TARGETS targets (221 KiB; a picture copies only its count):
+            // keep the number of samples in shared memory small.
             Topic::Traffic => Policy {
                 overflow: Overflow::LatestWins,
                 buffer_size: 2,

@@ -18,7 +18,7 @@ use iceoryx2::service::port_factory::event::PortFactory as EventFactory;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory as PubSubFactory;
 
 use crate::clock::monotonic_ns;
-use crate::payload::{Payload, SCHEMA_VERSION};
+use crate::payload::{FixedPayload, SCHEMA_VERSION};
 use crate::policy::Overflow;
 
 /// A failure of the bus, with the service it concerns.
@@ -44,7 +44,7 @@ pub enum BusError {
     },
 }
 
-fn iox<E: core::fmt::Debug>(op: &'static str, service: &str) -> impl FnOnce(E) -> BusError {
+pub(crate) fn iox<E: core::fmt::Debug>(op: &'static str, service: &str) -> impl FnOnce(E) -> BusError {
     move |e| BusError::Iceoryx {
         op,
         service: service.to_string(),
@@ -109,11 +109,11 @@ type Services<T> = (
 /// ports registered until someone cleans them up; a new `Bus` cleans once at creation and
 /// [`Bus::cleanup_if_due`] should be called from the owner's periodic task.
 pub struct Bus {
-    node: Node<ipc::Service>,
+    pub(crate) node: Node<ipc::Service>,
     prefix: String,
     cleanup_period: Duration,
     last_cleanup: Instant,
-    lossless_wait_ns: Option<u64>,
+    pub(crate) lossless_wait_ns: Option<u64>,
 }
 
 impl Bus {
@@ -185,7 +185,7 @@ impl Bus {
         self.node.wait(Duration::ZERO).is_err()
     }
 
-    fn services<T: Payload>(&self) -> Result<Services<T>, BusError> {
+    fn services<T: FixedPayload>(&self) -> Result<Services<T>, BusError> {
         let topic = T::TOPIC;
         let policy = topic.policy();
         let name = topic.service_name(&self.prefix);
@@ -208,21 +208,29 @@ impl Bus {
             .max_nodes(policy.max_nodes)
             .open_or_create()
             .map_err(iox("open publish-subscribe service", &name))?;
+        let event = self.event_service(topic)?;
+        Ok((pubsub, event))
+    }
+
+    /// The wake-up event service of `topic`.
+    pub(crate) fn event_service(
+        &self,
+        topic: crate::names::Topic,
+    ) -> Result<EventFactory<ipc::Service>, BusError> {
+        let policy = topic.policy();
         let ename = topic.event_name(&self.prefix);
         let esname = ServiceName::new(&ename).map_err(|e| BusError::InvalidName {
             name: ename.clone(),
             reason: format!("{e:?}"),
         })?;
-        let event = self
-            .node
+        self.node
             .service_builder(&esname)
             .event()
             .max_notifiers(policy.max_publishers)
             .max_listeners(policy.max_subscribers)
             .max_nodes(policy.max_nodes)
             .open_or_create()
-            .map_err(iox("open event service", &ename))?;
-        Ok((pubsub, event))
+            .map_err(iox("open event service", &ename))
     }
 
     /// A subscriber's buffer: the topic's, or in the lossless mode at least
@@ -230,7 +238,7 @@ impl Bus {
     /// lossless mode) but drops a sample silently when the connection's list of chunks in use is
     /// full, which a subscriber that lags while holding samples can cause (seen under heavy load);
     /// a deep buffer keeps a lagging subscriber in the retried case.
-    fn buffer_size(&self, policy: &crate::policy::Policy) -> usize {
+    pub(crate) fn buffer_size(&self, policy: &crate::policy::Policy) -> usize {
         if self.lossless_wait_ns.is_some() {
             policy.buffer_size.max(LOSSLESS_BUFFER)
         } else {
@@ -239,30 +247,17 @@ impl Bus {
     }
 
     /// Creates a publisher of `T` on its topic's service.
-    pub fn publisher<T: Payload>(&self) -> Result<Publisher<T>, BusError> {
+    pub fn publisher<T: FixedPayload>(&self) -> Result<Publisher<T>, BusError> {
         let name = T::TOPIC.service_name(&self.prefix);
         let (pubsub, event) = self.services::<T>()?;
-        let failed = Arc::new(AtomicU64::new(0));
-        let counter = Arc::clone(&failed);
-        let send_started = Arc::new(AtomicU64::new(0));
-        let started = Arc::clone(&send_started);
-        let wait_ns = self.lossless_wait_ns;
+        let send = SendState::new(self.lossless_wait_ns);
         // In flight, never wait for a subscriber: a full buffer (alerts only; state topics
         // overflow) makes the delivery to that subscriber fail at once, counted here. In the
         // lossless regression mode, wait for the subscriber (bounded), then the same.
         let inner = pubsub
             .publisher_builder()
             .backpressure_strategy(BackpressureStrategy::DiscardData)
-            .set_backpressure_handler(move |_info: &iceoryx2::port::BackpressureInfo| {
-                if let Some(wait) = wait_ns
-                    && monotonic_ns().saturating_sub(started.load(Ordering::Relaxed)) < wait
-                {
-                    std::thread::sleep(Duration::from_micros(50));
-                    return BackpressureAction::Retry;
-                }
-                counter.fetch_add(1, Ordering::Relaxed);
-                BackpressureAction::DiscardData
-            })
+            .set_backpressure_handler(send.handler())
             .create()
             .map_err(iox("create publisher", &name))?;
         let notifier = event
@@ -275,15 +270,13 @@ impl Bus {
             _pubsub: pubsub,
             _event: event,
             next_seq: 1,
-            failed,
-            send_started,
-            lossless_wait_ns: self.lossless_wait_ns,
+            send,
             notify_failures: 0,
         })
     }
 
     /// Creates a subscriber of `T` on its topic's service; it receives the topic's history first.
-    pub fn subscriber<T: Payload>(&self) -> Result<Subscriber<T>, BusError> {
+    pub fn subscriber<T: FixedPayload>(&self) -> Result<Subscriber<T>, BusError> {
         let name = T::TOPIC.service_name(&self.prefix);
         let policy = T::TOPIC.policy();
         let (pubsub, event) = self.services::<T>()?;
@@ -301,29 +294,108 @@ impl Bus {
             listener,
             _pubsub: pubsub,
             _event: event,
-            last_seq: Vec::new(),
-            missed: 0,
-            received: 0,
+            seq: SeqTracker::default(),
         })
     }
 }
 
 /// Publishes one payload type; stamps the header, sends, and wakes the subscribers.
-pub struct Publisher<T: Payload> {
+pub struct Publisher<T: FixedPayload> {
     inner: IoxPublisher<ipc::Service, T, ()>,
     notifier: Notifier<ipc::Service>,
     _pubsub: PubSubFactory<ipc::Service, T, ()>,
     _event: EventFactory<ipc::Service>,
     next_seq: u64,
-    failed: Arc<AtomicU64>,
-    /// Host monotonic time the current send started, ns (for the lossless wait).
-    send_started: Arc<AtomicU64>,
-    /// The lossless mode's bounded wait, ns (see [`BusConfig::lossless_wait_s`]).
-    lossless_wait_ns: Option<u64>,
+    send: SendState,
     notify_failures: u64,
 }
 
-impl<T: Payload> Publisher<T> {
+/// What a publisher's backpressure handler shares with it: failed deliveries, the start of the
+/// current send and the lossless mode's bounded wait.
+#[derive(Debug, Clone)]
+pub(crate) struct SendState {
+    failed: Arc<AtomicU64>,
+    /// Host monotonic time the current send started, ns (for the lossless wait).
+    started: Arc<AtomicU64>,
+    /// The lossless mode's bounded wait, ns (see [`BusConfig::lossless_wait_s`]).
+    pub(crate) lossless_wait_ns: Option<u64>,
+}
+
+impl SendState {
+    pub(crate) fn new(lossless_wait_ns: Option<u64>) -> Self {
+        Self {
+            failed: Arc::new(AtomicU64::new(0)),
+            started: Arc::new(AtomicU64::new(0)),
+            lossless_wait_ns,
+        }
+    }
+
+    /// The backpressure handler: retry (sleeping 50 us) while the lossless wait lasts, else
+    /// discard and count.
+    pub(crate) fn handler(
+        &self,
+    ) -> impl Fn(&iceoryx2::port::BackpressureInfo) -> BackpressureAction + Send + 'static {
+        let (counter, started, wait_ns) = (
+            Arc::clone(&self.failed),
+            Arc::clone(&self.started),
+            self.lossless_wait_ns,
+        );
+        move |_info| {
+            if let Some(wait) = wait_ns
+                && monotonic_ns().saturating_sub(started.load(Ordering::Relaxed)) < wait
+            {
+                std::thread::sleep(Duration::from_micros(50));
+                return BackpressureAction::Retry;
+            }
+            counter.fetch_add(1, Ordering::Relaxed);
+            BackpressureAction::DiscardData
+        }
+    }
+
+    /// Marks the start of a send (the lossless wait counts from here).
+    pub(crate) fn started(&self, mono_ns: u64) {
+        self.started.store(mono_ns, Ordering::Relaxed);
+    }
+
+    /// Failed deliveries since creation.
+    pub(crate) fn failed(&self) -> u64 {
+        self.failed.load(Ordering::Relaxed)
+    }
+
+    /// Loans with the lossless mode's bounded retry: in that mode a slow subscriber can hold
+    /// every sample of the publisher's segment (its buffer plus what it has borrowed), and the
+    /// loan then fails until it releases one.
+    pub(crate) fn loan_retrying<S, E: core::fmt::Debug>(
+        &self,
+        service: &str,
+        mut loan: impl FnMut() -> Result<S, E>,
+    ) -> Result<S, BusError> {
+        let deadline = self
+            .lossless_wait_ns
+            .map(|w| monotonic_ns().saturating_add(w));
+        loop {
+            match loan() {
+                Ok(s) => return Ok(s),
+                Err(_) if deadline.is_some_and(|d| monotonic_ns() < d) => {
+                    std::thread::sleep(Duration::from_micros(50));
+                }
+                Err(e) => return Err(iox("loan sample", service)(e)),
+            }
+        }
+    }
+}
+
+/// Stamps a header about to be sent: schema version, the next sequence number, the send time.
+pub(crate) fn stamp(h: &mut crate::payload::Header, next_seq: &mut u64, send: &SendState) {
+    h.schema_version = SCHEMA_VERSION;
+    h.reserved = 0;
+    h.seq = *next_seq;
+    h.send_mono_ns = monotonic_ns();
+    *next_seq += 1;
+    send.started(h.send_mono_ns);
+}
+
+impl<T: FixedPayload> Publisher<T> {
     /// Sends a copy of `value` (its header's `gps_time_ns` is kept; the rest is stamped). Returns
     /// the number of subscribers it was delivered to.
     pub fn publish(&mut self, value: &T) -> Result<usize, BusError> {
@@ -331,34 +403,14 @@ impl<T: Payload> Publisher<T> {
     }
 
     /// Loans a sample in shared memory, lets `fill` write it in place (it starts as
-    /// `T::default()`), stamps the header and sends it: the way to publish the large traffic
-    /// payload without building it elsewhere first. Returns the number of subscribers reached.
+    /// `T::default()`), stamps the header and sends it: the way to publish a large payload
+    /// without building it elsewhere first. Returns the number of subscribers reached.
     pub fn publish_with(&mut self, fill: impl FnOnce(&mut T)) -> Result<usize, BusError> {
         let service = T::TOPIC.as_str();
-        // In the lossless mode a slow subscriber can still hold every sample of the publisher's
-        // segment (its buffer plus what it has borrowed): the loan then fails until it releases
-        // one, so the loan is retried within the same bounded wait as a full buffer.
-        let loan_deadline = self
-            .lossless_wait_ns
-            .map(|w| monotonic_ns().saturating_add(w));
-        let mut sample = loop {
-            match self.inner.loan() {
-                Ok(s) => break s,
-                Err(_) if loan_deadline.is_some_and(|d| monotonic_ns() < d) => {
-                    std::thread::sleep(Duration::from_micros(50));
-                }
-                Err(e) => return Err(iox("loan sample", service)(e)),
-            }
-        };
+        let mut sample = self.send.loan_retrying(service, || self.inner.loan())?;
         let payload = sample.payload_mut();
         fill(payload);
-        let h = payload.header_mut();
-        h.schema_version = SCHEMA_VERSION;
-        h.reserved = 0;
-        h.seq = self.next_seq;
-        h.send_mono_ns = monotonic_ns();
-        self.next_seq += 1;
-        self.send_started.store(h.send_mono_ns, Ordering::Relaxed);
+        stamp(payload.header_mut(), &mut self.next_seq, &self.send);
         let delivered = sample.send().map_err(iox("send", service))?;
         // A failed wake-up (e.g. a listener that died) must not fail the publication: the sample
         // is in the subscribers' buffers and they find it at their next wait timeout.
@@ -375,7 +427,7 @@ impl<T: Payload> Publisher<T> {
 
     /// Deliveries that failed because a subscriber's buffer was full (alerts), since creation.
     pub fn failed_deliveries(&self) -> u64 {
-        self.failed.load(Ordering::Relaxed)
+        self.send.failed()
     }
 
     /// Wake-up notifications that failed, since creation.
@@ -389,7 +441,7 @@ impl<T: Payload> Publisher<T> {
 /// It borrows a slot of the publisher's shared memory until dropped: a subscriber may hold at most
 /// the topic's [`crate::policy::Policy::max_borrowed`] at once (receiving more fails), so copy out
 /// what must be kept and drop it.
-pub struct Received<T: Payload> {
+pub struct Received<T: FixedPayload> {
     sample: Sample<ipc::Service, T, ()>,
     /// Samples of the same publisher missed just before this one (gap in `header.seq`).
     pub missed_before: u64,
@@ -397,7 +449,7 @@ pub struct Received<T: Payload> {
     pub receive_mono_ns: u64,
 }
 
-impl<T: Payload> Received<T> {
+impl<T: FixedPayload> Received<T> {
     /// The payload.
     pub fn payload(&self) -> &T {
         self.sample.payload()
@@ -410,7 +462,7 @@ impl<T: Payload> Received<T> {
     }
 }
 
-impl<T: Payload> core::ops::Deref for Received<T> {
+impl<T: FixedPayload> core::ops::Deref for Received<T> {
     type Target = T;
     fn deref(&self) -> &T {
         self.payload()
@@ -418,30 +470,25 @@ impl<T: Payload> core::ops::Deref for Received<T> {
 }
 
 /// Receives one payload type, waits on the topic's event service, counts sequence gaps.
-pub struct Subscriber<T: Payload> {
+pub struct Subscriber<T: FixedPayload> {
     inner: IoxSubscriber<ipc::Service, T, ()>,
     listener: Listener<ipc::Service>,
     _pubsub: PubSubFactory<ipc::Service, T, ()>,
     _event: EventFactory<ipc::Service>,
-    /// Last sequence number seen per publisher (a topic may have several: alerts).
-    last_seq: Vec<(UniquePublisherId, u64)>,
-    missed: u64,
-    received: u64,
+    seq: SeqTracker,
 }
 
-impl<T: Payload> Subscriber<T> {
-    /// Takes the next sample without waiting.
-    pub fn try_receive(&mut self) -> Result<Option<Received<T>>, BusError> {
-        let Some(sample) = self
-            .inner
-            .receive()
-            .map_err(iox("receive", T::TOPIC.as_str()))?
-        else {
-            return Ok(None);
-        };
-        let receive_mono_ns = monotonic_ns();
-        let seq = sample.payload().header().seq;
-        let origin = sample.origin();
+/// Sequence numbers seen per publisher (a topic may have several: alerts), and the gaps.
+#[derive(Debug, Default)]
+pub(crate) struct SeqTracker {
+    last_seq: Vec<(UniquePublisherId, u64)>,
+    pub(crate) missed: u64,
+    pub(crate) received: u64,
+}
+
+impl SeqTracker {
+    /// Records sample `seq` of publisher `origin`; returns the samples missed just before it.
+    pub(crate) fn record(&mut self, origin: UniquePublisherId, seq: u64) -> u64 {
         let missed_before = match self.last_seq.iter_mut().find(|(o, _)| *o == origin) {
             Some((_, last)) => {
                 // A lower or equal number means the publisher restarted: no gap to report.
@@ -457,6 +504,23 @@ impl<T: Payload> Subscriber<T> {
         };
         self.missed += missed_before;
         self.received += 1;
+        missed_before
+    }
+}
+
+impl<T: FixedPayload> Subscriber<T> {
+    /// Takes the next sample without waiting.
+    pub fn try_receive(&mut self) -> Result<Option<Received<T>>, BusError> {
+        let Some(sample) = self
+            .inner
+            .receive()
+            .map_err(iox("receive", T::TOPIC.as_str()))?
+        else {
+            return Ok(None);
+        };
+        let receive_mono_ns = monotonic_ns();
+        let seq = sample.payload().header().seq;
+        let missed_before = self.seq.record(sample.origin(), seq);
         Ok(Some(Received {
             sample,
             missed_before,
@@ -491,11 +555,11 @@ impl<T: Payload> Subscriber<T> {
 
     /// Samples received since creation.
     pub fn received(&self) -> u64 {
-        self.received
+        self.seq.received
     }
 
     /// Samples missed (sequence gaps) since creation, over all publishers.
     pub fn missed(&self) -> u64 {
-        self.missed
+        self.seq.missed
     }
 }

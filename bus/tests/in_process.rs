@@ -11,7 +11,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use vigil_bus::payload::SCHEMA_VERSION;
 use vigil_bus::{
     AlertPayload, AttitudePayload, DeviceIntegrity, Header, IntegrityPayload, OwnshipPayload,
-    Target, Topic, TrafficPayload, UnitAttitude,
+    Target, Topic, TrafficHeader, UnitAttitude,
 };
 
 #[test]
@@ -120,17 +120,36 @@ fn a_late_subscriber_gets_the_current_state_from_the_history() {
 }
 
 #[test]
-fn traffic_is_written_in_place_and_read_whole() {
+fn traffic_is_sent_as_a_slice_of_its_count_and_read_whole() {
     let b = bus(&unique_prefix("traffic"), "traffic");
-    let mut publ = b.publisher::<TrafficPayload>().unwrap();
-    let mut sub = b.subscriber::<TrafficPayload>().unwrap();
+    let mut publ = b.traffic_publisher().unwrap();
+    let mut sub = b.traffic_subscriber().unwrap();
     let t = traffic();
-    publ.publish_with(|p| p.set_targets(t.targets())).unwrap();
+    publ.publish(&t).unwrap();
     let r = sub.try_receive().unwrap().unwrap();
-    assert_eq!(r.count as usize, vigil_bus::MAX_TARGETS);
+    assert_eq!(r.wire_header().count as usize, vigil_bus::MAX_TARGETS);
     assert_eq!(format!("{:?}", r.targets()), format!("{:?}", t.targets()));
-    // JSON: only the valid targets, NaN as null, callsign as text.
-    let v = serde_json::to_value(r.payload()).unwrap();
+    assert_eq!(r.header().seq, 1);
+    // A small picture is a small slice: 3 targets arrive as 3, with the seq incremented.
+    let mut small = t.clone();
+    small.set_targets(&t.targets()[..3]);
+    drop(r);
+    publ.publish(&small).unwrap();
+    let r2 = sub.try_receive().unwrap().unwrap();
+    assert_eq!((r2.targets().len(), r2.header().seq), (3, 2));
+    assert_eq!(format!("{:?}", r2.to_payload()), format!("{:?}", { let mut s = small.clone(); s.header = *r2.header(); s }));
+    drop(r2);
+    // More than the maximum: the first MAX_TARGETS are sent, the rest counted as dropped.
+    let mut big = t.clone();
+    big.set_targets(&vec![t.targets()[0]; vigil_bus::MAX_TARGETS + 7]);
+    publ.publish(&big).unwrap();
+    let r3 = sub.try_receive().unwrap().unwrap();
+    assert_eq!((r3.targets().len(), r3.dropped()), (vigil_bus::MAX_TARGETS, 7));
+    drop(r3);
+    publ.publish(&t).unwrap();
+    let r = sub.try_receive().unwrap().unwrap();
+    // JSON: the targets, NaN as null, callsign as text, address as six hex digits.
+    let v = serde_json::to_value(&r).unwrap();
     assert_eq!(
         v["targets"].as_array().unwrap().len(),
         vigil_bus::MAX_TARGETS
@@ -138,7 +157,9 @@ fn traffic_is_written_in_place_and_read_whole() {
     assert_eq!(v["targets"][1]["callsign"], "T00001");
     assert!(v["targets"][1]["tau_mod_s"].is_null());
     assert_eq!(v["targets"][2]["tau_mod_s"], 22.0);
-    assert_eq!(v["header"]["seq"], 1);
+    assert_eq!(v["header"]["seq"], 4);
+    assert_eq!(v["count"], vigil_bus::MAX_TARGETS);
+    assert_eq!(v["targets"][1]["address"], format!("{:06X}", t.targets()[1].address));
 }
 
 #[test]
@@ -152,15 +173,17 @@ fn payload_layouts_are_fixed() {
     assert_eq!(size_of::<AttitudePayload>(), 288);
     // Ownship: 32 + 12 f64 + 2 u8 + 6 pad = 136.
     assert_eq!(size_of::<OwnshipPayload>(), 136);
-    // Target: u32 + 4 u8 + 8 callsign + 14 f64 = 128; Traffic: 32 + 2 u32 + 1024*128 = 131112.
-    assert_eq!(size_of::<Target>(), 128);
-    assert_eq!(size_of::<TrafficPayload>(), 131_112);
+    // Target (schema 2): u32 + 4 u8 + 8 callsign + 6 u8 + 2 pad + u32 flags + u32 pad + 23 f64
+    // = 32 + 184 = 216; the traffic user header: 32 + 2 u32 = 40, and the slice of `count`.
+    assert_eq!(size_of::<Target>(), 216);
+    assert_eq!(size_of::<TrafficHeader>(), 40);
     // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 8 u64 = 96; Integrity: 32 + 8 + 2 f64 + 8*96 = 824.
     assert_eq!(size_of::<DeviceIntegrity>(), 96);
     assert_eq!(size_of::<IntegrityPayload>(), 824);
     // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
     assert_eq!(size_of::<AlertPayload>(), 208);
-    assert_eq!(align_of::<TrafficPayload>(), 8);
+    assert_eq!(align_of::<Target>(), 8);
+    assert_eq!(align_of::<TrafficHeader>(), 8);
 }
 
 #[test]
@@ -171,7 +194,8 @@ fn type_names_are_explicit_and_versioned() {
         [
             <AttitudePayload as ZeroCopySend>::type_name(),
             <OwnshipPayload as ZeroCopySend>::type_name(),
-            <TrafficPayload as ZeroCopySend>::type_name(),
+            <TrafficHeader as ZeroCopySend>::type_name(),
+            <Target as ZeroCopySend>::type_name(),
             <IntegrityPayload as ZeroCopySend>::type_name(),
             <AlertPayload as ZeroCopySend>::type_name(),
         ]
@@ -181,12 +205,13 @@ fn type_names_are_explicit_and_versioned() {
         [
             "vigil.Attitude.v1",
             "vigil.Ownship.v1",
-            "vigil.Traffic.v1",
+            "vigil.TrafficHeader.v2",
+            "vigil.Target.v2",
             "vigil.Integrity.v1",
             "vigil.Alert.v1"
         ]
     );
-    assert_eq!(SCHEMA_VERSION, 1);
+    assert_eq!(SCHEMA_VERSION, 2);
 }
 
 #[test]

@@ -681,7 +681,9 @@ fn random_payloads_never_panic_and_transitions_stay_consistent() {
             .collect();
         traffic.set_targets(&targets);
         if rng.one_in(7) {
-            traffic.count = rng.next() as u32;
+            // Schema 2 has no separate count to corrupt (the bus clamps a received one to its
+            // slice); a picture cut short stands in for it.
+            traffic.targets.truncate(rng.next() as usize % 8);
         }
         for (k, mon) in [&mut m, &mut latching].into_iter().enumerate() {
             if !rng.one_in(3) {

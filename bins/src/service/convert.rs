@@ -11,9 +11,12 @@
 //!   the comparison time itself for the BAHRS (the reference), 0 without values.
 //! - Isolation: one unit isolated (the record's `isolated`) -> ISOLATED; otherwise a declared
 //!   fault -> DETECTED_NOT_ISOLATED; no axis compared -> NOT_COMPARED; else NO_FAULT.
-//! - Traffic relative velocities (`rel_vel_north_mps`, `rel_vel_east_mps`, `rel_vel_up_mps`):
-//!   the intruder's velocity ([`Target::velocity_ned_mps`]) minus the ownship's (track, ground
-//!   speed, vertical rate); NaN when either is unknown.
+//! - Traffic relative velocities (`rel_vel_north_mps`, `rel_vel_east_mps`, `rel_vel_down_mps`,
+//!   NED of the ownship): the intruder's velocity ([`Target::velocity_ned_mps`]) minus the
+//!   ownship's (track, ground speed, vertical rate); NaN when either is unknown.
+//! - Traffic absolute state (schema 2): track and ground speed from the intruder's reported
+//!   velocity, NaN without one; vertical rate NaN unless reported (the fusion's velocity uses 0
+//!   for a missing one, which a consumer must not mistake for level flight).
 //! - A target without geometry (no comparable altitude): horizontal distance from the positions,
 //!   the other geometric quantities NaN.
 
@@ -36,6 +39,7 @@ use vigil_fusion::time::ClockStatus;
 use vigil_fusion::time::aligner::{ClockReport, Device};
 use vigil_fusion::traffic::track::AddressSpace;
 use vigil_fusion::traffic::{AltitudeKind, Target};
+use vigil_drivers::traffic::Link;
 
 use super::config::Protocol;
 
@@ -261,18 +265,26 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
     };
     let (sin, cos) = t.bearing_true_deg.to_radians().sin_cos();
     let g = t.geometry.as_ref();
-    // Relative velocity, north / east / up.
+    // Relative velocity over ground, north / east / down (NED of the ownship).
     let rel_vel = match (t.velocity_ned_mps, own) {
         (Some(v), Some(o)) => {
             let (s, c) = o.track_deg.to_radians().sin_cos();
             [
                 v[0] - o.ground_speed_mps * c,
                 v[1] - o.ground_speed_mps * s,
-                -v[2] - o.vertical_rate_mps,
+                v[2] + o.vertical_rate_mps,
             ]
         }
         _ => [nan; 3],
     };
+    let vertical_separation_m = g.map_or(nan, |g| g.vertical_separation_m);
+    let r = &t.reported;
+    let code = |c: Option<u8>| c.unwrap_or(tr::ACCURACY_UNKNOWN);
+    // Track and ground speed from the reported velocity; the vertical rate only where one was
+    // reported (the fusion's velocity uses 0 for a missing vertical rate).
+    let (track_deg, ground_speed_mps) = t.velocity_ned_mps.map_or((nan, nan), |v| {
+        (v[1].atan2(v[0]).to_degrees().rem_euclid(360.0), v[0].hypot(v[1]))
+    });
     tr::Target {
         address: t.key.address & 0x00FF_FFFF,
         address_type: address_type(t.key.space),
@@ -284,13 +296,35 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
         },
         plausibility_flags: flags,
         callsign,
+        emitter_category: r.emitter_category.unwrap_or(tr::EMITTER_UNKNOWN),
+        sources: source_bits(t),
+        nic: code(r.nic),
+        nac_p: code(r.nac_p),
+        nac_v: code(r.nac_v),
+        sil: code(r.sil),
+        reserved: [0; 2],
+        flags: 0,
+        reserved2: 0,
+        lat_deg: t.lat_deg,
+        lon_deg: t.lon_deg,
+        alt_pressure_m: r.alt_pressure_m.unwrap_or(nan),
+        alt_geometric_m: r.alt_geometric_m.unwrap_or(nan),
+        track_deg,
+        ground_speed_mps,
+        vertical_rate_mps: match t.velocity_ned_mps {
+            Some(_) => r.vertical_rate_mps.unwrap_or(nan),
+            None => nan,
+        },
+        position_sigma_m: t.position_sigma_m,
+        age_s: t.age_s,
         rel_north_m: distance * cos,
         rel_east_m: distance * sin,
+        rel_down_m: -vertical_separation_m,
         rel_vel_north_mps: rel_vel[0],
         rel_vel_east_mps: rel_vel[1],
-        rel_vel_up_mps: rel_vel[2],
+        rel_vel_down_mps: rel_vel[2],
         horizontal_distance_m: distance,
-        vertical_separation_m: g.map_or(nan, |g| g.vertical_separation_m),
+        vertical_separation_m,
         bearing_deg: t.bearing_true_deg.rem_euclid(360.0),
         range_rate_mps: g.map_or(nan, |g| g.range_rate_mps),
         tcpa_s: g.map_or(nan, |g| g.tcpa_s),
@@ -303,20 +337,36 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
                 g.loss_of_well_clear_interval_s.map_or(nan, |iv| iv.0)
             }
         }),
-        age_s: t.age_s,
     }
 }
 
-/// Fills `out` (reused: the payload is 140 KiB) with the picture, targets in the picture's
-/// priority order; targets beyond the capacity are dropped and counted.
+/// The `SOURCE_*` bits of a target: its sources' links, TIS-B where a source said so by the
+/// address type. Decision: a TIS-B target keeps the bit of its link too (a consumer that filters
+/// on TIS-B still sees whether it came on 1090 MHz or UAT).
+fn source_bits(t: &Target) -> u8 {
+    let mut bits = t
+        .sources
+        .iter()
+        .fold(0u8, |acc, (s, _)| acc | match s.link {
+            Link::Adsb1090 => tr::SOURCE_ADSB,
+            Link::Uat978 => tr::SOURCE_UAT,
+            Link::Flarm => tr::SOURCE_FLARM,
+        });
+    if t.reported.tisb || t.key.space == AddressSpace::TisbOther {
+        bits |= tr::SOURCE_TISB;
+    }
+    bits
+}
+
+/// Fills `out` (reused, so its vector keeps its allocation) with the picture, targets in the
+/// picture's priority order; targets beyond the capacity are dropped and counted.
 pub fn traffic(p: &TrafficPicture, own: Option<&Ownship>, out: &mut TrafficPayload) {
     out.header = Default::default();
     out.header.gps_time_ns = p.t_gps_ns;
     let n = p.targets.len().min(tr::MAX_TARGETS);
-    for (slot, t) in out.targets.iter_mut().zip(&p.targets) {
-        *slot = target(t, own);
-    }
-    out.count = n as u32;
+    out.targets.clear();
+    out.targets
+        .extend(p.targets[..n].iter().map(|t| target(t, own)));
     out.dropped = u32::try_from(p.targets.len() - n).unwrap_or(u32::MAX);
 }
 

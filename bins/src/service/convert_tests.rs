@@ -269,6 +269,7 @@ fn fusion_target(address: u32, level: u8, geometry: Option<Geometry>) -> Target 
         alert_level: level,
         flarm_alarm_level: None,
         flags: PlausibilityFlags::default(),
+        reported: Default::default(),
     }
 }
 
@@ -336,7 +337,44 @@ fn target_fields_and_units() {
     let p = target(&t, Some(&o));
     assert!((p.rel_vel_north_mps - (0.0 - 34.641_016)).abs() < 1e-6);
     assert!((p.rel_vel_east_mps - (-50.0 - 20.0)).abs() < 1e-9);
-    assert!((p.rel_vel_up_mps - (2.0 + 1.5)).abs() < 1e-9);
+    // NED: down is intruder (-2) minus ownship (+1.5 down, since it descends at 1.5 m/s).
+    assert!((p.rel_vel_down_mps - (-2.0 - 1.5)).abs() < 1e-9);
+    // Absolute state (schema 2): westbound at 50 m/s is track 270; the vertical rate only where
+    // a report carried one.
+    assert!((p.track_deg - 270.0).abs() < 1e-9 && (p.ground_speed_mps - 50.0).abs() < 1e-9);
+    assert!(p.vertical_rate_mps.is_nan());
+    assert!((p.lat_deg, p.lon_deg) == (47.41, 8.5));
+    assert_eq!(p.position_sigma_m, 10.0);
+    assert_eq!((p.emitter_category, p.nic, p.nac_p), (tr::EMITTER_UNKNOWN, 0xFF, 0xFF));
+    assert_eq!(p.sources, 0);
+    assert!(p.alt_pressure_m.is_nan() && p.alt_geometric_m.is_nan());
+    // Reported state and sources carried through; a TIS-B report sets its bit next to its link.
+    t.reported = vigil_fusion::traffic::Reported {
+        alt_pressure_m: Some(770.0),
+        alt_geometric_m: None,
+        vertical_rate_mps: Some(2.0),
+        emitter_category: Some(1),
+        nic: Some(8),
+        nac_p: Some(9),
+        nac_v: Some(2),
+        sil: Some(3),
+        tisb: true,
+    };
+    let src = |link| vigil_fusion::traffic::track::Source {
+        link,
+        protocol: vigil_drivers::traffic::Protocol::Json,
+    };
+    t.sources = vec![
+        (src(vigil_drivers::traffic::Link::Uat978), 0.5),
+        (src(vigil_drivers::traffic::Link::Flarm), 1.0),
+    ];
+    let p = target(&t, Some(&o));
+    assert_eq!((p.alt_pressure_m, p.vertical_rate_mps), (770.0, 2.0));
+    assert!(p.alt_geometric_m.is_nan());
+    assert_eq!((p.emitter_category, p.nic, p.nac_p, p.nac_v, p.sil), (1, 8, 9, 2, 3));
+    assert_eq!(p.sources, tr::SOURCE_UAT | tr::SOURCE_FLARM | tr::SOURCE_TISB);
+    // rel_down is minus the vertical separation (geometry(): intruder above by its separation).
+    assert_eq!((p.vertical_separation_m, p.rel_down_m), (150.0, -150.0));
     // Without the ownship it is unknown.
     assert!(target(&t, None).rel_vel_north_mps.is_nan());
 }
@@ -358,7 +396,7 @@ fn traffic_keeps_priority_order_bounds_and_counts_dropped() {
     traffic(&pic, None, &mut out);
     assert_eq!(out.header.gps_time_ns, T0);
     assert_eq!(out.header.seq, 0, "header reset (the publisher stamps it)");
-    assert_eq!(out.count as usize, tr::MAX_TARGETS);
+    assert_eq!(out.count() as usize, tr::MAX_TARGETS);
     assert_eq!(out.dropped, 3);
     // Order kept: slot i holds the picture's i-th target.
     assert_eq!(out.targets[0].address, 0);
@@ -372,7 +410,7 @@ fn traffic_keeps_priority_order_bounds_and_counts_dropped() {
         ..pic.clone()
     };
     traffic(&small, None, &mut out);
-    assert_eq!((out.count, out.dropped), (2, 0));
+    assert_eq!((out.count(), out.dropped), (2, 0));
 }
 
 #[test]

@@ -8,7 +8,7 @@
 //! |-------------------------|----------|----------------------------------|-----------------------|
 //! | `/vigil/ownship`        | JSON     | `vigil.Ownship.v1` (JSON schema) | as published (1 Hz)   |
 //! | `/vigil/ownship/fix`    | protobuf | `foxglove.LocationFix` (Map)     | valid ownship only    |
-//! | `/vigil/traffic`        | JSON     | `vigil.Traffic.v1`               | at most 1 Hz          |
+//! | `/vigil/traffic`        | JSON     | `vigil.Traffic.v2`               | at most 1 Hz          |
 //! | `/vigil/traffic/geojson`| protobuf | `foxglove.GeoJSON` (Map)         | with the traffic      |
 //! | `/vigil/alerts`         | JSON     | `vigil.Alert.v1`                 | every transition      |
 //! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v1`              | at most 10 Hz         |
@@ -148,7 +148,7 @@ impl Channels {
                 &OwnshipPayload::default(),
             )?,
             ownship_fix: ctx.channel_builder(TOPIC_OWNSHIP_FIX).build(),
-            traffic: json_channel(ctx, TOPIC_TRAFFIC, "vigil.Traffic.v1", &traffic_sample)?,
+            traffic: json_channel(ctx, TOPIC_TRAFFIC, "vigil.Traffic.v2", &traffic_sample)?,
             traffic_geojson: ctx.channel_builder(TOPIC_TRAFFIC_GEOJSON).build(),
             alerts: json_channel(
                 ctx,
@@ -351,7 +351,7 @@ pub fn traffic_geojson(t: &TrafficPayload, own: Option<&OwnshipPayload>) -> Opti
                 "properties": {
                     "name": name,
                     "address": address,
-                    "alert_level": x.alert_level,
+                    "alert_level": traffic::alert_level_name(x.alert_level),
                     "horizontal_distance_m": x.horizontal_distance_m,
                     "vertical_separation_m": x.vertical_separation_m,
                     "time_to_lowc_s": x.time_to_lowc_s,
@@ -501,7 +501,7 @@ impl Outputs for FoxgloveView {
                     && self.traffic_limit.admit(t) =>
             {
                 any.downcast_ref::<TrafficPayload>()
-                    .map(|p| Item::Traffic(Box::new(*p)))
+                    .map(|p| Item::Traffic(Box::new(p.clone())))
             }
             Topic::Integrity if ch.integrity.has_sinks() => any
                 .downcast_ref::<IntegrityPayload>()

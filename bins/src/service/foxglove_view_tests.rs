@@ -64,7 +64,7 @@ fn json_schema_follows_the_payload_form() {
     let s = json_schema(&serde_json::to_value(t).unwrap());
     let target = &s["properties"]["targets"]["items"]["properties"];
     assert_eq!(target["callsign"]["type"], "string");
-    assert_eq!(target["address"]["type"], "integer");
+    assert_eq!(target["address"]["type"], "string");
     assert_eq!(target["tau_mod_s"]["type"], json!(["number", "null"]));
     // An empty array has no item schema.
     assert_eq!(json_schema(&json!([])), json!({ "type": "array" }));
@@ -207,7 +207,7 @@ fn traffic_geojson_places_the_targets_around_the_ownship() {
     assert_eq!(f.len(), 2);
     assert_eq!(f[0]["properties"]["name"], "SWR123");
     assert_eq!(f[0]["properties"]["address"], "4B1A2C");
-    assert_eq!(f[0]["properties"]["alert_level"], 2);
+    assert_eq!(f[0]["properties"]["alert_level"], "corrective");
     // The second has no callsign: named by its address, 6 hex digits.
     assert_eq!(f[1]["properties"]["name"], "000ABC");
     // GeoJSON coordinates are [lon, lat].

@@ -379,7 +379,7 @@ impl Outputs for Collected {
         } else if let Some(p) = any.downcast_ref::<OwnshipPayload>() {
             self.ownship.push(*p);
         } else if let Some(p) = any.downcast_ref::<TrafficPayload>() {
-            self.traffic.push(Box::new(*p));
+            self.traffic.push(Box::new(p.clone()));
         } else if let Some(p) = any.downcast_ref::<IntegrityPayload>() {
             self.integrity.push(*p);
         } else if let Some(p) = any.downcast_ref::<AlertPayload>() {

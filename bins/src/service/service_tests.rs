@@ -76,7 +76,7 @@ fn nominal_chunks_give_every_payload_in_gps_order() {
     }
     // Nominal: five intruders; the last picture holds them all, none dropped.
     let t = out.traffic.last().unwrap();
-    assert_eq!((t.count, t.dropped), (5, 0));
+    assert_eq!((t.count(), t.dropped), (5, 0));
     let i = out.integrity.last().unwrap();
     assert_eq!(i.device_count, 4);
     for d in i.devices() {

@@ -1,7 +1,8 @@
 //! Every payload vigil publishes, in one place: the header they share and one module per topic.
 //!
 //! Rules every payload follows (they are the contract with consumers in other processes and other
-//! languages): `#[repr(C)]`, fixed size, no pointers, plain integers and floats only (enumerations
+//! languages): `#[repr(C)]`, fixed size (the traffic picture: a fixed-size user header and an
+//! iceoryx2 slice of fixed-size targets, see [`traffic`]), no pointers, plain integers and floats only (enumerations
 //! travel as `u8` codes with named constants, so an unknown code from a newer publisher is never
 //! undefined behaviour), SI units unless the field name says otherwise, an explicit iceoryx2
 //! `type_name` carrying the schema version (so the Rust module path is not part of the contract),
@@ -25,7 +26,11 @@ use crate::names::Topic;
 /// Schema version of every payload in this crate. Bumped on any layout change; it is also part of
 /// each `type_name`, so iceoryx2 refuses to connect a publisher and a subscriber built from
 /// different layouts instead of letting one misread the other's bytes.
-pub const SCHEMA_VERSION: u32 = 1;
+///
+/// Version 2 (issue 26): the traffic picture became a header plus a slice sized by its count, and
+/// each target gained its absolute state, accuracy, emitter category, sources and a NED frame (see
+/// [`traffic`] and the README's migration note). The other payloads' layouts are unchanged.
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// Common first field of every payload.
 #[repr(C)]
@@ -49,8 +54,9 @@ pub struct Header {
     pub send_mono_ns: u64,
 }
 
-/// A type published on one of vigil's services.
-pub trait Payload: ZeroCopySend + Debug + Copy + Default + Serialize + 'static {
+/// A type published on one of vigil's services: every fixed-size payload ([`FixedPayload`]) and
+/// the traffic picture (sent as a header and a slice, see [`traffic`]).
+pub trait Payload: Debug + Clone + Default + Serialize + 'static {
     /// The topic whose service carries this payload.
     const TOPIC: Topic;
     /// The common header.
@@ -59,7 +65,12 @@ pub trait Payload: ZeroCopySend + Debug + Copy + Default + Serialize + 'static {
     fn header_mut(&mut self) -> &mut Header;
 }
 
-macro_rules! impl_payload {
+/// A payload sent as one fixed-size `#[repr(C)]` sample ([`crate::Bus::publisher`]): every topic
+/// but traffic.
+pub trait FixedPayload: Payload + ZeroCopySend + Copy {}
+
+/// The [`Payload`] part alone (the traffic picture, which is not fixed-size).
+macro_rules! impl_header {
     ($ty:ty, $topic:expr) => {
         impl $crate::payload::Payload for $ty {
             const TOPIC: $crate::names::Topic = $topic;
@@ -70,6 +81,14 @@ macro_rules! impl_payload {
                 &mut self.header
             }
         }
+    };
+}
+pub(crate) use impl_header;
+
+macro_rules! impl_payload {
+    ($ty:ty, $topic:expr) => {
+        impl $crate::payload::FixedPayload for $ty {}
+        $crate::payload::impl_header!($ty, $topic);
     };
 }
 pub(crate) use impl_payload;

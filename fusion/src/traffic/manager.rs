@@ -118,6 +118,59 @@ pub struct Target {
     pub flarm_alarm_level: Option<u8>,
     /// Active plausibility flags.
     pub flags: PlausibilityFlags,
+    // --- issue 26 (traffic payload v2): the absolute state and accuracy consumers get ---
+    /// What the reports say of the target beyond the geometry's inputs.
+    pub reported: Reported,
+}
+
+/// A target's reported state and accuracy at the fusion time (issue 26): `None` where no report
+/// of the track carried the quantity.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Reported {
+    /// Pressure altitude (1013.25 hPa) extrapolated with the vertical rate, m.
+    pub alt_pressure_m: Option<f64>,
+    /// Geometric altitude extrapolated with the vertical rate, m.
+    pub alt_geometric_m: Option<f64>,
+    /// Reported vertical rate, m/s, up positive (the geometry uses 0 when none was reported).
+    pub vertical_rate_mps: Option<f64>,
+    /// Emitter category, DO-260B / GDL90 numbering (newest reported).
+    pub emitter_category: Option<u8>,
+    /// Navigation integrity category of the newest report carrying one.
+    pub nic: Option<u8>,
+    /// Navigation accuracy category for position of the newest report carrying one.
+    pub nac_p: Option<u8>,
+    /// Navigation accuracy category for velocity of the newest report carrying one.
+    pub nac_v: Option<u8>,
+    /// Source integrity level of the newest report carrying one.
+    pub sil: Option<u8>,
+    /// A source reported it as TIS-B (ground-radar rebroadcast), by its address type.
+    pub tisb: bool,
+}
+
+impl Reported {
+    /// Collects the accuracy fields from the track's newest report per source.
+    fn from_track(t: &Track, alt_pressure_m: Option<f64>, alt_geometric_m: Option<f64>) -> Self {
+        use vigil_drivers::traffic::AddressType;
+        let mut by_age: Vec<&Timed<(Source, TrafficReport)>> = t.sources.iter().collect();
+        by_age.sort_by_key(|s| std::cmp::Reverse(s.t_gps_ns));
+        let newest = |f: fn(&TrafficReport) -> Option<u8>| by_age.iter().find_map(|s| f(&s.value.1));
+        Self {
+            alt_pressure_m,
+            alt_geometric_m,
+            vertical_rate_mps: t.vertical_rate.map(|v| v.value),
+            emitter_category: t.emitter_category,
+            nic: newest(|r| r.nic),
+            nac_p: newest(|r| r.nac_p),
+            nac_v: newest(|r| r.nac_v),
+            sil: newest(|r| r.sil),
+            tisb: t.sources.iter().any(|s| {
+                matches!(
+                    s.value.1.address_type,
+                    AddressType::TisbIcao | AddressType::TisbOther
+                )
+            }),
+        }
+    }
 }
 
 /// Merges traffic reports into tracks and computes the picture against the ownship.
@@ -262,6 +315,7 @@ impl TrackManager {
             let alt_at = |a: Option<Timed<f64>>| {
                 a.map(|a| a.value + vs * t_ns.saturating_sub(a.t_gps_ns) as f64 * 1e-9)
             };
+            let (alt_pressure, alt_geometric) = (alt_at(t.alt_pressure), alt_at(t.alt_geometric));
             let (kind, alt, frame) = match (
                 alt_at(t.alt_pressure),
                 frame_baro,
@@ -323,6 +377,7 @@ impl TrackManager {
                 alert_level: filtered,
                 flarm_alarm_level: t.flarm_alarm_level,
                 flags: t.findings.active(t_ns, hold_ns),
+                reported: Reported::from_track(t, alt_pressure, alt_geometric),
             });
         }
         out.sort_by(|a, b| {

@@ -21,4 +21,4 @@ mod manager;
 pub mod plausibility;
 pub mod track;
 
-pub use manager::{AltitudeKind, Target, TrackManager, TrafficParams, TrafficStats};
+pub use manager::{AltitudeKind, Reported, Target, TrackManager, TrafficParams, TrafficStats};
