@@ -144,9 +144,7 @@ fn listen<T: FixedPayload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Writ
 
 /// [`listen`] for the traffic picture (a header and a slice on the wire).
 fn listen_traffic(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) -> Result<()> {
-    let mut sub = bus
-        .traffic_subscriber()
-        .context("subscribing to traffic")?;
+    let mut sub = bus.traffic_subscriber().context("subscribing to traffic")?;
     let mut next = |wait: Option<Duration>| -> Result<Option<Got>> {
         if let Some(w) = wait {
             sub.wait(w)?;

@@ -36,8 +36,8 @@ use vigil_bus::payload::alerts::{
     STATE_RAISED,
 };
 use vigil_bus::{
-    AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, IntegrityPayload,
-    OwnshipPayload, Payload, Publisher, Subscriber, Topic, TrafficSubscriber,
+    AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, IntegrityPayload, OwnshipPayload,
+    Payload, Publisher, Subscriber, Topic, TrafficSubscriber,
 };
 use vigil_monitor::{Monitor, MonitorParams};
 
@@ -245,9 +245,7 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
     let mut ownship = bus
         .subscriber::<OwnshipPayload>()
         .context("subscribing to ownship")?;
-    let mut traffic = bus
-        .traffic_subscriber()
-        .context("subscribing to traffic")?;
+    let mut traffic = bus.traffic_subscriber().context("subscribing to traffic")?;
     let mut integrity = bus
         .subscriber::<IntegrityPayload>()
         .context("subscribing to integrity")?;

@@ -44,7 +44,10 @@ pub enum BusError {
     },
 }
 
-pub(crate) fn iox<E: core::fmt::Debug>(op: &'static str, service: &str) -> impl FnOnce(E) -> BusError {
+pub(crate) fn iox<E: core::fmt::Debug>(
+    op: &'static str,
+    service: &str,
+) -> impl FnOnce(E) -> BusError {
     move |e| BusError::Iceoryx {
         op,
         service: service.to_string(),

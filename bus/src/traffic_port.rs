@@ -249,7 +249,10 @@ impl TrafficSubscriber {
     }
 
     /// The next sample, waiting up to `timeout` for one.
-    pub fn receive_timeout(&mut self, timeout: Duration) -> Result<Option<ReceivedTraffic>, BusError> {
+    pub fn receive_timeout(
+        &mut self,
+        timeout: Duration,
+    ) -> Result<Option<ReceivedTraffic>, BusError> {
         let deadline = Instant::now() + timeout;
         loop {
             if let Some(r) = self.try_receive()? {

@@ -137,14 +137,24 @@ fn traffic_is_sent_as_a_slice_of_its_count_and_read_whole() {
     publ.publish(&small).unwrap();
     let r2 = sub.try_receive().unwrap().unwrap();
     assert_eq!((r2.targets().len(), r2.header().seq), (3, 2));
-    assert_eq!(format!("{:?}", r2.to_payload()), format!("{:?}", { let mut s = small.clone(); s.header = *r2.header(); s }));
+    assert_eq!(
+        format!("{:?}", r2.to_payload()),
+        format!("{:?}", {
+            let mut s = small.clone();
+            s.header = *r2.header();
+            s
+        })
+    );
     drop(r2);
     // More than the maximum: the first MAX_TARGETS are sent, the rest counted as dropped.
     let mut big = t.clone();
     big.set_targets(&vec![t.targets()[0]; vigil_bus::MAX_TARGETS + 7]);
     publ.publish(&big).unwrap();
     let r3 = sub.try_receive().unwrap().unwrap();
-    assert_eq!((r3.targets().len(), r3.dropped()), (vigil_bus::MAX_TARGETS, 7));
+    assert_eq!(
+        (r3.targets().len(), r3.dropped()),
+        (vigil_bus::MAX_TARGETS, 7)
+    );
     drop(r3);
     publ.publish(&t).unwrap();
     let r = sub.try_receive().unwrap().unwrap();
@@ -159,7 +169,10 @@ fn traffic_is_sent_as_a_slice_of_its_count_and_read_whole() {
     assert_eq!(v["targets"][2]["tau_mod_s"], 22.0);
     assert_eq!(v["header"]["seq"], 4);
     assert_eq!(v["count"], vigil_bus::MAX_TARGETS);
-    assert_eq!(v["targets"][1]["address"], format!("{:06X}", t.targets()[1].address));
+    assert_eq!(
+        v["targets"][1]["address"],
+        format!("{:06X}", t.targets()[1].address)
+    );
 }
 
 #[test]

@@ -205,7 +205,11 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
                 );
             }
             if t.count() as usize > TRAFFIC_ROWS {
-                let _ = writeln!(s, "          ... {} more", t.count() as usize - TRAFFIC_ROWS);
+                let _ = writeln!(
+                    s,
+                    "          ... {} more",
+                    t.count() as usize - TRAFFIC_ROWS
+                );
             }
         }
         _ => s.push_str("          no traffic\n"),

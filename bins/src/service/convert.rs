@@ -30,6 +30,7 @@ use vigil_bus::payload::ownship::{self as own, OwnshipPayload};
 use vigil_bus::payload::traffic::{self as tr, TrafficPayload};
 use vigil_bus::payload::write_text;
 use vigil_drivers::DecodeStats;
+use vigil_drivers::traffic::Link;
 use vigil_fusion::attitude::gates::{Gate, GateReason};
 use vigil_fusion::attitude::isolation::{Isolation, PairVerdict, Unit};
 use vigil_fusion::attitude::record::{AttitudeRecord, AxisPair, PairRecord, UnitValues, VotedAxis};
@@ -39,7 +40,6 @@ use vigil_fusion::time::ClockStatus;
 use vigil_fusion::time::aligner::{ClockReport, Device};
 use vigil_fusion::traffic::track::AddressSpace;
 use vigil_fusion::traffic::{AltitudeKind, Target};
-use vigil_drivers::traffic::Link;
 
 use super::config::Protocol;
 
@@ -283,7 +283,10 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
     // Track and ground speed from the reported velocity; the vertical rate only where one was
     // reported (the fusion's velocity uses 0 for a missing vertical rate).
     let (track_deg, ground_speed_mps) = t.velocity_ned_mps.map_or((nan, nan), |v| {
-        (v[1].atan2(v[0]).to_degrees().rem_euclid(360.0), v[0].hypot(v[1]))
+        (
+            v[1].atan2(v[0]).to_degrees().rem_euclid(360.0),
+            v[0].hypot(v[1]),
+        )
     });
     tr::Target {
         address: t.key.address & 0x00FF_FFFF,
@@ -344,14 +347,13 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
 /// address type. Decision: a TIS-B target keeps the bit of its link too (a consumer that filters
 /// on TIS-B still sees whether it came on 1090 MHz or UAT).
 fn source_bits(t: &Target) -> u8 {
-    let mut bits = t
-        .sources
-        .iter()
-        .fold(0u8, |acc, (s, _)| acc | match s.link {
+    let mut bits = t.sources.iter().fold(0u8, |acc, (s, _)| {
+        acc | match s.link {
             Link::Adsb1090 => tr::SOURCE_ADSB,
             Link::Uat978 => tr::SOURCE_UAT,
             Link::Flarm => tr::SOURCE_FLARM,
-        });
+        }
+    });
     if t.reported.tisb || t.key.space == AddressSpace::TisbOther {
         bits |= tr::SOURCE_TISB;
     }

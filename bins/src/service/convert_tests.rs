@@ -345,7 +345,10 @@ fn target_fields_and_units() {
     assert!(p.vertical_rate_mps.is_nan());
     assert!((p.lat_deg, p.lon_deg) == (47.41, 8.5));
     assert_eq!(p.position_sigma_m, 10.0);
-    assert_eq!((p.emitter_category, p.nic, p.nac_p), (tr::EMITTER_UNKNOWN, 0xFF, 0xFF));
+    assert_eq!(
+        (p.emitter_category, p.nic, p.nac_p),
+        (tr::EMITTER_UNKNOWN, 0xFF, 0xFF)
+    );
     assert_eq!(p.sources, 0);
     assert!(p.alt_pressure_m.is_nan() && p.alt_geometric_m.is_nan());
     // Reported state and sources carried through; a TIS-B report sets its bit next to its link.
@@ -371,8 +374,14 @@ fn target_fields_and_units() {
     let p = target(&t, Some(&o));
     assert_eq!((p.alt_pressure_m, p.vertical_rate_mps), (770.0, 2.0));
     assert!(p.alt_geometric_m.is_nan());
-    assert_eq!((p.emitter_category, p.nic, p.nac_p, p.nac_v, p.sil), (1, 8, 9, 2, 3));
-    assert_eq!(p.sources, tr::SOURCE_UAT | tr::SOURCE_FLARM | tr::SOURCE_TISB);
+    assert_eq!(
+        (p.emitter_category, p.nic, p.nac_p, p.nac_v, p.sil),
+        (1, 8, 9, 2, 3)
+    );
+    assert_eq!(
+        p.sources,
+        tr::SOURCE_UAT | tr::SOURCE_FLARM | tr::SOURCE_TISB
+    );
     // rel_down is minus the vertical separation (geometry(): intruder above by its separation).
     assert_eq!((p.vertical_separation_m, p.rel_down_m), (150.0, -150.0));
     // Without the ownship it is unknown.

@@ -153,7 +153,8 @@ impl Reported {
         use vigil_drivers::traffic::AddressType;
         let mut by_age: Vec<&Timed<(Source, TrafficReport)>> = t.sources.iter().collect();
         by_age.sort_by_key(|s| std::cmp::Reverse(s.t_gps_ns));
-        let newest = |f: fn(&TrafficReport) -> Option<u8>| by_age.iter().find_map(|s| f(&s.value.1));
+        let newest =
+            |f: fn(&TrafficReport) -> Option<u8>| by_age.iter().find_map(|s| f(&s.value.1));
         Self {
             alt_pressure_m,
             alt_geometric_m,
