@@ -37,7 +37,7 @@ use vigil_bus::payload::alerts::{
 };
 use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, IntegrityPayload, OwnshipPayload,
-    Payload, Publisher, Subscriber, Topic, TrafficSubscriber,
+    Publisher, Subscriber, Topic, TrafficSubscriber,
 };
 use vigil_monitor::{Monitor, MonitorParams};
 
