@@ -78,7 +78,11 @@ pub fn replay_rich(
                     p
                 }
             };
-            rec.set_clock(t_host_ns, s.utc_offset_ns(t_host_ns))?;
+            rec.set_clock(
+                t_host_ns,
+                s.utc_offset_ns(t_host_ns),
+                s.clock_references_seen(),
+            )?;
             rec.raw(port, t_host_ns, bytes)?;
         }
         for (t, x) in s.drain_tap() {

@@ -175,9 +175,6 @@ fn run_reconnects_a_port_that_disappears_and_comes_back() {
 /// A `vigil run` killed with SIGKILL (no clean shutdown) loses at most the last second of its
 /// recording: the file is flushed every second, and `vigil replay` reads it up to the damage.
 #[test]
-#[ignore = "regression from issue 20, open: before the host clock locks (no VN-200 here) the \
-            recorder holds messages up to 10 s for the UTC timeline, so a kill in that window \
-            loses them and the file has no chunk to replay"]
 fn a_killed_run_leaves_a_recording_readable_up_to_its_last_flush() {
     let path = common::tmp("run_killed", "watson");
     let mcap = common::tmp("run_killed", "run.mcap");

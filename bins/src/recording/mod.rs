@@ -22,14 +22,18 @@
 //! the host monotonic time; its `log_time` is that time on the UTC timeline (ns since the Unix
 //! epoch), through the host-clock model the service learns from the VN-200 (GPS time, then
 //! GPS - UTC leap seconds), so the file opens at the flight's date and time. Until that model
-//! locks (a few seconds after the VN-200 has GPS time), messages are held in memory and written
-//! with the first offset learned; after a lock is lost the last offset is kept, so the timeline
-//! never jumps back. Decision: a clock that never locks must not hold the recording hostage, so
-//! after [`PRELOCK_HOLD_NS`] (or [`PRELOCK_HOLD_BYTES`]) the held messages are written with
-//! `log_time` = host monotonic time, and so is everything until the lock: such a file opens at
-//! 1970 + uptime and jumps to the flight's date at the lock (the `vigil.timeline` metadata written
-//! at the lock gives the offset). What a kill loses is at most one flush period (1 s) once the
-//! clock is locked, and the held messages before.
+//! locks, messages are held in memory and written with the first offset learned; after a lock is
+//! lost the last offset is kept, so the timeline never jumps back.
+//!
+//! Decision (what a kill may lose): held messages are not on disk, so the hold is kept short.
+//! While a clock reference has arrived (a lock is then a few seconds away) messages are held up
+//! to [`PRELOCK_HOLD_NS`]; while none has (no VN-200 on the ports, or one without GPS time) only
+//! up to [`NO_REFERENCE_HOLD_NS`], one flush period. After either (or [`PRELOCK_HOLD_BYTES`]) the
+//! held messages are written with `log_time` = host monotonic time, and so is everything until
+//! the lock: such a file opens at 1970 + uptime and jumps to the flight's date at the lock (the
+//! `vigil.timeline` metadata written at the lock gives the offset). A SIGKILL therefore loses at
+//! most one flush period (1 s) plus, before the lock, the held messages: at most 1 s without a
+//! clock reference, at most 10 s while a lock is under way.
 
 pub mod foxglove;
 pub mod messages;
@@ -47,8 +51,12 @@ use vigil_sim::record::RawRecorder;
 
 use messages::ActiveAlert;
 
-/// Longest time messages are held waiting for the clock to lock, ns of host time.
+/// Longest time messages are held waiting for the clock to lock once a clock reference has
+/// arrived, ns of host time.
 pub const PRELOCK_HOLD_NS: u64 = 10_000_000_000;
+/// Longest time messages are held while no clock reference has arrived, ns of host time (one
+/// flush period: a lock is not in sight, and held messages would be lost on a kill).
+pub const NO_REFERENCE_HOLD_NS: u64 = 1_000_000_000;
 /// Most bytes held waiting for the clock to lock.
 pub const PRELOCK_HOLD_BYTES: usize = 32 * 1024 * 1024;
 
@@ -234,9 +242,15 @@ impl<W: Write + Seek> RichRecorder<W> {
         Ok(self.rec.write_metadata(name, m)?)
     }
 
-    /// Tells the recorder the host-to-UTC offset at host time `t_host_ns` (`None`: not locked).
-    /// At the first offset the held messages are written.
-    pub fn set_clock(&mut self, t_host_ns: u64, utc_offset_ns: Option<i64>) -> Result<()> {
+    /// Tells the recorder the host-to-UTC offset at host time `t_host_ns` (`None`: not locked)
+    /// and whether the clock has had any reference yet (it decides how long messages are held,
+    /// see the module documentation). At the first offset the held messages are written.
+    pub fn set_clock(
+        &mut self,
+        t_host_ns: u64,
+        utc_offset_ns: Option<i64>,
+        references_seen: bool,
+    ) -> Result<()> {
         match utc_offset_ns {
             Some(off) => {
                 let first = self.clock.offset_ns.is_none();
@@ -258,8 +272,12 @@ impl<W: Write + Seek> RichRecorder<W> {
             }
             None => {
                 let oldest = self.held.first().map(|h| h.1);
-                let over_time =
-                    oldest.is_some_and(|t| t_host_ns.saturating_sub(t) > PRELOCK_HOLD_NS);
+                let hold_ns = if references_seen {
+                    PRELOCK_HOLD_NS
+                } else {
+                    NO_REFERENCE_HOLD_NS
+                };
+                let over_time = oldest.is_some_and(|t| t_host_ns.saturating_sub(t) > hold_ns);
                 if !self.clock.gave_up && (over_time || self.held_bytes > PRELOCK_HOLD_BYTES) {
                     self.clock.gave_up = true;
                     self.release_held()?;

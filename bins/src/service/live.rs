@@ -196,7 +196,11 @@ impl Ctx {
         self.service.on_chunk(i, t, bytes, &mut self.out);
         if let Some(rec) = &mut self.recorder {
             let r = rec
-                .set_clock(t, self.service.utc_offset_ns(t))
+                .set_clock(
+                    t,
+                    self.service.utc_offset_ns(t),
+                    self.service.clock_references_seen(),
+                )
                 .and_then(|()| rec.raw(i as u16, t, bytes));
             self.recorded(r);
             self.record_tap();

@@ -431,6 +431,16 @@ impl Service {
         Some(unix - h)
     }
 
+    /// Whether the host clock has had any reference yet (a lock is then expected within
+    /// seconds); see [`crate::recording::PRELOCK_HOLD_NS`].
+    pub fn clock_references_seen(&self) -> bool {
+        self.replay
+            .aligner()
+            .host_clock()
+            .last_reference_host_ns()
+            .is_some()
+    }
+
     /// One line of status: per port its link, bytes, messages and bad frames (checksum failures,
     /// malformed, unsupported version); outputs; tracks.
     pub fn status_line(&self, t_host_ns: u64) -> String {

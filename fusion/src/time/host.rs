@@ -194,6 +194,12 @@ impl HostClock {
         self.fit = Some((h0, c0, slope, scatter));
     }
 
+    /// Host time (ns) of the latest reference, `None` before the first: whether a lock can be
+    /// expected soon (the recorder holds its first messages for the UTC timeline only then).
+    pub fn last_reference_host_ns(&self) -> Option<i64> {
+        self.last_host_ns
+    }
+
     /// State of the model at host time `now_ns`.
     pub fn status(&self, now_ns: i64) -> ClockStatus {
         let Some(last) = self.last_host_ns else {
