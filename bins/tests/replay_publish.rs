@@ -14,7 +14,7 @@ fn replay_and_listen(prefix: &str) -> (Vec<Value>, String) {
     let mcap = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/replay/headon.mcap");
     let mut listen = Command::new(env!("CARGO_BIN_EXE_vigil"))
         .args(["listen", "traffic", "--lossless", "--prefix", prefix])
-        .args(["--duration", "60", "--count", "24"])
+        .args(["--duration", "60", "--count", "54"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -50,11 +50,11 @@ fn replay_and_listen(prefix: &str) -> (Vec<Value>, String) {
 fn a_subscriber_in_another_process_receives_every_traffic_message_in_order() {
     let prefix = format!("vigil-test-{}-replay-publish", std::process::id());
     let (a, summary) = replay_and_listen(&format!("{prefix}-a"));
-    // The recording is 25 s: one traffic picture per 1 s step once the clocks lock (the golden
-    // file lists 24 of them).
-    assert!(summary.contains("\"traffic\":24"), "{summary}");
+    // The recording is 55 s: one traffic picture per 1 s step once the clocks lock (the golden
+    // file lists 54 of them).
+    assert!(summary.contains("\"traffic\":54"), "{summary}");
     let seqs: Vec<&Value> = a.iter().map(|m| &m["header"]["seq"]).collect();
-    assert_eq!(a.len(), 24, "{seqs:?}");
+    assert_eq!(a.len(), 54, "{seqs:?}");
     for (i, m) in a.iter().enumerate() {
         assert_eq!(m["header"]["seq"], i as u64 + 1, "in order, none missing");
         assert_eq!(m["missed_before"], 0);

@@ -9,7 +9,7 @@ dir=tests/data/replay
 cargo build --release -q -p vigil
 vigil=target/release/vigil
 # Issue 24's fail-safe scenarios follow the first seven.
-for scenario in nominal:20 headon:25 crossing:25 bahrs-fault:20 gnss-outage:20 link-errors:20 spoofed-target:15 \
+for scenario in nominal:20 headon:55 crossing:25 bahrs-fault:20 gnss-outage:20 link-errors:20 spoofed-target:15 \
     ownship-velocity-unknown:20 no-altitude:25 no-velocity:25 stale-reports:20 msl-only-nmea:20 \
     slow-drift-spoof:20; do
   name=${scenario%%:*}
