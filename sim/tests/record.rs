@@ -248,3 +248,47 @@ fn regression_20_a_damaged_chunk_is_skipped_and_the_rest_replays() {
     );
     assert!(n < all && n > all / 2, "{n} of {all}");
 }
+
+/// Issue 20 ("a recording is valid in any message order ... whatever writer made it"): a file
+/// written without chunks, as other MCAP writers may, replays the same raw messages in the same
+/// order as the chunked original, with nothing reported as damaged.
+#[test]
+fn regression_20_an_unchunked_recording_replays_like_the_chunked_one() {
+    let chunked = record("nominal", 5, 3);
+    let mut writer = mcap::WriteOptions::new()
+        .use_chunks(false)
+        .create(Cursor::new(Vec::new()))
+        .unwrap();
+    let mut copied = 0;
+    for m in mcap::MessageStream::new(&chunked).unwrap() {
+        writer.write(&m.unwrap()).unwrap();
+        copied += 1;
+    }
+    writer.finish().unwrap();
+    let unchunked = writer.into_inner().into_inner();
+    let summary = mcap::Summary::read(&unchunked).unwrap().unwrap();
+    assert!(summary.chunk_indexes.is_empty(), "the copy has no chunks");
+    let raw = |b: &[u8]| {
+        let mut got = Vec::new();
+        let o = read_recording::<()>(b, |m| {
+            if let Recorded::Raw {
+                device,
+                t_host_ns,
+                bytes,
+                ..
+            } = m
+            {
+                got.push((device.to_string(), t_host_ns, bytes.to_vec()));
+            }
+            Ok(())
+        })
+        .unwrap();
+        (got, o)
+    };
+    let (a, _) = raw(&chunked);
+    let (b, o) = raw(&unchunked);
+    assert!(a.len() > 1000 && copied >= a.len(), "{} raw of {copied}", a.len());
+    assert_eq!(a, b);
+    assert_eq!(o.damage, None);
+    assert_eq!(o.skipped_chunks, 0);
+}
