@@ -262,14 +262,13 @@ impl World {
         let k = i.trajectory.at(t);
         let (lat, lon) = self.frame.to_geodetic_rad(k.north_m, k.east_m);
         let m = &i.meta;
-        let drift = m
-            .spoof_drift_ne_mps
-            .filter(|_| t >= m.spoof_from_s)
-            .map(|d| {
-                let dt = t - m.spoof_from_s;
-                [d[0] * dt, d[1] * dt, 0.0]
-            });
-        let spoofing = match (m.spoof_offset_ned_m.filter(|_| t >= m.spoof_from_s), drift) {
+        // Spoofing over [spoof_from_s, spoof_to_s).
+        let spoofed = t >= m.spoof_from_s && m.spoof_to_s.is_none_or(|to| t < to);
+        let drift = m.spoof_drift_ne_mps.filter(|_| spoofed).map(|d| {
+            let dt = t - m.spoof_from_s;
+            [d[0] * dt, d[1] * dt, 0.0]
+        });
+        let spoofing = match (m.spoof_offset_ned_m.filter(|_| spoofed), drift) {
             (Some(o), Some(d)) => Some([o[0] + d[0], o[1] + d[1], o[2]]),
             (o, d) => o.or(d),
         };
