@@ -21,6 +21,10 @@ mod replay_fused;
 #[cfg(target_os = "linux")]
 mod replay_publish;
 mod replay_rich;
+// Issue 25 point 7: every alert rule raised and cleared through the service (next to the
+// scenario tests of `replay_fused`: failsafe_scenarios_tests.rs, fused_scenarios_tests.rs).
+#[cfg(all(test, target_os = "linux"))]
+mod rule_e2e_tests;
 #[cfg(target_os = "linux")]
 mod service;
 mod sim_cmd;

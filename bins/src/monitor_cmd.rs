@@ -75,13 +75,13 @@ pub fn load_params(path: &Path) -> Result<MonitorParams> {
 
 /// The monitor's clock: the newest payload GPS time, advanced by the host time since it came.
 #[derive(Debug, Clone, Copy, Default)]
-struct GpsClock {
+pub(crate) struct GpsClock {
     newest: Option<(i64, u64)>,
 }
 
 impl GpsClock {
     /// A payload with GPS time `gps_ns` arrived at host monotonic time `mono_ns`.
-    fn observe(&mut self, gps_ns: i64, mono_ns: u64) {
+    pub(crate) fn observe(&mut self, gps_ns: i64, mono_ns: u64) {
         if gps_ns == 0 {
             return;
         }
@@ -91,7 +91,7 @@ impl GpsClock {
     }
 
     /// GPS time now (host monotonic `mono_ns`), or `None` before any GPS time was seen.
-    fn now(&self, mono_ns: u64) -> Option<i64> {
+    pub(crate) fn now(&self, mono_ns: u64) -> Option<i64> {
         self.newest.map(|(g, m)| {
             let elapsed = i64::try_from(mono_ns.saturating_sub(m)).unwrap_or(i64::MAX);
             g.saturating_add(elapsed)

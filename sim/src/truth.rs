@@ -262,14 +262,13 @@ impl World {
         let k = i.trajectory.at(t);
         let (lat, lon) = self.frame.to_geodetic_rad(k.north_m, k.east_m);
         let m = &i.meta;
-        let drift = m
-            .spoof_drift_ne_mps
-            .filter(|_| t >= m.spoof_from_s)
-            .map(|d| {
-                let dt = t - m.spoof_from_s;
-                [d[0] * dt, d[1] * dt, 0.0]
-            });
-        let spoofing = match (m.spoof_offset_ned_m.filter(|_| t >= m.spoof_from_s), drift) {
+        // Spoofing over [spoof_from_s, spoof_to_s).
+        let spoofed = t >= m.spoof_from_s && m.spoof_to_s.is_none_or(|to| t < to);
+        let drift = m.spoof_drift_ne_mps.filter(|_| spoofed).map(|d| {
+            let dt = t - m.spoof_from_s;
+            [d[0] * dt, d[1] * dt, 0.0]
+        });
+        let spoofing = match (m.spoof_offset_ned_m.filter(|_| spoofed), drift) {
             (Some(o), Some(d)) => Some([o[0] + d[0], o[1] + d[1], o[2]]),
             (o, d) => o.or(d),
         };
@@ -333,6 +332,30 @@ mod tests {
     use super::*;
     use crate::magnetic::ConstantDeclination;
     use crate::scenario::builtin;
+
+    /// Issue 25: a spoof with `spoof_to_s` reports the offset position over [from, to) only;
+    /// `spoof_to_s` not after `spoof_from_s` is refused, naming the key.
+    #[test]
+    fn spoofing_ends_at_spoof_to_s() {
+        let mut s = builtin("spoofed-target").unwrap();
+        s.intruders[0].spoof_from_s = 5.0;
+        s.intruders[0].spoof_to_s = Some(10.0);
+        let w = World::new(&s, Box::new(crate::magnetic::Wmm2025)).unwrap();
+        let at = |sec: i64| w.intruder(0, w.start_gps_ns + sec * NS_PER_S).unwrap();
+        assert!(at(4).reported_position.is_none());
+        let x = at(7);
+        let p = x.reported_position.unwrap();
+        // 2 km north of the true position: 2000 m / 111.2 km per degree of latitude.
+        assert!(
+            (p[0] - x.lat_deg - 2000.0 / 111_200.0).abs() < 2e-4,
+            "{p:?}"
+        );
+        assert!(at(10).reported_position.is_none());
+        assert!(at(30).reported_position.is_none());
+        s.intruders[0].spoof_to_s = Some(5.0);
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.contains("intruders[0].spoof_to_s"), "{e}");
+    }
 
     #[test]
     fn coordinated_turn_attitude_and_forces_by_hand() {

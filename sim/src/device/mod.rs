@@ -178,6 +178,31 @@ impl FaultSchedule {
         v
     }
 
+    /// The VN-200 INS mode (InsStatus bits 0-1) an [`Fault::InsReset`] forces at `t_s`, if any:
+    /// 0 (NotTracking) for the first second after the reset, then 1 (Aligning) for its
+    /// `aligning_s`. The latest reset that started at or before `t_s` decides.
+    pub fn ins_reset_mode(&self, t_s: f64) -> Option<u16> {
+        /// NotTracking after an INS reset (ICD firmware 2.1 changes), s.
+        const NOT_TRACKING_S: f64 = 1.0;
+        self.faults
+            .iter()
+            .filter_map(|f| match f {
+                Fault::InsReset { at_s, aligning_s } if t_s >= *at_s => Some((*at_s, *aligning_s)),
+                _ => None,
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .and_then(|(at_s, aligning_s)| {
+                let since = t_s - at_s;
+                if since < NOT_TRACKING_S {
+                    Some(0)
+                } else if since < NOT_TRACKING_S + aligning_s {
+                    Some(1)
+                } else {
+                    None
+                }
+            })
+    }
+
     /// Whether the link of `device` is cut at `t_s`.
     pub fn link_lost(&self, device: &str, t_s: f64) -> bool {
         self.faults.iter().any(

@@ -12,7 +12,8 @@
 //! - INS status: Tracking with GNSS fix (0x0006). During a `gnss_outage` fault: mode GnssLost
 //!   with the GNSS error bit (0x0043: "GNSS communication error or no valid PPS"), TimeStatus 0
 //!   (time of week, date and UTC not valid) and a position uncertainty growing 1 m/s from the
-//!   outage start. Attitude stays valid (Table 2.78).
+//!   outage start. Attitude stays valid (Table 2.78). An `ins_reset` fault sets the mode to
+//!   NotTracking (0) for 1 s, then Aligning (1) for its `aligning_s` (the fix bits unchanged).
 //! - Noise: white Gaussian with the sigmas the message reports (YprU, PosU, VelU), so the
 //!   reported uncertainties are consistent with the actual errors.
 //! - Accel = body specific force (level: z = -9.81 m/s^2), AngularRate = body rates.
@@ -242,7 +243,14 @@ impl Vn200Model {
             lla: [lat, lon, o.height_m - dd],
             vel,
             accel: o.specific_force_body_mps2.map(|v| v as f32),
-            ins_status: if lost { 0x0043 } else { 0x0006 },
+            // Mode (bits 0-1): Tracking, GnssLost in an outage, or what an INS reset forces;
+            // bit 2 GNSS fix, bit 6 GNSS error.
+            ins_status: {
+                let mode = faults
+                    .ins_reset_mode(world.elapsed_s(t))
+                    .unwrap_or(if lost { 3 } else { 2 });
+                mode | if lost { 0x0040 } else { 0x0004 }
+            },
             time_status: if lost { 0 } else { 0b111 },
             ypr_u_deg: YPR_SIGMA_DEG.map(|v| v as f32),
             pos_u_m: pos_u as f32,

@@ -12,8 +12,15 @@ use crate::engine::MemorySink;
 use crate::scenario::builtin;
 
 fn run(name: &str, ns: i64, script: Vec<(usize, Vec<u8>)>) -> (MemorySink, Vec<Vn200Message>) {
-    let s = builtin(name).unwrap();
-    let mut sim = Simulator::new(&s, 7).unwrap();
+    run_scenario(&builtin(name).unwrap(), ns, script)
+}
+
+fn run_scenario(
+    s: &crate::Scenario,
+    ns: i64,
+    script: Vec<(usize, Vec<u8>)>,
+) -> (MemorySink, Vec<Vn200Message>) {
+    let mut sim = Simulator::new(s, 7).unwrap();
     let mut host = ScriptedHost::new("vn200", script);
     sim.run(ns, &mut host).unwrap();
     let sink = host.inner;
@@ -101,6 +108,48 @@ fn gnss_outage_gives_gnss_lost_and_invalid_time() {
         lost += usize::from(inside);
     }
     assert!(lost >= 399, "{lost}");
+}
+
+/// Issue 25: an INS reset at 1 s with 1.5 s of aligning: mode 0 over [1, 2) s, 1 over [2, 3.5) s,
+/// Tracking before and after (the ICD's "holds INS Status Mode at 0 for 1 second"); the GNSS fix
+/// bit stays set and the output keeps its rate.
+#[test]
+fn ins_reset_holds_not_tracking_for_1_s_then_aligning() {
+    let mut s = builtin("nominal").unwrap();
+    s.faults = vec![crate::scenario::Fault::InsReset {
+        at_s: 1.0,
+        aligning_s: 1.5,
+    }];
+    let (sink, msgs) = run_scenario(&s, 4_500_000_000, Vec::new());
+    let truth: Vec<_> = sink.truth.iter().filter(|r| r.device == "vn200").collect();
+    assert_eq!(msgs.len(), truth.len());
+    assert!(msgs.len() >= 4 * 200, "{}", msgs.len());
+    let start = sink.info.unwrap().start_gps_ns;
+    let mut seen = [0usize; 3];
+    for (m, r) in msgs.iter().zip(&truth) {
+        let Vn200Message::Binary(b) = m else { panic!() };
+        let st = b.common.as_ref().unwrap().ins_status.unwrap();
+        let t_s = (r.t_gps_ns - start) as f64 * 1e-9;
+        let want = if (1.0..2.0).contains(&t_s) {
+            InsMode::NotTracking
+        } else if (2.0..3.5).contains(&t_s) {
+            InsMode::Aligning
+        } else {
+            InsMode::Tracking
+        };
+        assert_eq!(st.mode(), want, "at {t_s} s");
+        assert!(st.gnss_fix());
+        seen[match want {
+            InsMode::NotTracking => 0,
+            InsMode::Aligning => 1,
+            _ => 2,
+        }] += 1;
+    }
+    // 200 Hz: 200 samples in NotTracking, 300 aligning.
+    assert!(
+        (199..=201).contains(&seen[0]) && (299..=301).contains(&seen[1]),
+        "{seen:?}"
+    );
 }
 
 #[test]

@@ -147,6 +147,21 @@ pub enum Fault {
         /// Probability per byte.
         rate: f64,
     },
+    // --- issue 25 point 7: a fault that makes `ins_not_tracking` reachable ---
+    /// The VN-200's INS filter restarts at `at_s` (e.g. a `$VNRRS`-style filter reset, or the
+    /// filter diverging and re-initialising). Modelled from the ICD (24-20006-R1, firmware 2.1
+    /// changes: "An INS reset now holds INS Status Mode at 0 for 1 second"; Table 2.78): InsStatus
+    /// mode NotTracking (0, outputs invalid) for 1 s, then Aligning (1: position and velocity
+    /// valid, attitude not) for `aligning_s`, then Tracking again. The ICD does not say how long
+    /// aligning takes (it depends on the motion): the scenario says. Output messages keep flowing
+    /// (only the mode bits change), with the truth plus noise in their attitude fields.
+    InsReset {
+        /// When the filter restarts, s.
+        at_s: f64,
+        /// Time in Aligning after the 1 s in NotTracking, s.
+        #[serde(default)]
+        aligning_s: f64,
+    },
 }
 
 /// Whether `t_s` lies in [from, to).
@@ -167,7 +182,7 @@ impl Fault {
             | Fault::LinkLoss { from_s, to_s, .. }
             | Fault::BitErrors { from_s, to_s, .. }
             | Fault::DroppedBytes { from_s, to_s, .. } => (*from_s, *to_s),
-            Fault::DeviceReset { at_s, .. } => (*at_s, None),
+            Fault::DeviceReset { at_s, .. } | Fault::InsReset { at_s, .. } => (*at_s, None),
         };
         if !(from.is_finite() && from >= 0.0) {
             return Err(invalid(&format!("{key}.from_s"), "must be finite and >= 0"));
@@ -197,6 +212,14 @@ impl Fault {
                 &format!("{key}.device"),
                 "must be vn200 or ttmrf (the devices with a GNSS receiver)",
             )),
+            Fault::InsReset { aligning_s, .. }
+                if !(aligning_s.is_finite() && *aligning_s >= 0.0) =>
+            {
+                Err(invalid(
+                    &format!("{key}.aligning_s"),
+                    "must be finite and >= 0",
+                ))
+            }
             Fault::BitErrors { rate, .. } | Fault::DroppedBytes { rate, .. }
                 if !(0.0..=0.5).contains(rate) =>
             {

@@ -179,6 +179,11 @@ pub struct Intruder {
     /// Scenario time from which the target is no longer received (it flies on in the truth).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub silent_from_s: Option<f64>,
+    // --- issue 25 point 7: a spoof that ends, so `suspected_spoofing` can clear ---
+    /// Scenario time the spoofing (offset or drift) stops, s; absent: it never does. From then
+    /// the target reports its true position again (a receiver sees the position jump back).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spoof_to_s: Option<f64>,
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -262,6 +267,7 @@ impl TrafficGenerator {
                     omit: Vec::new(),
                     report_age_s: 0.0,
                     silent_from_s: None,
+                    spoof_to_s: None,
                 }
             })
             .collect()
@@ -344,6 +350,14 @@ impl Scenario {
                 return Err(invalid(
                     &format!("{key}.omit"),
                     format!("unknown field '{f}': altitude, velocity or vertical_rate"),
+                ));
+            }
+            if t.spoof_to_s
+                .is_some_and(|to| !(to.is_finite() && to > t.spoof_from_s))
+            {
+                return Err(invalid(
+                    &format!("{key}.spoof_to_s"),
+                    "must be finite and after spoof_from_s",
                 ));
             }
             if !(0.0..=60.0).contains(&t.report_age_s) {
