@@ -4,6 +4,10 @@
 //! records are written by the same encoders the simulator uses.
 
 use vigil_drivers::DecodeStats;
+use vigil_drivers::modes::decoder::{ModesDecoder, ModesMessage};
+use vigil_drivers::modes::df::DecodeOptions;
+use vigil_drivers::modes::encode::{self, AirbornePositionFields};
+use vigil_drivers::modes::tracker::TrackerConfig;
 use vigil_drivers::testkit::decode_chunked;
 use vigil_drivers::traffic::TrafficReport;
 use vigil_drivers::ttmrf::asterix::{AsterixDecoder, AsterixMessage, encode_block};
@@ -12,6 +16,7 @@ use vigil_drivers::ttmrf::gdl90::{Gdl90Decoder, TrafficAltitude};
 use vigil_drivers::ttmrf::json::{AdsbTarget, JsonDecoder, JsonMessage};
 use vigil_drivers::ttmrf::mavlink::MavlinkDecoder;
 use vigil_drivers::ttmrf::nmea::{Gga, NmeaBody, NmeaDecoder, NmeaSentence};
+use vigil_drivers::ttmrf::raw::encode_hex_string;
 use vigil_sim::device::ttmrf_binary::{Target, asterix_target, gdl90_traffic, mavlink_vehicle};
 use vigil_sim::scenario::Link;
 
@@ -171,4 +176,51 @@ fn nmea_fix_with_an_impossible_altitude_is_dropped_alone() {
     assert!(matches!(&msgs[0].body, NmeaBody::Gga(g) if g.alt_msl_m == Some(600.0)));
     assert_eq!(stats.invalid_values, 1);
     assert_eq!(stats.malformed, 0);
+}
+
+/// Raw Mode S: a frame's fields cannot leave their encoded ranges, so the impossible record is a
+/// position that cannot be true. Here the bad aircraft's even and odd frames decode to latitude
+/// zones that differ (10.46 and 10.48 deg straddle the NL boundary near 10.47 deg: the pair
+/// describes no single position); the good aircraft's pair is at 47.4 N 8.5 E.
+#[test]
+fn raw_mode_s_keeps_the_valid_aircraft_and_counts_the_impossible_position() {
+    let frame = |icao, lat: f64, lon: f64, odd| {
+        let f = encode::airborne_position(
+            icao,
+            &AirbornePositionFields {
+                typecode: 11,
+                surveillance_status: 0,
+                nic_b: false,
+                altitude_ft: Some(2_500),
+                lat_deg: lat,
+                lon_deg: lon,
+                odd,
+            },
+        )
+        .unwrap();
+        format!("*{};\n", encode_hex_string(&f))
+    };
+    let lines = [
+        frame(BAD, 10.46, 20.0, false),
+        frame(VALID, 47.4, 8.5, false),
+        frame(BAD, 10.48, 20.0, true),
+        frame(VALID, 47.4, 8.5, true),
+    ]
+    .concat();
+    let (msgs, stats) = decode_chunked(
+        ModesDecoder::hex(TrackerConfig::default(), DecodeOptions::default()),
+        lines.as_bytes(),
+        &[9],
+    );
+    let reports: Vec<TrafficReport> = msgs
+        .iter()
+        .filter_map(|m| match m {
+            ModesMessage::ModeS(o) => o.report.clone(),
+            _ => None,
+        })
+        .filter(|r| r.lat_deg.is_some())
+        .collect();
+    check(&reports, &stats, "raw mode s");
+    let r = &reports[0];
+    assert!((r.lat_deg.unwrap() - 47.4).abs() < 1e-3 && (r.lon_deg.unwrap() - 8.5).abs() < 1e-3);
 }

@@ -35,7 +35,8 @@ pub struct ModesCounters {
     pub unknown_address: u64,
     /// DF17 frames repaired by single-bit correction (only with the option on).
     pub corrected: u64,
-    /// Global CPR pairs rejected by the zone or latitude checks.
+    /// CPR positions rejected by the zone, latitude, range or jump checks (also counted in
+    /// [`DecodeStats::invalid_values`]).
     pub cpr_rejections: u64,
     /// Aircraft evicted from the full tracker table.
     pub evictions: u64,
@@ -141,7 +142,12 @@ impl<F: DeviceDecoder<Message = RawFrame>> ModesDecoder<F> {
             malformed: i.malformed + self.extra_malformed,
             unsupported_version: i.unsupported_version,
             last_frame_start: i.last_frame_start,
-            invalid_values: i.invalid_values,
+            // Issue 24 ("validate per record"): a raw frame cannot carry an out-of-range value
+            // (its fields are bounded by their encoding), so its impossible record is a CPR
+            // position that cannot be true (a pair straddling a zone boundary, beyond the
+            // receiver's range, or a jump no aircraft makes): that frame's position is dropped
+            // alone and counted here, the aircraft's other frames and every other aircraft kept.
+            invalid_values: i.invalid_values + self.tracker.cpr_rejections,
         };
     }
 
