@@ -25,6 +25,9 @@ mod replay_rich;
 // scenario tests of `replay_fused`: failsafe_scenarios_tests.rs, fused_scenarios_tests.rs).
 #[cfg(all(test, target_os = "linux"))]
 mod rule_e2e_tests;
+// Issue 24: every payload field NaN only where documented unknown, over every golden recording.
+#[cfg(all(test, target_os = "linux"))]
+mod nan_audit_tests;
 #[cfg(target_os = "linux")]
 mod service;
 mod sim_cmd;
