@@ -376,6 +376,28 @@ fn chunk_records<'a>(c: &Chunk<'a>, scratch: &'a mut Vec<u8>) -> Result<&'a [u8]
     Ok(data)
 }
 
+/// Reads a record body of `n` bytes into `body[..n]`, or as many as there are (fewer: the file
+/// ended); returns the count. `body` only grows, so a reused buffer is neither zeroed again nor
+/// copied through the reader's own buffer (a large `read` bypasses a `BufReader`), and it grows
+/// at most 1 MiB past what has been read, so a damaged length does not allocate its whole claim.
+fn read_body(r: &mut impl Read, body: &mut Vec<u8>, n: u64) -> io::Result<usize> {
+    let n = usize::try_from(n).unwrap_or(usize::MAX);
+    let mut got = 0;
+    while got < n {
+        let end = n.min(got.saturating_add(1 << 20).max(body.len()));
+        if body.len() < end {
+            body.resize(end, 0);
+        }
+        match r.read(&mut body[got..end]) {
+            Ok(0) => break,
+            Ok(k) => got += k,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(got)
+}
+
 /// Reads `n` bytes, or as many as there are (a short read means the file ended).
 fn read_up_to(r: &mut impl Read, buf: &mut Vec<u8>, n: u64) -> io::Result<usize> {
     buf.clear();
@@ -407,6 +429,7 @@ pub fn read_recording_from<R: Read, E>(
         }
     }
     let mut scratch = Vec::new();
+    let mut body = Vec::new();
     loop {
         let at = st.outcome.bytes_read;
         let n = match read_up_to(&mut r, &mut buf, 9) {
@@ -440,7 +463,7 @@ pub fn read_recording_from<R: Read, E>(
             st.outcome.bytes_read = at + 9;
             break;
         }
-        match read_up_to(&mut r, &mut buf, len) {
+        match read_body(&mut r, &mut body, len) {
             Ok(n) if n as u64 == len => {}
             Ok(n) => {
                 st.outcome.note(format!(
@@ -454,9 +477,11 @@ pub fn read_recording_from<R: Read, E>(
             }
         }
         st.outcome.bytes_read = at + 9 + len;
+        // `len` fits in usize: read_body read that many bytes.
+        let rec = &body[..len as usize];
         match op {
             OP_CHUNK => {
-                let Some(c) = parse_chunk(&buf) else {
+                let Some(c) = parse_chunk(rec) else {
                     st.outcome.skipped_chunks += 1;
                     st.outcome
                         .note(format!("chunk at byte {at} skipped: malformed header"));
@@ -476,22 +501,18 @@ pub fn read_recording_from<R: Read, E>(
             OP_MESSAGE => {
                 // An unchunked message is its own window.
                 if let Ok(mcap::records::Record::Message { header, .. }) =
-                    mcap::parse_record(op, &buf)
+                    mcap::parse_record(op, rec)
                 {
                     st.release(Some(header.publish_time), &mut f)?;
                 }
-                let body = std::mem::take(&mut buf);
-                if let Err(e) = st.record(op, &body, &mut f)? {
+                if let Err(e) = st.record(op, rec, &mut f)? {
                     st.outcome.note(format!("record at byte {at} skipped: {e}"));
                 }
-                buf = body;
             }
             OP_CHANNEL => {
-                let body = std::mem::take(&mut buf);
-                if let Err(e) = st.record(op, &body, &mut f)? {
+                if let Err(e) = st.record(op, rec, &mut f)? {
                     st.outcome.note(format!("record at byte {at} skipped: {e}"));
                 }
-                buf = body;
             }
             OP_HEADER | OP_SCHEMA | OP_METADATA => {}
             _ => {}
