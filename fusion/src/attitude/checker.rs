@@ -22,7 +22,7 @@ use super::coverage::{
     SLOTS,
 };
 use super::gates::{self, FrozenDetector, Gate, GateReason};
-use super::inertial::{InertialChannel, InertialRecord, Vn200Inertial};
+use super::inertial::{InertialChannel, InertialRecord, Vn200Inertial, vn200_at};
 use super::isolation::{Isolation, PairVerdict, Pairs, Unit, isolate};
 use super::params::{CheckParams, ParamError};
 use super::persistence::Persistence;
@@ -31,7 +31,6 @@ use super::samples::{BahrsSample, Vn200Sample, WatsonSample};
 use super::vertical::{VerticalChannel, VerticalRecord, Vn200Vertical};
 use super::vote::vote;
 use crate::magnetic::{Declination, DeclinationModel, MagneticZone};
-use vigil_drivers::vn200::status::SensorState;
 
 #[path = "prompt.rs"]
 mod prompt;
@@ -697,83 +696,27 @@ impl AttitudeChecker {
         let p = self.params;
         let horizon = self.horizon_ns(p.bahrs_period_s);
         let vn = match b.inertial.as_ref() {
-            Some(i) => self.vn200_inertial(i.t_gps_ns),
+            Some(i) => {
+                let (prev, next) = bracket(&self.vn, i.t_gps_ns, |x| x.0.t_gps_ns);
+                let vn_horizon = self.horizon_ns(p.vn200_period_s);
+                vn200_at(
+                    prev.map(|x| &x.0),
+                    next.map(|x| &x.0),
+                    i.t_gps_ns,
+                    vn_horizon,
+                )
+            }
             None => Vn200Inertial {
                 specific_force_mps2: None,
                 angular_rate_radps: None,
                 slope_per_s: [0.0; 6],
+                step: [0.0; 6],
                 sigma_ns: 0.0,
                 gate: Some(GateReason::NoData),
             },
         };
         self.inertial
             .update(b.inertial.as_ref(), &vn, t, horizon, self.k_axis, &p)
-    }
-
-    /// The VN-200's Accel and AngularRate at `t`, linearly interpolated between the samples
-    /// that bracket it (held, with the freshness limit, without a later one).
-    fn vn200_inertial(&self, t: i64) -> Vn200Inertial {
-        let horizon = self.horizon_ns(self.params.vn200_period_s);
-        let (prev, next) = bracket(&self.vn, t, |x| x.0.t_gps_ns);
-        let missing = |g| Vn200Inertial {
-            specific_force_mps2: None,
-            angular_rate_radps: None,
-            slope_per_s: [0.0; 6],
-            sigma_ns: 0.0,
-            gate: Some(g),
-        };
-        let Some(&(s0, _)) = prev else {
-            return missing(GateReason::NoData);
-        };
-        let age_ns = t.saturating_sub(s0.t_gps_ns);
-        let mut gate = if s0.ins_status.imu_error() {
-            Some(GateReason::InsErrorBits)
-        } else if s0
-            .imu_status
-            .is_some_and(|i| i.gyro() == SensorState::Failed || i.accel() == SensorState::Failed)
-        {
-            Some(GateReason::ImuFailed)
-        } else {
-            None
-        };
-        if next.is_none() && age_ns > horizon {
-            gate = gate.or(Some(GateReason::Stale));
-        }
-        let join = |a: Option<[f64; 3]>, b: Option<[f64; 3]>| match (a, b) {
-            (Some(a), Some(b)) => Some([a[0], a[1], a[2], b[0], b[1], b[2]]),
-            _ => None,
-        };
-        let v0 = join(s0.accel_mps2, s0.rates_radps);
-        let (values, slope) = match (v0, next) {
-            (Some(v0), Some(&(s1, _))) => match join(s1.accel_mps2, s1.rates_radps) {
-                Some(v1) => {
-                    let span_s = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64 * 1e-9;
-                    let u = if span_s > 0.0 {
-                        age_ns as f64 * 1e-9 / span_s
-                    } else {
-                        0.0
-                    };
-                    let v: [f64; 6] = std::array::from_fn(|i| v0[i] + (v1[i] - v0[i]) * u);
-                    let d: [f64; 6] = std::array::from_fn(|i| {
-                        if span_s > 0.0 {
-                            (v1[i] - v0[i]) / span_s
-                        } else {
-                            0.0
-                        }
-                    });
-                    (Some(v), d)
-                }
-                None => (Some(v0), [0.0; 6]),
-            },
-            (v0, _) => (v0, [0.0; 6]),
-        };
-        Vn200Inertial {
-            specific_force_mps2: values.map(|v| [v[0], v[1], v[2]]),
-            angular_rate_radps: values.map(|v| [v[3], v[4], v[5]]),
-            slope_per_s: slope,
-            sigma_ns: s0.sigma_ns,
-            gate,
-        }
     }
 
     fn prepare_vn200(&self, t: i64) -> (Prepared, bool, Vn200Vertical) {

@@ -36,7 +36,8 @@ use super::gates::{Gate, GateReason};
 use super::isolation::PairVerdict;
 use super::params::{CheckParams, Mounting};
 use super::persistence::Persistence;
-use super::samples::BahrsInertial;
+use super::samples::{BahrsInertial, Vn200Sample};
+use vigil_drivers::vn200::status::SensorState;
 
 const DEG: f64 = std::f64::consts::PI / 180.0;
 
@@ -50,6 +51,10 @@ pub struct Vn200Inertial {
     /// Rate of change of the six values (specific force then angular rate) between the
     /// bracketing samples, per s; zeros without a later sample.
     pub slope_per_s: [f64; 6],
+    /// Half the change of each value between the two bracketing samples (zeros without a later
+    /// sample): the 1-sigma of the interpolation, which cannot know where between the samples
+    /// the signal changed.
+    pub step: [f64; 6],
     /// 1-sigma of the VN-200 sample time, ns.
     pub sigma_ns: f64,
     /// Gate of the VN-200 (None: usable).
@@ -157,6 +162,79 @@ fn rotated_gates(gates: [Gate; 3], rotated: bool) -> [Gate; 3] {
     }
 }
 
+/// The VN-200's Accel and AngularRate at `t`, linearly interpolated between the samples
+/// that bracket it, `prev` and `next` (held, with the freshness limit `horizon` ns, without a
+/// later one).
+pub fn vn200_at(
+    prev: Option<&Vn200Sample>,
+    next: Option<&Vn200Sample>,
+    t: i64,
+    horizon: i64,
+) -> Vn200Inertial {
+    let missing = |g| Vn200Inertial {
+        specific_force_mps2: None,
+        angular_rate_radps: None,
+        slope_per_s: [0.0; 6],
+        step: [0.0; 6],
+        sigma_ns: 0.0,
+        gate: Some(g),
+    };
+    let Some(s0) = prev else {
+        return missing(GateReason::NoData);
+    };
+    let age_ns = t.saturating_sub(s0.t_gps_ns);
+    let mut gate = if s0.ins_status.imu_error() {
+        Some(GateReason::InsErrorBits)
+    } else if s0
+        .imu_status
+        .is_some_and(|i| i.gyro() == SensorState::Failed || i.accel() == SensorState::Failed)
+    {
+        Some(GateReason::ImuFailed)
+    } else {
+        None
+    };
+    if next.is_none() && age_ns > horizon {
+        gate = gate.or(Some(GateReason::Stale));
+    }
+    let join = |a: Option<[f64; 3]>, b: Option<[f64; 3]>| match (a, b) {
+        (Some(a), Some(b)) => Some([a[0], a[1], a[2], b[0], b[1], b[2]]),
+        _ => None,
+    };
+    let v0 = join(s0.accel_mps2, s0.rates_radps);
+    let (values, slope, step) = match (v0, next) {
+        (Some(v0), Some(s1)) => match join(s1.accel_mps2, s1.rates_radps) {
+            Some(v1) => {
+                let span_s = s1.t_gps_ns.saturating_sub(s0.t_gps_ns) as f64 * 1e-9;
+                let u = if span_s > 0.0 {
+                    age_ns as f64 * 1e-9 / span_s
+                } else {
+                    0.0
+                };
+                let v: [f64; 6] = std::array::from_fn(|i| v0[i] + (v1[i] - v0[i]) * u);
+                let d: [f64; 6] = std::array::from_fn(|i| {
+                    if span_s > 0.0 {
+                        (v1[i] - v0[i]) / span_s
+                    } else {
+                        0.0
+                    }
+                });
+                let step: [f64; 6] = std::array::from_fn(|i| (v1[i] - v0[i]).abs() / 2.0);
+                (Some(v), d, step)
+            }
+            None => (Some(v0), [0.0; 6], [0.0; 6]),
+        },
+        (v0, _) => (v0, [0.0; 6], [0.0; 6]),
+    };
+    Vn200Inertial {
+        specific_force_mps2: values.map(|v| [v[0], v[1], v[2]]),
+        angular_rate_radps: values.map(|v| [v[3], v[4], v[5]]),
+        slope_per_s: slope,
+        step,
+        sigma_ns: s0.sigma_ns,
+        gate,
+    }
+}
+
 impl InertialChannel {
     /// Compares the newest 0x01 `b` (if any, and not compared before) with the VN-200 at its
     /// time; `horizon_ns` the freshness limit at the check time `t_check_ns`, `k` the per-axis
@@ -230,7 +308,13 @@ impl InertialChannel {
             *slot = match (gate, vval) {
                 (None, Some(v)) => {
                     let s_t = vn.slope_per_s[i] * t_sigma_s;
-                    let sigma = (s_b * s_b + s_v * s_v + s_t * s_t).sqrt();
+                    // The interpolation term: the simulator's trajectories change the bank
+                    // (and so the specific force) in a step at segment joins; without it, the
+                    // nominal 10-minute flight raised two specific-force y alerts, each from
+                    // one sample interpolated across a step (78 sigma, enough for the CUSUM
+                    // alone). In smooth flight it is half the VN-200's sample-to-sample change.
+                    let s_i = vn.step[i];
+                    let sigma = (s_b * s_b + s_v * s_v + s_t * s_t + s_i * s_i).sqrt();
                     let d = bval - v;
                     let ratio = (d / sigma).abs() / k;
                     let fault = self.persistence[i].update(ratio, d / sigma, dt_s, &p.persistence);
@@ -289,6 +373,7 @@ mod tests {
             specific_force_mps2: Some([0.0, 0.0, -G]),
             angular_rate_radps: Some(w),
             slope_per_s: [0.0; 6],
+            step: [0.0; 6],
             sigma_ns: 1000.0,
             gate: None,
         }
@@ -348,6 +433,40 @@ mod tests {
         // Stale 0x01 (older than the horizon at the check time): nothing compared.
         let r = ch.update(Some(&b), &vn([0.0; 3]), 100_000_000, 60_000_000, 4.42, &p);
         assert!(r.axes.iter().all(|c| c.gate == Some(GateReason::Stale)));
+    }
+
+    #[test]
+    fn the_vn200_is_interpolated_to_the_bahrs_time_with_its_slope() {
+        use vigil_drivers::vn200::status::InsStatus;
+        let mk = |t_ms: i64, wz: f64| Vn200Sample {
+            t_gps_ns: t_ms * 1_000_000,
+            sigma_ns: 500.0,
+            attitude: nalgebra::UnitQuaternion::identity(),
+            ypr_sigma_rad: None,
+            ins_status: InsStatus(0x0006),
+            imu_status: None,
+            rates_radps: Some([0.0, 0.0, wz]),
+            accel_mps2: Some([0.0, 0.0, -G]),
+            lla: None,
+            vel_ned_mps: None,
+            pos_u_m: None,
+            vel_u_mps: None,
+        };
+        let (a, b) = (mk(0, 0.0), mk(10, 0.1));
+        // Hand computation: 2.5 ms into a 10 ms span, z rate 0.1 x 0.25 = 0.025 rad/s, slope
+        // 0.1 / 0.01 = 10 rad/s^2, interpolation sigma 0.1 / 2 = 0.05 rad/s.
+        let v = vn200_at(Some(&a), Some(&b), 2_500_000, 60_000_000);
+        assert_eq!(v.gate, None);
+        assert!((v.angular_rate_radps.unwrap()[2] - 0.025).abs() < 1e-12);
+        assert!((v.slope_per_s[5] - 10.0).abs() < 1e-9);
+        assert!((v.step[5] - 0.05).abs() < 1e-12);
+        assert_eq!(v.specific_force_mps2, Some([0.0, 0.0, -G]));
+        // Without a later sample: held until the freshness limit, then stale.
+        let v = vn200_at(Some(&b), None, 50_000_000, 60_000_000);
+        assert_eq!((v.gate, v.angular_rate_radps.unwrap()[2]), (None, 0.1));
+        let v = vn200_at(Some(&b), None, 80_000_000, 60_000_000);
+        assert_eq!(v.gate, Some(GateReason::Stale));
+        assert_eq!(vn200_at(None, None, 0, 1).gate, Some(GateReason::NoData));
     }
 
     #[test]

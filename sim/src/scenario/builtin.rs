@@ -58,6 +58,37 @@ mod tests {
         assert!(matches!(builtin("nope"), Err(ScenarioError::Unknown(_))));
     }
 
+    /// Issue 25: the two BAHRS faults are declared in scenario TOML like the others.
+    #[test]
+    fn issue_25_bahrs_faults_parse_from_toml() {
+        let t = format!(
+            "{}\n[[faults]]\nkind = \"pressure_port_blocked\"\nfrom_s = 10.0\nto_s = 25.0\n\n\
+             [[faults]]\nkind = \"bahrs_gyro_bias\"\nfrom_s = 5.0\naxis = \"y\"\n\
+             rate_dps_per_s = 0.05\n",
+            text("nominal").unwrap()
+        );
+        let s = Scenario::from_toml(&t).unwrap();
+        assert_eq!(
+            s.faults,
+            [
+                super::super::Fault::PressurePortBlocked {
+                    from_s: 10.0,
+                    to_s: Some(25.0)
+                },
+                super::super::Fault::BahrsGyroBias {
+                    from_s: 5.0,
+                    to_s: None,
+                    axis: super::super::BodyAxis::Y,
+                    bias_dps: 0.0,
+                    rate_dps_per_s: 0.05
+                }
+            ]
+        );
+        let bad = t.replace("to_s = 25.0", "to_s = 5.0");
+        let e = Scenario::from_toml(&bad).unwrap_err().to_string();
+        assert!(e.contains("to_s"), "{e}");
+    }
+
     #[test]
     fn bad_key_is_named() {
         let t = text("headon")
