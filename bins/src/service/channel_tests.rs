@@ -152,3 +152,60 @@ fn gyro_bias_ramp_raises_inertial_miscompare_on_its_axis_and_clears() {
     assert!(cleared.is_some(), "not cleared after the bias ends");
     assert_eq!(xs.len(), 2, "raised once, cleared once");
 }
+
+/// The same gyro bias while the BAHRS marks its angular rates "integrity risk": the signals are
+/// excluded (not compared, reason `COVERAGE_INVALID`), the payload reports their health, and
+/// `inertial_miscompare` stays silent; the specific force is still compared.
+#[test]
+fn angular_rates_the_bahrs_marks_at_risk_are_excluded_and_reported() {
+    use vigil_sim::scenario::{HealthSignal, HealthWord};
+    let mut sc = builtin("nominal").unwrap();
+    sc.faults.push(Fault::BahrsGyroBias {
+        from_s: 10.0,
+        to_s: Some(30.0),
+        axis: BodyAxis::Y,
+        bias_dps: 0.0,
+        rate_dps_per_s: 0.05,
+    });
+    sc.faults.push(Fault::BahrsHealth {
+        from_s: 8.0,
+        to_s: None,
+        signal: HealthSignal::AngularRate,
+        health: HealthWord::IntegrityRisk,
+    });
+    let out = run(&sc, 35);
+    let (t0, xs) = transitions(&out, Rule::InertialMiscompare);
+    assert!(xs.is_empty(), "{:?}", xs[0].1.reason());
+    let late: Vec<_> = out
+        .attitude
+        .iter()
+        .filter(|p| p.header.gps_time_ns - t0 > 9 * S)
+        .collect();
+    assert!(late.len() > 1000, "{}", late.len());
+    let r = att::INERTIAL_ANGULAR_RATE_X;
+    let mut compared_force = 0;
+    for p in &late {
+        if p.inertial[r].coverage == att::COVERAGE_NO_CHECK {
+            continue; // a prompt payload without a fresh check
+        }
+        assert_eq!(
+            p.bahrs_inertial_health[r..],
+            [att::HEALTH_INTEGRITY_RISK; 3],
+            "{p:?}"
+        );
+        for c in &p.inertial[r..] {
+            assert_eq!(
+                (c.verdict, c.coverage),
+                (att::VERDICT_NOT_COMPARED, att::COVERAGE_INVALID)
+            );
+        }
+        assert_eq!(p.bahrs_inertial_health[..r], [att::HEALTH_SAFE; 3]);
+        if p.inertial[..r]
+            .iter()
+            .all(|c| c.coverage == att::COVERAGE_COMPARED)
+        {
+            compared_force += 1;
+        }
+    }
+    assert!(compared_force * 10 > late.len() * 9, "{compared_force}");
+}
