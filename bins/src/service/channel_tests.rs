@@ -209,3 +209,38 @@ fn angular_rates_the_bahrs_marks_at_risk_are_excluded_and_reported() {
     }
     assert!(compared_force * 10 > late.len() * 9, "{compared_force}");
 }
+
+/// The two built-in scenarios (`vigil sim --scenario bahrs-pressure-port | bahrs-gyro-bias`)
+/// raise the alert their comments promise, after their faults start at 20 s (printed).
+#[test]
+fn builtin_bahrs_channel_scenarios_raise_their_alerts() {
+    for (name, rule, subject, secs) in [
+        (
+            "bahrs-pressure-port",
+            Rule::VerticalMiscompare,
+            att::VERTICAL_VELOCITY_DOWN,
+            40,
+        ),
+        (
+            "bahrs-gyro-bias",
+            Rule::InertialMiscompare,
+            att::INERTIAL_ANGULAR_RATE_X + 1,
+            40,
+        ),
+    ] {
+        let out = run(&builtin(name).unwrap(), secs);
+        let (_, xs) = transitions(&out, rule);
+        let id = rule.alert_id(subject as u32);
+        let first = xs
+            .iter()
+            .find(|(_, a)| a.state == STATE_RAISED)
+            .unwrap_or_else(|| panic!("{name}: nothing raised"));
+        eprintln!(
+            "{name}: {} raised {:.2} s after the fault",
+            rule.name(),
+            first.0 - 20.0
+        );
+        assert_eq!(first.1.alert_id, id, "{name}: {}", first.1.reason());
+        assert!(first.0 > 20.0 && first.0 < 28.0, "{name}: {}", first.0);
+    }
+}

@@ -4,7 +4,7 @@
 use super::{Scenario, ScenarioError};
 
 /// Names of the built-in scenarios.
-pub const BUILTIN_NAMES: [&str; 11] = [
+pub const BUILTIN_NAMES: [&str; 13] = [
     "nominal",
     "headon",
     "crossing",
@@ -16,6 +16,8 @@ pub const BUILTIN_NAMES: [&str; 11] = [
     "magnetic-disturbance",
     "vn200-gnss-loss",
     "demo",
+    "bahrs-pressure-port",
+    "bahrs-gyro-bias",
 ];
 
 fn text(name: &str) -> Option<&'static str> {
@@ -31,6 +33,8 @@ fn text(name: &str) -> Option<&'static str> {
         "magnetic-disturbance" => include_str!("../../scenarios/magnetic-disturbance.toml"),
         "vn200-gnss-loss" => include_str!("../../scenarios/vn200-gnss-loss.toml"),
         "demo" => include_str!("../../scenarios/demo.toml"),
+        "bahrs-pressure-port" => include_str!("../../scenarios/bahrs-pressure-port.toml"),
+        "bahrs-gyro-bias" => include_str!("../../scenarios/bahrs-gyro-bias.toml"),
         _ => return None,
     })
 }
