@@ -22,7 +22,7 @@ mod port;
 
 pub use names::{SERVICE_ROOT, Topic, UnknownTopic, service_name};
 pub use payload::alerts::AlertPayload;
-pub use payload::attitude::{AttitudePayload, UnitAttitude};
+pub use payload::attitude::{AttitudePayload, ChannelComparison, UnitAttitude};
 pub use payload::integrity::{DeviceIntegrity, IntegrityPayload};
 pub use payload::ownship::OwnshipPayload;
 pub use payload::traffic::{MAX_TARGETS, Target, TrafficPayload};

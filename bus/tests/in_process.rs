@@ -10,8 +10,8 @@ use common::*;
 use iceoryx2::prelude::ZeroCopySend;
 use vigil_bus::payload::SCHEMA_VERSION;
 use vigil_bus::{
-    AlertPayload, AttitudePayload, DeviceIntegrity, Header, IntegrityPayload, OwnshipPayload,
-    Target, Topic, TrafficPayload, UnitAttitude,
+    AlertPayload, AttitudePayload, ChannelComparison, DeviceIntegrity, Header, IntegrityPayload,
+    OwnshipPayload, Target, Topic, TrafficPayload, UnitAttitude,
 };
 
 #[test]
@@ -150,7 +150,10 @@ fn payload_layouts_are_fixed() {
     // UnitAttitude: i64 + 6 f64 + 2 u8 + 6 pad = 64; Attitude: 32 + 6*8 + 3*64 + 9 + 3 + 4 = 288.
     assert_eq!(size_of::<UnitAttitude>(), 64);
     // Issue 25 adds 3 + 4 u8 + 1 pad + 7 f64 = 64: 352.
-    assert_eq!(size_of::<AttitudePayload>(), 352);
+    // Issue 25 points 5 and 6 (v3): ChannelComparison 5 f64 + 2 u8 + 6 pad = 48; 2 vertical +
+    // 6 inertial = 384, then 2 + 6 health u8 = 8: 352 + 384 + 8 = 744.
+    assert_eq!(size_of::<ChannelComparison>(), 48);
+    assert_eq!(size_of::<AttitudePayload>(), 744);
     // Ownship: 32 + 12 f64 + 3 u8 + 5 pad = 136.
     assert_eq!(size_of::<OwnshipPayload>(), 136);
     // Target: u32 + 4 u8 + 8 callsign + 14 f64 + u64 flags = 136; Traffic: 32 + 2 u32 +
@@ -183,7 +186,7 @@ fn type_names_are_explicit_and_versioned() {
     assert_eq!(
         names,
         [
-            "vigil.Attitude.v2",
+            "vigil.Attitude.v3",
             "vigil.Ownship.v2",
             "vigil.Traffic.v2",
             "vigil.Integrity.v2",

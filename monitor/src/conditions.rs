@@ -11,6 +11,10 @@ use vigil_bus::payload::attitude::{
     UnitAttitude, VERDICT_FAIL,
 };
 use vigil_bus::payload::attitude::{COVERAGE_COMPARED, coverage_name};
+use vigil_bus::payload::attitude::{
+    ChannelComparison, HEALTH_INTEGRITY_RISK, HEALTH_NONE, HEALTH_SAFE, HEALTH_UNAVAILABLE,
+    INERTIAL_ANGULAR_RATE_X,
+};
 use vigil_bus::payload::integrity::{
     CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, IntegrityPayload,
 };
@@ -228,6 +232,92 @@ pub(crate) fn coverage(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
             out,
             params,
             Rule::CrossCheckUnavailable,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
+}
+
+// --- issue 25 points 5 and 6 ---
+const VERTICAL_NAMES: [&str; 2] = ["down velocity", "height rate"];
+const INERTIAL_NAMES: [&str; 6] = [
+    "specific force x",
+    "specific force y",
+    "specific force z",
+    "angular rate x",
+    "angular rate y",
+    "angular rate z",
+];
+
+/// "BAHRS 1.23, VN-200 0.45, difference 0.78 (sigma 0.12)" with `scale` applied and `unit`.
+fn channel_values(c: &ChannelComparison, scale: f64, unit: &str, digits: usize) -> String {
+    let f = |x: f64| known(x, |x| format!("{:.digits$}", x * scale));
+    format!(
+        "BAHRS {}, VN-200 {} {unit}, difference {} (sigma {})",
+        f(c.bahrs),
+        f(c.vn200),
+        f(c.diff),
+        f(c.sigma)
+    )
+}
+
+/// Vertical channel rule: one alert per comparison (`VERTICAL_*`) whose verdict is FAIL. The
+/// VN-200's vertical is compared only while its INS tracks with a GNSS fix (GNSS-observed
+/// velocity and height), so the reason attributes the disagreement to the BAHRS' baro-inertial
+/// channel; this is an attribution, not a vote (no third opinion is compared).
+pub(crate) fn vertical(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
+    for (i, c) in p.vertical.iter().enumerate() {
+        if c.verdict != VERDICT_FAIL {
+            continue;
+        }
+        let name = VERTICAL_NAMES
+            .get(i)
+            .copied()
+            .unwrap_or("unknown comparison");
+        let reason = format!(
+            "vertical {name} miscompare, BAHRS suspected (VN-200 GNSS-aided): {}",
+            channel_values(c, 1.0, "m/s", 2)
+        );
+        let id = Rule::VerticalMiscompare.alert_id(i as u32);
+        push(
+            out,
+            params,
+            Rule::VerticalMiscompare,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
+}
+
+/// Inertial channel rule: one alert per signal (`INERTIAL_*`) whose verdict is FAIL (both
+/// units usable: a signal the BAHRS marks unavailable or at integrity risk is not compared).
+/// The reason names the axis and gives the BAHRS health of the signal.
+pub(crate) fn inertial(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
+    for (i, c) in p.inertial.iter().enumerate() {
+        if c.verdict != VERDICT_FAIL {
+            continue;
+        }
+        let name = INERTIAL_NAMES.get(i).copied().unwrap_or("unknown signal");
+        let values = if i >= INERTIAL_ANGULAR_RATE_X {
+            channel_values(c, 1f64.to_degrees(), "deg/s", 3)
+        } else {
+            channel_values(c, 1.0, "m/s^2", 3)
+        };
+        let health = match p.bahrs_inertial_health.get(i).copied() {
+            Some(HEALTH_SAFE) => "safe",
+            Some(HEALTH_UNAVAILABLE) => "unavailable",
+            Some(HEALTH_INTEGRITY_RISK) => "integrity risk",
+            Some(HEALTH_NONE) => "unknown",
+            _ => "undefined",
+        };
+        let reason = format!("inertial {name} miscompare (BAHRS health {health}): {values}");
+        let id = Rule::InertialMiscompare.alert_id(i as u32);
+        push(
+            out,
+            params,
+            Rule::InertialMiscompare,
             id,
             SEVERITY_CAUTION,
             reason,

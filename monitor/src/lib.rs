@@ -48,6 +48,8 @@
 //! | `traffic_alert` (per target) | `alert_level`: preventive -> advisory, corrective -> caution, warning (or unknown code) -> warning | by level | 0 | 0 |
 //! | `suspected_spoofing` (per target) | `plausibility_flags & spoofing_flags != 0` | caution | 0 | 5 |
 //! | `cross_check_unavailable` (per unit) | the unit's `unit_coverage` is not `COVERAGE_COMPARED` (reason: `not_aligned`, `not_wired`, `stale`, `absent`, `invalid`, `no_partner`, `no_check`) | caution | 2 | 1 |
+//! | `vertical_miscompare` (per comparison) | `vertical[VERTICAL_*].verdict == VERDICT_FAIL` (BAHRS down velocity or pressure-height rate against the GNSS-aided VN-200; the reason attributes it to the BAHRS) | caution | 0 | 2 |
+//! | `inertial_miscompare` (per signal) | `inertial[INERTIAL_*].verdict == VERDICT_FAIL` (a BAHRS specific force or angular rate axis against the VN-200, both usable) | caution | 0 | 2 |
 //!
 //! No rule latches by default; any can (`[monitor.RULE] latch = true`). Why the delays are 0
 //! where they are: the fusion cross-check and the traffic alert filter already apply persistence
@@ -238,6 +240,8 @@ impl Monitor {
         if let Some(p) = &self.attitude {
             conditions::attitude(p, &params, &mut active);
             conditions::coverage(p, &params, &mut active);
+            conditions::vertical(p, &params, &mut active);
+            conditions::inertial(p, &params, &mut active);
         }
         if let Some(p) = &self.ownship {
             conditions::ownship(p, &params, &mut active);

@@ -60,6 +60,12 @@ impl RuleTiming {
             // (2 s: well past a check's normal wait, about 0.25 s at most); comparisons must run
             // again for 1 s before it clears.
             Rule::CrossCheckUnavailable => Self::new(2.0, 1.0),
+            // Issue 25 points 5 and 6: the fusion's persistence (filtered ratio for 1 s, or the
+            // CUSUM) already stands between a disagreement and a FAIL verdict: no second delay.
+            // The verdict itself clears with the same persistence; 2 s more keep a drift that
+            // hovers at the limit from raising and clearing in turn.
+            Rule::VerticalMiscompare => Self::new(0.0, 2.0),
+            Rule::InertialMiscompare => Self::new(0.0, 2.0),
         }
     }
 
@@ -123,6 +129,8 @@ timing_field!(de_feed_silent, Rule::FeedSilent);
 timing_field!(de_traffic_alert, Rule::TrafficAlert);
 timing_field!(de_suspected_spoofing, Rule::SuspectedSpoofing);
 timing_field!(de_cross_check_unavailable, Rule::CrossCheckUnavailable);
+timing_field!(de_vertical_miscompare, Rule::VerticalMiscompare);
+timing_field!(de_inertial_miscompare, Rule::InertialMiscompare);
 
 /// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`].
 pub const ALL_PLAUSIBILITY_FLAGS: u8 = PLAUSIBILITY_IMPOSSIBLE_SPEED
@@ -177,6 +185,12 @@ pub struct MonitorParams {
     /// Timing of [`Rule::CrossCheckUnavailable`].
     #[serde(deserialize_with = "de_cross_check_unavailable")]
     pub cross_check_unavailable: RuleTiming,
+    /// Timing of [`Rule::VerticalMiscompare`].
+    #[serde(deserialize_with = "de_vertical_miscompare")]
+    pub vertical_miscompare: RuleTiming,
+    /// Timing of [`Rule::InertialMiscompare`].
+    #[serde(deserialize_with = "de_inertial_miscompare")]
+    pub inertial_miscompare: RuleTiming,
 
     /// A device is silent when its last valid message is older than this, s.
     pub device_silent_s: f64,
@@ -211,6 +225,8 @@ impl Default for MonitorParams {
             traffic_alert: RuleTiming::default_for(Rule::TrafficAlert),
             suspected_spoofing: RuleTiming::default_for(Rule::SuspectedSpoofing),
             cross_check_unavailable: RuleTiming::default_for(Rule::CrossCheckUnavailable),
+            vertical_miscompare: RuleTiming::default_for(Rule::VerticalMiscompare),
+            inertial_miscompare: RuleTiming::default_for(Rule::InertialMiscompare),
             device_silent_s: 2.0,
             feed_silent_s: 2.0,
             decode_window_s: 10.0,
@@ -251,6 +267,8 @@ impl MonitorParams {
             Rule::TrafficAlert => &self.traffic_alert,
             Rule::SuspectedSpoofing => &self.suspected_spoofing,
             Rule::CrossCheckUnavailable => &self.cross_check_unavailable,
+            Rule::VerticalMiscompare => &self.vertical_miscompare,
+            Rule::InertialMiscompare => &self.inertial_miscompare,
         }
     }
 
@@ -270,6 +288,8 @@ impl MonitorParams {
             Rule::TrafficAlert => &mut self.traffic_alert,
             Rule::SuspectedSpoofing => &mut self.suspected_spoofing,
             Rule::CrossCheckUnavailable => &mut self.cross_check_unavailable,
+            Rule::VerticalMiscompare => &mut self.vertical_miscompare,
+            Rule::InertialMiscompare => &mut self.inertial_miscompare,
         }
     }
 
@@ -336,6 +356,8 @@ fn rule_doc(rule: Rule) -> &'static str {
         Rule::TrafficAlert => "A traffic target's DAA alert level",
         Rule::SuspectedSpoofing => "A traffic target fails plausibility tests",
         Rule::CrossCheckUnavailable => "An attitude unit is not cross-checked (and why)",
+        Rule::VerticalMiscompare => "The BAHRS vertical channel disagrees with the VN-200",
+        Rule::InertialMiscompare => "A BAHRS inertial signal disagrees with the VN-200 on one axis",
     }
 }
 

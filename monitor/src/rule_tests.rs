@@ -6,9 +6,9 @@ use vigil_bus::payload::alerts::{
     STATE_LATCHED, STATE_RAISED,
 };
 use vigil_bus::payload::attitude::{
-    AXIS_PITCH, AXIS_ROLL, AttitudePayload, FAULT_HEALTH, FAULT_INVALID, ISOLATION_ISOLATED,
-    ISOLATION_NO_FAULT, PAIR_BAHRS_VN200, PAIR_BAHRS_WATSON, UNIT_BAHRS, UNIT_NONE, UNIT_VN200,
-    UnitAttitude, VERDICT_FAIL, VERDICT_PASS,
+    AXIS_PITCH, AXIS_ROLL, AttitudePayload, COVERAGE_COMPARED, FAULT_HEALTH, FAULT_INVALID,
+    ISOLATION_ISOLATED, ISOLATION_NO_FAULT, PAIR_BAHRS_VN200, PAIR_BAHRS_WATSON, UNIT_BAHRS,
+    UNIT_NONE, UNIT_VN200, UnitAttitude, VERDICT_FAIL, VERDICT_PASS,
 };
 use vigil_bus::payload::integrity::{
     CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, DEVICE_BAHRS, DEVICE_TTMRF,
@@ -846,5 +846,64 @@ fn regression_10_bahrs_attitude_fault_timeline() {
             (91_000, 0x0100_0000, STATE_CLEARED),
             (92_000, 0x0200_0000, STATE_CLEARED),
         ]
+    );
+}
+
+// --- issue 25 points 5 and 6 ---
+#[test]
+fn inertial_miscompare_names_the_axis_and_health_and_clears_after_two_seconds() {
+    use vigil_bus::payload::attitude::{
+        ChannelComparison, HEALTH_SAFE, INERTIAL_ANGULAR_RATE_X, INERTIAL_COUNT,
+    };
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.att.bahrs_inertial_health = [HEALTH_SAFE; INERTIAL_COUNT];
+    rig.run(1000);
+    // Angular rate z: BAHRS 0.02 rad/s, VN-200 0.01 rad/s (1.146 and 0.573 deg/s).
+    let z = INERTIAL_ANGULAR_RATE_X + 2;
+    rig.att.inertial[z] = ChannelComparison {
+        bahrs: 0.02,
+        vn200: 0.01,
+        diff: 0.01,
+        sigma: 0.001,
+        stat_ratio: 2.26,
+        verdict: VERDICT_FAIL,
+        coverage: COVERAGE_COMPARED,
+        ..ChannelComparison::default()
+    };
+    let id = Rule::InertialMiscompare.alert_id(z as u32);
+    assert_eq!(id, 0x0D00_0005);
+    let (t, a) = only(&rig.run(2000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 1000);
+    assert_eq!(
+        a.reason(),
+        "inertial angular rate z miscompare (BAHRS health safe): BAHRS 1.146, VN-200 0.573 \
+         deg/s, difference 0.573 (sigma 0.057)"
+    );
+    // Passing again from t = 3.0 s: hysteresis 2 s, cleared at 5.0 s.
+    rig.att.inertial[z].verdict = VERDICT_PASS;
+    let (t, _) = only(&rig.run(3000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 5000);
+}
+
+#[test]
+fn vertical_miscompare_names_the_comparison_and_the_bahrs_as_suspect() {
+    use vigil_bus::payload::attitude::{ChannelComparison, VERTICAL_VELOCITY_DOWN};
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.att.vertical[VERTICAL_VELOCITY_DOWN] = ChannelComparison {
+        bahrs: 0.0,
+        vn200: -2.0,
+        diff: 2.0,
+        sigma: 0.5,
+        verdict: VERDICT_FAIL,
+        coverage: COVERAGE_COMPARED,
+        ..ChannelComparison::default()
+    };
+    let id = Rule::VerticalMiscompare.alert_id(0);
+    assert_eq!(id, 0x0C00_0000);
+    let (_, a) = only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "vertical down velocity miscompare, BAHRS suspected (VN-200 GNSS-aided): BAHRS 0.00, \
+         VN-200 -2.00 m/s, difference 2.00 (sigma 0.50)"
     );
 }

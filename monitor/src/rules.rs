@@ -17,6 +17,8 @@
 //! | [`Rule::DecodeErrors`] | `0x09` | `(device kind << 8) \| slot` |
 //! | [`Rule::FeedSilent`] | `0x0A` | topic: 0 attitude, 1 ownship, 2 traffic, 3 integrity |
 //! | [`Rule::CrossCheckUnavailable`] | `0x0B` | unit (`UNIT_*`) |
+//! | [`Rule::VerticalMiscompare`] | `0x0C` | comparison: 0 down velocity, 1 height rate (`VERTICAL_*`) |
+//! | [`Rule::InertialMiscompare`] | `0x0D` | signal: 0..2 specific force x/y/z, 3..5 angular rate x/y/z (`INERTIAL_*`) |
 //! | [`Rule::TrafficAlert`] | `0x20 + t` | 24-bit target address |
 //! | [`Rule::SuspectedSpoofing`] | `0x30 + t` | 24-bit target address |
 //!
@@ -66,11 +68,17 @@ pub enum Rule {
     /// `unit_coverage` is not `COVERAGE_COMPARED`); the reason names why (not aligned, not
     /// wired, stale, absent, invalid, ...).
     CrossCheckUnavailable,
+    /// The BAHRS vertical channel (down velocity, pressure-height rate) disagrees with the
+    /// VN-200's (comparison verdict FAIL after the fusion's persistence).
+    VerticalMiscompare,
+    /// A BAHRS inertial signal (specific force or angular rate on one body axis) disagrees with
+    /// the VN-200's while both are usable (comparison verdict FAIL after persistence).
+    InertialMiscompare,
 }
 
 impl Rule {
     /// Every rule, in evaluation order.
-    pub const ALL: [Rule; 13] = [
+    pub const ALL: [Rule; 15] = [
         Rule::AttitudeMiscompare,
         Rule::UnitIsolated,
         Rule::UnitHealth,
@@ -84,6 +92,8 @@ impl Rule {
         Rule::TrafficAlert,
         Rule::SuspectedSpoofing,
         Rule::CrossCheckUnavailable,
+        Rule::VerticalMiscompare,
+        Rule::InertialMiscompare,
     ];
 
     /// The rule's base code (the top byte of its alert ids; per-target rules add the address
@@ -103,6 +113,8 @@ impl Rule {
             Rule::TrafficAlert => 0x20,
             Rule::SuspectedSpoofing => 0x30,
             Rule::CrossCheckUnavailable => 0x0B,
+            Rule::VerticalMiscompare => 0x0C,
+            Rule::InertialMiscompare => 0x0D,
         }
     }
 
@@ -122,6 +134,8 @@ impl Rule {
             Rule::TrafficAlert => "traffic_alert",
             Rule::SuspectedSpoofing => "suspected_spoofing",
             Rule::CrossCheckUnavailable => "cross_check_unavailable",
+            Rule::VerticalMiscompare => "vertical_miscompare",
+            Rule::InertialMiscompare => "inertial_miscompare",
         }
     }
 
@@ -151,6 +165,8 @@ impl Rule {
             0x09 => Rule::DecodeErrors,
             0x0A => Rule::FeedSilent,
             0x0B => Rule::CrossCheckUnavailable,
+            0x0C => Rule::VerticalMiscompare,
+            0x0D => Rule::InertialMiscompare,
             0x20..=0x2F => Rule::TrafficAlert,
             0x30..=0x3F => Rule::SuspectedSpoofing,
             _ => return None,

@@ -188,7 +188,70 @@ pub fn attitude(r: &AttitudeRecord) -> AttitudePayload {
     };
     p.header.gps_time_ns = r.t_gps_ns;
     set_coverage(&mut p, &r.coverage);
+    set_channels(&mut p, r);
     p
+}
+
+// --- issue 25 points 5 and 6: the vertical and inertial channels ---
+/// The payload's `COVERAGE_*` code of a comparison's gate (`None`: compared).
+fn gate_coverage(g: Gate) -> u8 {
+    match g.map(vigil_fusion::attitude::coverage::reason_of_gate) {
+        None => att::COVERAGE_COMPARED,
+        Some(NotComparedReason::Absent) => att::COVERAGE_ABSENT,
+        Some(NotComparedReason::Stale) => att::COVERAGE_STALE,
+        Some(NotComparedReason::NotComparable) => att::COVERAGE_NOT_COMPARABLE,
+        Some(_) => att::COVERAGE_INVALID,
+    }
+}
+
+fn health_code(h: vigil_drivers::bahrs::Health) -> u8 {
+    use vigil_drivers::bahrs::Health as H;
+    match h {
+        H::Unavailable => att::HEALTH_UNAVAILABLE,
+        H::Safe => att::HEALTH_SAFE,
+        H::IntegrityRisk => att::HEALTH_INTEGRITY_RISK,
+        H::Undefined => att::HEALTH_UNDEFINED,
+    }
+}
+
+/// Fills the vertical and inertial comparisons and the BAHRS health of their signals (unknown
+/// values NaN, health `HEALTH_NONE` before the first message).
+fn set_channels(p: &mut AttitudePayload, r: &AttitudeRecord) {
+    use vigil_fusion::attitude::inertial::SignalComparison;
+    use vigil_fusion::attitude::vertical::VerticalComparison;
+    let vert = |c: &VerticalComparison| att::ChannelComparison {
+        bahrs: opt(c.bahrs_mps),
+        vn200: opt(c.vn200_mps),
+        diff: opt(c.diff_mps),
+        sigma: opt(c.sigma_mps),
+        stat_ratio: opt(c.stat_ratio),
+        verdict: verdict(c.verdict),
+        coverage: gate_coverage(c.gate),
+        ..att::ChannelComparison::default()
+    };
+    p.vertical[att::VERTICAL_VELOCITY_DOWN] = vert(&r.vertical.velocity_down);
+    p.vertical[att::VERTICAL_HEIGHT_RATE] = vert(&r.vertical.height_rate);
+    p.bahrs_vertical_health = r
+        .vertical
+        .bahrs_health
+        .map_or([att::HEALTH_NONE; 2], |h| h.map(health_code));
+    let inert = |c: &SignalComparison| att::ChannelComparison {
+        bahrs: opt(c.bahrs),
+        vn200: opt(c.vn200),
+        diff: opt(c.diff),
+        sigma: opt(c.sigma),
+        stat_ratio: opt(c.stat_ratio),
+        verdict: verdict(c.verdict),
+        coverage: gate_coverage(c.gate),
+        ..att::ChannelComparison::default()
+    };
+    p.inertial = r.inertial.axes.map(|c| inert(&c));
+    p.bahrs_inertial_health = r
+        .inertial
+        .bahrs_health
+        .map_or([att::HEALTH_NONE; att::INERTIAL_COUNT], |h| {
+            h.map(health_code)
+        });
 }
 
 // --- issue 25: coverage ---

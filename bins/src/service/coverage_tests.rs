@@ -12,7 +12,7 @@ use super::*;
 
 /// Runs `sc` for `seconds` through a service with `vigil run`'s pipeline configuration (prompt
 /// attitude), ticking every 100 ms of host time.
-fn run(sc: &vigil_sim::scenario::Scenario, seconds: i64) -> Collected {
+pub(super) fn run(sc: &vigil_sim::scenario::Scenario, seconds: i64) -> Collected {
     let mut sim = Simulator::new(sc, 3).unwrap();
     let mut sink = MemorySink::default();
     sim.run(seconds * 1_000_000_000, &mut sink).unwrap();

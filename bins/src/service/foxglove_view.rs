@@ -11,7 +11,7 @@
 //! | `/vigil/traffic`        | JSON     | `vigil.Traffic.v1`               | at most 1 Hz          |
 //! | `/vigil/traffic/geojson`| protobuf | `foxglove.GeoJSON` (Map)         | with the traffic      |
 //! | `/vigil/alerts`         | JSON     | `vigil.Alert.v1`                 | every transition      |
-//! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v2`              | at most 10 Hz         |
+//! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v3`              | at most 10 Hz         |
 //! | `/vigil/integrity`      | JSON     | `vigil.Integrity.v2`             | as published (1 Hz)   |
 //!
 //! The JSON messages are the bus payloads' own serde form (the same as `vigil listen`: NaN is
@@ -116,7 +116,7 @@ pub enum ViewError {
 
 /// A payload on its way to the view's thread.
 enum Item {
-    Attitude(AttitudePayload),
+    Attitude(Box<AttitudePayload>),
     Ownship(OwnshipPayload),
     Traffic(Box<TrafficPayload>),
     // Boxed: 824 bytes, published at 1 Hz.
@@ -159,7 +159,7 @@ impl Channels {
             attitude: json_channel(
                 ctx,
                 TOPIC_ATTITUDE,
-                "vigil.Attitude.v2",
+                "vigil.Attitude.v3",
                 &AttitudePayload::default(),
             )?,
             integrity: json_channel(
@@ -486,7 +486,7 @@ impl Outputs for FoxgloveView {
         let item = match T::TOPIC {
             Topic::Attitude if ch.attitude.has_sinks() && self.attitude_limit.admit(t) => any
                 .downcast_ref::<AttitudePayload>()
-                .map(|p| Item::Attitude(*p)),
+                .map(|p| Item::Attitude(Box::new(*p))),
             // The traffic map needs the ownship too.
             Topic::Ownship
                 if ch.ownship.has_sinks()

@@ -534,3 +534,7 @@ mod tests;
 #[cfg(test)]
 #[path = "coverage_tests.rs"]
 mod coverage_tests;
+
+#[cfg(test)]
+#[path = "channel_tests.rs"]
+mod channel_tests;

@@ -109,6 +109,75 @@ pub fn coverage_name(code: u8) -> &'static str {
     }
 }
 
+// --- issue 25 points 5 and 6: the vertical and inertial channels ---
+/// Number of vertical comparisons in [`AttitudePayload::vertical`].
+pub const VERTICAL_COUNT: usize = 2;
+/// Vertical comparison: BAHRS downward velocity against the VN-200 NED down velocity, m/s.
+pub const VERTICAL_VELOCITY_DOWN: usize = 0;
+/// Vertical comparison: BAHRS pressure-height rate against the VN-200 altitude rate (both
+/// differenced over the same window), m/s, up positive.
+pub const VERTICAL_HEIGHT_RATE: usize = 1;
+/// Number of inertial comparisons in [`AttitudePayload::inertial`].
+pub const INERTIAL_COUNT: usize = 6;
+/// Inertial comparison: specific force along body x, m/s^2 (`+ 1`, `+ 2`: y, z).
+pub const INERTIAL_SPECIFIC_FORCE_X: usize = 0;
+/// Inertial comparison: angular rate about body x, rad/s (`+ 1`, `+ 2`: y, z).
+pub const INERTIAL_ANGULAR_RATE_X: usize = 3;
+
+/// BAHRS 2-bit signal health (protocol 2.0, 2.4): 00 signal unavailable.
+pub const HEALTH_UNAVAILABLE: u8 = 0;
+/// BAHRS signal health 01: available and safe.
+pub const HEALTH_SAFE: u8 = 1;
+/// BAHRS signal health 10: integrity risk (available, possibly misleading).
+pub const HEALTH_INTEGRITY_RISK: u8 = 2;
+/// BAHRS signal health 11: not defined by the document.
+pub const HEALTH_UNDEFINED: u8 = 3;
+/// No BAHRS message carrying the signal has been received (not a wire value).
+pub const HEALTH_NONE: u8 = 0xFF;
+
+/// One comparison of a BAHRS signal with the VN-200's, in the signal's unit (m/s for the
+/// vertical channel; m/s^2 or rad/s for the inertial one, in the aircraft body frame). Unknown
+/// values are NaN.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend, Serialize)]
+#[type_name("vigil.ChannelComparison.v1")]
+pub struct ChannelComparison {
+    /// BAHRS value; NaN when unknown.
+    pub bahrs: f64,
+    /// VN-200 value at the same time; NaN when unknown.
+    pub vn200: f64,
+    /// Difference BAHRS minus VN-200; NaN when not compared.
+    pub diff: f64,
+    /// Combined 1-sigma of the difference; NaN when not compared.
+    pub sigma: f64,
+    /// Statistical test ratio `|diff| / (k sigma)` (1 at the threshold); NaN when not compared.
+    pub stat_ratio: f64,
+    /// `VERDICT_*` code (`VERDICT_FAIL` after the fusion's persistence).
+    pub verdict: u8,
+    /// `COVERAGE_*` code: `COVERAGE_COMPARED`, or why not (`COVERAGE_INVALID`: a BAHRS health
+    /// other than safe or an invalid VN-200 solution; `COVERAGE_ABSENT`: no value; ...).
+    pub coverage: u8,
+    /// Explicit padding; always 0.
+    #[serde(skip)]
+    pub reserved: [u8; 6],
+}
+
+impl Default for ChannelComparison {
+    /// Not compared, nothing known.
+    fn default() -> Self {
+        Self {
+            bahrs: f64::NAN,
+            vn200: f64::NAN,
+            diff: f64::NAN,
+            sigma: f64::NAN,
+            stat_ratio: f64::NAN,
+            verdict: VERDICT_NOT_COMPARED,
+            coverage: COVERAGE_NO_CHECK,
+            reserved: [0; 6],
+        }
+    }
+}
+
 /// One unit's attitude as used by the cross-check.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
@@ -146,7 +215,7 @@ pub struct UnitAttitude {
 /// prompt time more than 1 s behind the newest is a clock reset, and followed).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.Attitude.v2")]
+#[type_name("vigil.Attitude.v3")]
 pub struct AttitudePayload {
     /// Common header; `gps_time_ns` is the time of the voted solution.
     pub header: Header,
@@ -188,6 +257,17 @@ pub struct AttitudePayload {
     pub unit_compared_age_s: [f64; UNIT_COUNT],
     /// Per check: time since it last ran, s; NaN when never.
     pub check_compared_age_s: [f64; CHECK_COUNT],
+    // --- issue 25 points 5 and 6 (layout v3): the vertical and inertial channels ---
+    /// Vertical comparisons (`VERTICAL_*`) of the newest cross-check.
+    pub vertical: [ChannelComparison; VERTICAL_COUNT],
+    /// Inertial comparisons (`INERTIAL_*`) of the newest cross-check.
+    pub inertial: [ChannelComparison; INERTIAL_COUNT],
+    /// BAHRS health (`HEALTH_*`) of its pressure height and downward velocity (0x02), in that
+    /// order; `HEALTH_NONE` before the first message.
+    pub bahrs_vertical_health: [u8; 2],
+    /// BAHRS health (`HEALTH_*`) of its specific force x/y/z and angular rate x/y/z (0x01), in
+    /// `INERTIAL_*` order; `HEALTH_NONE` before the first message.
+    pub bahrs_inertial_health: [u8; INERTIAL_COUNT],
 }
 
 impl_payload!(AttitudePayload, Topic::Attitude);

@@ -22,6 +22,7 @@ use super::coverage::{
     SLOTS,
 };
 use super::gates::{self, FrozenDetector, Gate, GateReason};
+use super::inertial::{InertialChannel, InertialRecord, Vn200Inertial, vn200_at};
 use super::isolation::{Isolation, PairVerdict, Pairs, Unit, isolate};
 use super::params::{CheckParams, ParamError};
 use super::persistence::Persistence;
@@ -108,6 +109,8 @@ pub struct AttitudeChecker {
     /// The previous outcome of each axis (roll, pitch, heading, joint).
     prev_isolation: [Isolation; 4],
     vertical: VerticalChannel,
+    /// Issue 25 point 5: the BAHRS 0x01 against the VN-200 Accel and AngularRate.
+    inertial: InertialChannel,
     finished: bool,
     /// The newest BAHRS sample compared, with its frozen verdict (the prompt output's BAHRS
     /// when none is pending).
@@ -145,6 +148,7 @@ impl AttitudeChecker {
             settle_since: [None; 4],
             prev_isolation: [Isolation::NoFault; 4],
             vertical: VerticalChannel::default(),
+            inertial: InertialChannel::default(),
             finished: false,
             last_bahrs: None,
             last_verdicts: None,
@@ -555,6 +559,7 @@ impl AttitudeChecker {
             [isolation.roll, isolation.pitch, isolation.heading],
         );
         let vertical = self.vertical.update(b, &vn_vertical, dt_s, self.k_axis, &p);
+        let inertial = self.compare_inertial(b, t);
         let coverage = self.check_coverage(t, [&bahrs, &vn, &watson], &pairs, &vertical);
         let h = b.health;
         let bahrs_integrity_risk = [
@@ -587,6 +592,7 @@ impl AttitudeChecker {
             isolation,
             voted,
             vertical,
+            inertial,
             coverage,
         };
         self.last_verdicts = Some(prompt::Verdicts::of(&rec));
@@ -684,6 +690,35 @@ impl AttitudeChecker {
         }
     }
 
+    /// The inertial channel at the check of `b` (time `t`): the newest 0x01 against the VN-200
+    /// interpolated to the 0x01's own time (see [`super::inertial`]).
+    fn compare_inertial(&mut self, b: &BahrsSample, t: i64) -> InertialRecord {
+        let p = self.params;
+        let horizon = self.horizon_ns(p.bahrs_period_s);
+        let vn = match b.inertial.as_ref() {
+            Some(i) => {
+                let (prev, next) = bracket(&self.vn, i.t_gps_ns, |x| x.0.t_gps_ns);
+                let vn_horizon = self.horizon_ns(p.vn200_period_s);
+                vn200_at(
+                    prev.map(|x| &x.0),
+                    next.map(|x| &x.0),
+                    i.t_gps_ns,
+                    vn_horizon,
+                )
+            }
+            None => Vn200Inertial {
+                specific_force_mps2: None,
+                angular_rate_radps: None,
+                slope_per_s: [0.0; 6],
+                step: [0.0; 6],
+                sigma_ns: 0.0,
+                gate: Some(GateReason::NoData),
+            },
+        };
+        self.inertial
+            .update(b.inertial.as_ref(), &vn, t, horizon, self.k_axis, &p)
+    }
+
     fn prepare_vn200(&self, t: i64) -> (Prepared, bool, Vn200Vertical) {
         let p = &self.params;
         let horizon = self.horizon_ns(p.vn200_period_s);
@@ -696,6 +731,7 @@ impl AttitudeChecker {
                     vel_down_mps: None,
                     alt_m: None,
                     vel_u_mps: None,
+                    pos_u_m: None,
                     gate: Some(g),
                 },
             )
@@ -771,6 +807,7 @@ impl AttitudeChecker {
             ),
             alt_m: lerp(s0.lla.map(|l| l[2]), s1.and_then(|s| s.lla).map(|l| l[2])),
             vel_u_mps: s0.vel_u_mps,
+            pos_u_m: s0.pos_u_m,
             gate: vert_gate,
         };
         (

@@ -494,6 +494,7 @@ fn arbitrary_samples_never_panic_and_non_finite_values_are_gated() {
                 ins_status: InsStatus((n.gauss() * 1000.0) as i64 as u16),
                 imu_status: None,
                 rates_radps: Some([wild(&mut n), 0.0, 0.0]),
+                accel_mps2: None,
                 lla: Some([wild(&mut n) * 30.0, wild(&mut n) * 50.0, wild(&mut n)]),
                 vel_ned_mps: Some([wild(&mut n), 0.0, wild(&mut n)]),
                 pos_u_m: None,

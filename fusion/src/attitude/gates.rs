@@ -153,6 +153,7 @@ mod tests {
             health,
             accuracy_rad: None,
             rates_radps: None,
+            inertial: None,
         }
     }
 
@@ -196,6 +197,7 @@ mod tests {
             ins_status: InsStatus(raw),
             imu_status: None,
             rates_radps: None,
+            accel_mps2: None,
             lla: None,
             vel_ned_mps: None,
             pos_u_m: None,

@@ -15,6 +15,7 @@ pub mod checker;
 pub mod compare;
 pub mod coverage;
 pub mod gates;
+pub mod inertial;
 pub mod isolation;
 pub mod params;
 pub mod persistence;

@@ -26,6 +26,7 @@
 //! | `mounting.*`               | deg    | -180 .. 180    | 0 (offsets), 0.1 (sigma) |
 //! | `declination_refresh_s`    | s      | 1 .. 3600      | 60                 |
 //! | `vertical_*`               | m/s    | 0.01 .. 20     | see [`VerticalParams`] |
+//! | `inertial_*`               | m/s^2, rad/s | > 0      | see [`InertialParams`] |
 //! | `verdict_max_age_s`        | s      | 0.05 .. 10     | 0.5                |
 //!
 //! Decisions:
@@ -100,6 +101,44 @@ impl Default for VerticalParams {
     }
 }
 
+/// Parameters of the inertial channel (BAHRS 0x01 against the VN-200 Accel and AngularRate):
+/// the 1-sigma white noise of one sample of each signal.
+///
+/// Where the numbers come from (issue 25 point 5, "statistical limits from the sensors' stated
+/// noise"):
+/// - BAHRS: protocol 2.0 states no noise. 0.02 m/s^2 and 0.001 rad/s (0.057 deg/s) per 100 Hz
+///   sample are the class of a MEMS baro-inertial AHRS (13 and 6 LSB of the 0x01 scale factors,
+///   1.4964e-3 m/s^2 and 1.5979e-4 rad/s); the simulator's BAHRS noise uses the same numbers,
+///   so the nominal flight tests the false-alarm rate only as far as these assumptions hold.
+///   Replace them with the manufacturer's figures when known.
+/// - VN-200: the VectorNav VN-200 datasheet (not among the seed documents, which are the ICD
+///   only) gives an accelerometer noise density of 0.14 mg/sqrt(Hz) and a gyro noise density of
+///   0.0035 deg/s/sqrt(Hz); over the about 100 Hz bandwidth of a 200 Hz output that is
+///   0.14e-3 x 9.81 x 10 = 0.014 m/s^2 and 0.035 deg/s = 0.0006 rad/s. In-run bias stability
+///   (under 0.04 mg, 10 deg/h) is far below these and left out.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct InertialParams {
+    /// 1-sigma of a BAHRS specific force sample, m/s^2.
+    pub bahrs_specific_force_sigma_mps2: f64,
+    /// 1-sigma of a BAHRS angular rate sample, rad/s.
+    pub bahrs_angular_rate_sigma_radps: f64,
+    /// 1-sigma of a VN-200 Accel sample, m/s^2.
+    pub vn200_specific_force_sigma_mps2: f64,
+    /// 1-sigma of a VN-200 AngularRate sample, rad/s.
+    pub vn200_angular_rate_sigma_radps: f64,
+}
+
+impl Default for InertialParams {
+    fn default() -> Self {
+        Self {
+            bahrs_specific_force_sigma_mps2: 0.02,
+            bahrs_angular_rate_sigma_radps: 0.001,
+            vn200_specific_force_sigma_mps2: 0.014,
+            vn200_angular_rate_sigma_radps: 0.0006,
+        }
+    }
+}
+
 /// The parameter table (see the module documentation for units, ranges and defaults).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CheckParams {
@@ -152,6 +191,8 @@ pub struct CheckParams {
     pub declination_refresh_s: f64,
     /// Vertical channel.
     pub vertical: VerticalParams,
+    /// Inertial channel (issue 25 point 5).
+    pub inertial: InertialParams,
     // --- issue 25: coverage ---
     /// A verdict older than this is unknown, never repeated: a prompt output more than this
     /// after the newest check carries no verdicts, and a unit or check last compared longer ago
@@ -195,6 +236,7 @@ impl Default for CheckParams {
             mounting_watson: Mounting::default(),
             declination_refresh_s: 60.0,
             vertical: VerticalParams::default(),
+            inertial: InertialParams::default(),
             verdict_max_age_s: 0.5,
         }
     }

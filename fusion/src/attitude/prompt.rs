@@ -24,6 +24,7 @@
 use super::*;
 use crate::attitude::angles::wrap_2pi;
 use crate::attitude::compare::euler_rates;
+use crate::attitude::inertial::InertialRecord;
 use crate::attitude::vertical::{VerticalComparison, VerticalRecord};
 
 /// A prompt time this far (or further) behind the newest one starts a new timeline, ns.
@@ -42,6 +43,7 @@ pub(super) struct Verdicts {
     pairs: PairsRecord,
     isolation: IsolationRecord,
     vertical: VerticalRecord,
+    inertial: InertialRecord,
 }
 
 impl Verdicts {
@@ -58,6 +60,7 @@ impl Verdicts {
             pairs: r.pairs,
             isolation: r.isolation,
             vertical: r.vertical,
+            inertial: r.inertial,
         }
     }
 
@@ -104,7 +107,9 @@ impl Verdicts {
             vertical: VerticalRecord {
                 velocity_down: vertical,
                 height_rate: vertical,
+                bahrs_health: None,
             },
+            inertial: InertialRecord::none(Some(GateReason::NoData)),
         }
     }
 }
@@ -176,6 +181,7 @@ impl AttitudeChecker {
             isolation: v.isolation,
             voted: vote_units([&bahrs, &vn, &watson], [i.roll, i.pitch, i.heading]),
             vertical: v.vertical,
+            inertial: v.inertial,
             coverage,
         })
     }

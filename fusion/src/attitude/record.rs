@@ -7,6 +7,7 @@ use serde::Serialize;
 use super::compare::AxisComparison;
 use super::coverage::CoverageRecord;
 use super::gates::Gate;
+use super::inertial::InertialRecord;
 use super::isolation::{Isolation, PairVerdict, Unit};
 use super::vertical::VerticalRecord;
 use crate::magnetic::MagneticZone;
@@ -186,6 +187,8 @@ pub struct AttitudeRecord {
     pub voted: Voted,
     /// Vertical channel.
     pub vertical: VerticalRecord,
+    /// The inertial channel (issue 25 point 5): the newest 0x01 against the VN-200, per axis.
+    pub inertial: InertialRecord,
     // --- issue 25: coverage ---
     /// What was compared on this record and why the rest was not (a prompt: compared within
     /// `verdict_max_age_s`; see [`super::coverage`]).

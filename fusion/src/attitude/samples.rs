@@ -40,6 +40,47 @@ pub struct BahrsSample {
     pub accuracy_rad: Option<[Option<f64>; 3]>,
     /// Body angular rates x/y/z, rad/s, when the latest 0x01 says they are safe.
     pub rates_radps: Option<[f64; 3]>,
+    /// The latest 0x01 with its own aligned time, for the inertial channel (issue 25 point 5);
+    /// set by the pipeline (which aligns 0x01 through 0x05), `None` from [`BahrsSample::new`].
+    /// Not serialised: the aligned replay output stays as it was.
+    #[serde(skip)]
+    pub inertial: Option<BahrsInertial>,
+}
+
+/// A BAHRS inertial sample (0x01) on GPS time, SI units, in the BAHRS body frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BahrsInertial {
+    /// GPS time of the 0x01 (from its 0x05), ns.
+    pub t_gps_ns: i64,
+    /// 1-sigma of the time, ns.
+    pub sigma_ns: f64,
+    /// Specific force x/y/z, m/s^2.
+    pub specific_force_mps2: [f64; 3],
+    /// Angular rate x/y/z, rad/s.
+    pub angular_rate_radps: [f64; 3],
+    /// Health of specific force x/y/z then angular rate x/y/z.
+    pub health: [Health; 6],
+}
+
+impl BahrsInertial {
+    /// Builds the sample from an aligned 0x01.
+    pub fn new(time: &AlignedTime, i: &Inertial) -> Self {
+        let h = i.health;
+        Self {
+            t_gps_ns: time.t_gps_ns,
+            sigma_ns: time.sigma_ns,
+            specific_force_mps2: i.specific_force_mps2(),
+            angular_rate_radps: i.angular_rate_radps(),
+            health: [
+                h.specific_force(0),
+                h.specific_force(1),
+                h.specific_force(2),
+                h.angular_rate(0),
+                h.angular_rate(1),
+                h.angular_rate(2),
+            ],
+        }
+    }
 }
 
 impl BahrsSample {
@@ -67,6 +108,7 @@ impl BahrsSample {
             accuracy_rad: accuracy
                 .map(|a| [a.std_north_rad(), a.std_east_rad(), a.std_heading_rad()]),
             rates_radps: rates,
+            inertial: None,
         }
     }
 }
@@ -89,6 +131,9 @@ pub struct Vn200Sample {
     pub imu_status: Option<ImuStatus>,
     /// Body angular rates, rad/s.
     pub rates_radps: Option<[f64; 3]>,
+    /// Body specific force (VN-200 Accel, compensated), m/s^2; level at rest z = -9.81.
+    #[serde(skip)]
+    pub accel_mps2: Option<[f64; 3]>,
     /// Latitude, longitude (deg), height above the ellipsoid (m).
     pub lla: Option<[f64; 3]>,
     /// NED velocity, m/s.
@@ -151,6 +196,10 @@ impl Vn200Sample {
             rates_radps: common
                 .and_then(|c| c.angular_rate_radps)
                 .or_else(|| out.imu.as_ref().and_then(|i| i.angular_rate_radps))
+                .map(f3),
+            accel_mps2: common
+                .and_then(|c| c.accel_mps2)
+                .or_else(|| out.imu.as_ref().and_then(|i| i.accel_mps2))
                 .map(f3),
             lla: common
                 .and_then(|c| c.pos_lla)

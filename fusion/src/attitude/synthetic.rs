@@ -300,6 +300,7 @@ impl Stream {
             ins_status: ins,
             imu_status: None,
             rates_radps: Some(rates),
+            accel_mps2: None,
             lla: Some([sc.lla[0], sc.lla[1], height + 0.5 * n.gauss()]),
             vel_ned_mps: Some([0.0, SPEED_MPS, -climb + 0.05 * n.gauss()]),
             pos_u_m: Some(if lost { 50.0 } else { 2.0 }),

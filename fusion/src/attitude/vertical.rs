@@ -27,6 +27,8 @@ pub struct Vn200Vertical {
     pub alt_m: Option<f64>,
     /// VelU, m/s.
     pub vel_u_mps: Option<f64>,
+    /// PosU, m.
+    pub pos_u_m: Option<f64>,
     /// Gate of the VN-200 velocity and position (None: valid).
     pub gate: Gate,
 }
@@ -57,6 +59,9 @@ pub struct VerticalRecord {
     pub velocity_down: VerticalComparison,
     /// Height rate (pressure height rate against altitude rate), up positive.
     pub height_rate: VerticalComparison,
+    /// BAHRS health of the pressure height and the downward velocity of the sample (issue 25
+    /// point 6: published with the comparisons); `None` before the first sample.
+    pub bahrs_health: Option<[Health; 2]>,
 }
 
 /// State of the vertical channel.
@@ -142,9 +147,17 @@ impl VerticalChannel {
                         let span = b.t_gps_ns.saturating_sub(t0) as f64 * 1e-9;
                         let rb = (b.pressure_height_m - h0) / span;
                         let rv = (alt - a0) / span;
-                        let sigma = (vp.pressure_rate_sigma_mps.powi(2)
-                            + vp.vn200_alt_rate_sigma_mps.powi(2))
-                        .sqrt();
+                        // Issue 25: the VN-200 states its own position uncertainty (PosU); a
+                        // rate differenced over `span` has at least sqrt(2) PosU / span when
+                        // the two ends' errors are independent. Real GNSS errors are correlated
+                        // over a second, so this is conservative; the simulator draws them
+                        // independently per sample, and with the fixed 0.3 m/s alone the
+                        // nominal flight failed this comparison within 4 s (a false alert).
+                        let s_vn = vn.pos_u_m.map_or(vp.vn200_alt_rate_sigma_mps, |u| {
+                            vp.vn200_alt_rate_sigma_mps
+                                .max(std::f64::consts::SQRT_2 * u / span)
+                        });
+                        let sigma = (vp.pressure_rate_sigma_mps.powi(2) + s_vn.powi(2)).sqrt();
                         let d = rb - rv;
                         let ratio = (d / sigma).abs() / k;
                         let fault = self.rate.update(ratio, d / sigma, dt_s, pp);
@@ -174,6 +187,7 @@ impl VerticalChannel {
         VerticalRecord {
             velocity_down,
             height_rate,
+            bahrs_health: Some([b.health.pressure_height(), b.health.velocity_down()]),
         }
     }
 }
@@ -208,6 +222,7 @@ mod tests {
             health: NavigationHealth::new(Safe, Safe, Safe, Safe, Safe),
             accuracy_rad: None,
             rates_radps: None,
+            inertial: None,
         }
     }
 
@@ -216,6 +231,7 @@ mod tests {
             vel_down_mps: Some(vd),
             alt_m: Some(alt),
             vel_u_mps: None,
+            pos_u_m: None,
             gate: None,
         }
     }

@@ -36,7 +36,7 @@ use crate::attitude::checker::AttitudeChecker;
 use crate::attitude::isolation::Unit;
 use crate::attitude::params::{CheckParams, ParamError};
 use crate::attitude::record::AttitudeRecord;
-use crate::attitude::samples::{BahrsSample, Vn200Sample, WatsonSample};
+use crate::attitude::samples::{BahrsInertial, BahrsSample, Vn200Sample, WatsonSample};
 use crate::magnetic::DeclinationModel;
 use crate::ownship::builder::GnssFix;
 use crate::ownship::{OwnshipBuilder, OwnshipParams, OwnshipSolution};
@@ -166,6 +166,8 @@ pub struct Pipeline {
     tracks: TrackManager,
     modes: Tracker,
     last_inertial: Option<Inertial>,
+    /// The latest 0x01 on GPS time, for the inertial channel (issue 25 point 5).
+    last_inertial_aligned: Option<BahrsInertial>,
     last_accuracy: Option<Accuracy>,
     last_rmc: Option<(i64, Rmc)>,
     next_step_ns: Option<i64>,
@@ -188,6 +190,7 @@ impl Pipeline {
             modes: Tracker::new(TrackerConfig::default()),
             cfg,
             last_inertial: None,
+            last_inertial_aligned: None,
             last_accuracy: None,
             last_rmc: None,
             next_step_ns: None,
@@ -322,15 +325,19 @@ impl Pipeline {
         let mut attitude = false;
         match msg {
             Sample::Bahrs(m) => match m {
-                bahrs::Message::Inertial(i) => self.last_inertial = Some(*i),
+                bahrs::Message::Inertial(i) => {
+                    self.last_inertial = Some(*i);
+                    self.last_inertial_aligned = Some(BahrsInertial::new(time, i));
+                }
                 bahrs::Message::Accuracy(a) => self.last_accuracy = Some(*a),
                 bahrs::Message::Navigation(n) => {
-                    let b = BahrsSample::new(
+                    let mut b = BahrsSample::new(
                         time,
                         n,
                         self.last_accuracy.as_ref(),
                         self.last_inertial.as_ref(),
                     );
+                    b.inertial = self.last_inertial_aligned;
                     self.ownship.update_bahrs(&b);
                     self.checker.set_fallback_position(self.ownship.position(t));
                     self.checker.push_bahrs(b);

@@ -105,6 +105,8 @@ pub struct BahrsModel {
     pulses: u64,
     /// Software capture latency draws.
     capture: Rng,
+    /// Pressure height held while the pressure port is blocked (issue 25), m.
+    blocked_height_m: Option<f64>,
 }
 
 impl BahrsModel {
@@ -148,6 +150,7 @@ impl BahrsModel {
             reports: VecDeque::new(),
             pulses: 0,
             capture: Rng::stream(seed, "bahrs/capture"),
+            blocked_height_m: None,
         };
         m.align_schedules();
         m
@@ -359,17 +362,25 @@ impl BahrsModel {
                 let sf = o
                     .specific_force_body_mps2
                     .map(|v| v + self.noise.gauss(n.specific_force_mps2));
-                let ar = o
+                let bias = faults.bahrs_gyro_bias_radps(t_s);
+                let mut ar = o
                     .angular_rate_body_radps
                     .map(|v| v + self.noise.gauss(n.angular_rate_radps));
+                for (a, b) in ar.iter_mut().zip(bias) {
+                    *a += b;
+                }
                 let health = self.inertial_health(t_s, faults);
                 let m = Message::Inertial(Inertial::from_si(seq, sf, ar, health));
-                let v = json!({
+                let mut v = json!({
                     "mcu_time_us": mcu,
                     "specific_force_body_mps2": o.specific_force_body_mps2,
                     "angular_rate_body_radps": o.angular_rate_body_radps,
                     "health_word": health.0,
                 });
+                // Only while a gyro fault acts, so fault-free recordings stay as they were.
+                if bias != [0.0; 3] {
+                    v["gyro_fault_radps"] = json!(bias);
+                }
                 self.emit(out, t, ready, m, v);
                 let tm = Message::InertialTime(DataTime {
                     seq: tseq,
@@ -387,16 +398,28 @@ impl BahrsModel {
                     .map(|a| faults.bahrs_attitude_bias_rad(t_s, a));
                 let mag = faults.magnetic_offset_rad(t_s);
                 let health = self.navigation_health(t_s, faults);
+                // Noise is drawn whatever the fault, so the other signals' draws stay the same.
+                let mut height = o.alt_pressure_m + self.noise.gauss(n.pressure_height_m);
+                let mut vd = o.vel_ned_mps[2] + self.noise.gauss(n.velocity_down_mps);
+                let blocked = faults.pressure_port_blocked(t_s);
+                if blocked {
+                    // A blocked static port traps the pressure: the height stays at its last
+                    // value and the baro-damped vertical velocity reads 0.
+                    height = *self.blocked_height_m.get_or_insert(height);
+                    vd = 0.0;
+                } else {
+                    self.blocked_height_m = None;
+                }
                 let m = Message::Navigation(Navigation::from_si(
                     seq,
-                    o.alt_pressure_m + self.noise.gauss(n.pressure_height_m),
-                    o.vel_ned_mps[2] + self.noise.gauss(n.velocity_down_mps),
+                    height,
+                    vd,
                     o.roll_rad + fault[0] + self.noise.gauss(n.tilt_rad),
                     o.pitch_rad + fault[1] + self.noise.gauss(n.tilt_rad),
                     o.heading_mag_rad + fault[2] + mag + self.noise.gauss(n.heading_rad),
                     health,
                 ));
-                let v = json!({
+                let mut v = json!({
                     "mcu_time_us": mcu,
                     "alt_pressure_m": o.alt_pressure_m,
                     "velocity_down_mps": o.vel_ned_mps[2],
@@ -409,6 +432,10 @@ impl BahrsModel {
                     "magnetic_disturbance_rad": mag,
                     "health_word": health.0,
                 });
+                // Only while the port is blocked, so fault-free recordings stay as they were.
+                if blocked {
+                    v["pressure_port_blocked"] = json!(true);
+                }
                 self.emit(out, t, ready, m, v);
                 let tm = Message::NavigationTime(DataTime {
                     seq: tseq,

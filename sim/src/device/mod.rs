@@ -114,6 +114,32 @@ impl FaultSchedule {
         deg.to_radians()
     }
 
+    /// Whether the BAHRS pressure port is blocked at `t_s`.
+    pub fn pressure_port_blocked(&self, t_s: f64) -> bool {
+        self.faults.iter().any(|f| {
+            matches!(f, Fault::PressurePortBlocked { from_s, to_s } if active(t_s, *from_s, *to_s))
+        })
+    }
+
+    /// BAHRS gyro bias per body axis at `t_s`, rad/s.
+    pub fn bahrs_gyro_bias_radps(&self, t_s: f64) -> [f64; 3] {
+        let mut dps = [0.0; 3];
+        for f in &self.faults {
+            if let Fault::BahrsGyroBias {
+                from_s,
+                to_s,
+                axis,
+                bias_dps,
+                rate_dps_per_s,
+            } = f
+                && active(t_s, *from_s, *to_s)
+            {
+                dps[axis.index()] += bias_dps + rate_dps_per_s * (t_s - from_s);
+            }
+        }
+        dps.map(f64::to_radians)
+    }
+
     /// The health the schedule forces on a BAHRS signal at `t_s`, if any (the last matching
     /// entry wins).
     pub fn bahrs_health(&self, t_s: f64, signal: HealthSignal) -> Option<Health> {

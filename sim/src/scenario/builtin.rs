@@ -4,7 +4,7 @@
 use super::{Scenario, ScenarioError};
 
 /// Names of the built-in scenarios.
-pub const BUILTIN_NAMES: [&str; 11] = [
+pub const BUILTIN_NAMES: [&str; 13] = [
     "nominal",
     "headon",
     "crossing",
@@ -16,6 +16,8 @@ pub const BUILTIN_NAMES: [&str; 11] = [
     "magnetic-disturbance",
     "vn200-gnss-loss",
     "demo",
+    "bahrs-pressure-port",
+    "bahrs-gyro-bias",
 ];
 
 fn text(name: &str) -> Option<&'static str> {
@@ -31,6 +33,8 @@ fn text(name: &str) -> Option<&'static str> {
         "magnetic-disturbance" => include_str!("../../scenarios/magnetic-disturbance.toml"),
         "vn200-gnss-loss" => include_str!("../../scenarios/vn200-gnss-loss.toml"),
         "demo" => include_str!("../../scenarios/demo.toml"),
+        "bahrs-pressure-port" => include_str!("../../scenarios/bahrs-pressure-port.toml"),
+        "bahrs-gyro-bias" => include_str!("../../scenarios/bahrs-gyro-bias.toml"),
         _ => return None,
     })
 }
@@ -56,6 +60,37 @@ mod tests {
         assert_eq!(builtin("nominal").unwrap().all_intruders().len(), 5);
         assert_eq!(builtin("busy-airspace").unwrap().all_intruders().len(), 300);
         assert!(matches!(builtin("nope"), Err(ScenarioError::Unknown(_))));
+    }
+
+    /// Issue 25: the two BAHRS faults are declared in scenario TOML like the others.
+    #[test]
+    fn issue_25_bahrs_faults_parse_from_toml() {
+        let t = format!(
+            "{}\n[[faults]]\nkind = \"pressure_port_blocked\"\nfrom_s = 10.0\nto_s = 25.0\n\n\
+             [[faults]]\nkind = \"bahrs_gyro_bias\"\nfrom_s = 5.0\naxis = \"y\"\n\
+             rate_dps_per_s = 0.05\n",
+            text("nominal").unwrap()
+        );
+        let s = Scenario::from_toml(&t).unwrap();
+        assert_eq!(
+            s.faults,
+            [
+                super::super::Fault::PressurePortBlocked {
+                    from_s: 10.0,
+                    to_s: Some(25.0)
+                },
+                super::super::Fault::BahrsGyroBias {
+                    from_s: 5.0,
+                    to_s: None,
+                    axis: super::super::BodyAxis::Y,
+                    bias_dps: 0.0,
+                    rate_dps_per_s: 0.05
+                }
+            ]
+        );
+        let bad = t.replace("to_s = 25.0", "to_s = 5.0");
+        let e = Scenario::from_toml(&bad).unwrap_err().to_string();
+        assert!(e.contains("to_s"), "{e}");
     }
 
     #[test]

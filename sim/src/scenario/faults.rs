@@ -16,6 +16,29 @@ pub enum Axis {
     Heading,
 }
 
+/// A body axis of an inertial sensor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyAxis {
+    /// Body x (forward).
+    X,
+    /// Body y (right).
+    Y,
+    /// Body z (down).
+    Z,
+}
+
+impl BodyAxis {
+    /// Index 0, 1, 2 of x, y, z.
+    pub fn index(self) -> usize {
+        match self {
+            BodyAxis::X => 0,
+            BodyAxis::Y => 1,
+            BodyAxis::Z => 2,
+        }
+    }
+}
+
 /// A BAHRS signal whose 2-bit health the schedule sets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -70,6 +93,31 @@ pub enum Fault {
         /// Ramp, deg/s.
         #[serde(default)]
         rate_dps: f64,
+    },
+    /// Issue 25: the BAHRS static pressure port is blocked. Its pressure height stays at the
+    /// value it had when the port blocked and its downward velocity reads 0, while its health
+    /// still says "safe" (the unit does not notice).
+    PressurePortBlocked {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+    },
+    /// Issue 25: a BAHRS gyro bias on one body axis, `bias_dps + rate_dps_per_s x (t - from_s)`
+    /// deg/s added to the angular rate of 0x01, while its health still says "safe".
+    BahrsGyroBias {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Body axis.
+        axis: BodyAxis,
+        /// Constant part, deg/s.
+        #[serde(default)]
+        bias_dps: f64,
+        /// Growth, deg/s per second.
+        #[serde(default)]
+        rate_dps_per_s: f64,
     },
     /// BAHRS health bits forced to a value.
     BahrsHealth {
@@ -176,6 +224,8 @@ impl Fault {
         let (from, to) = match self {
             Fault::BahrsAttitudeBias { from_s, to_s, .. }
             | Fault::BahrsHealth { from_s, to_s, .. }
+            | Fault::PressurePortBlocked { from_s, to_s }
+            | Fault::BahrsGyroBias { from_s, to_s, .. }
             | Fault::MagneticDisturbance { from_s, to_s, .. }
             | Fault::PpsLoss { from_s, to_s }
             | Fault::GnssOutage { from_s, to_s, .. }

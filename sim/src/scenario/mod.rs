@@ -16,7 +16,7 @@ pub use devices::{
     WatsonConfig, WatsonNoise,
 };
 pub(crate) use faults::active as faults_active;
-pub use faults::{Axis, Fault, HealthSignal, HealthWord};
+pub use faults::{Axis, BodyAxis, Fault, HealthSignal, HealthWord};
 
 use crate::rng::Rng;
 use crate::trajectory::Segment;
