@@ -280,10 +280,18 @@ const COVERED_HERE: [(Rule, &str); 13] = [
 ];
 
 /// Rules whose end-to-end test lives in another file: `(rule name, file::test)`. Issue 25's
-/// vertical and inertial channels (0x0C `vertical_miscompare`, 0x0D `inertial_miscompare`) are
-/// being added on another branch with their own end-to-end tests; the integrator lists them
-/// here (by name, so this file compiles before those rules exist).
-const COVERED_ELSEWHERE: [(&str, &str); 0] = [];
+/// vertical and inertial channels are raised and cleared through the service next to their
+/// channel code.
+const COVERED_ELSEWHERE: [(&str, &str); 2] = [
+    (
+        "vertical_miscompare",
+        "service::channel_tests::blocked_pressure_port_raises_vertical_miscompare_on_the_bahrs_and_clears",
+    ),
+    (
+        "inertial_miscompare",
+        "service::channel_tests::gyro_bias_ramp_raises_inertial_miscompare_on_its_axis_and_clears",
+    ),
+];
 
 #[test]
 fn every_documented_rule_has_an_end_to_end_test() {
