@@ -907,13 +907,19 @@ fn magnetic_frame(decl: Option<Declination>) -> (Gate, UnitQuaternion<f64>, f64)
 fn vote_units(units: [&Prepared; 3], iso_axis: [Isolation; 3]) -> Voted {
     let names = [Unit::Bahrs, Unit::Vn200, Unit::Watson];
     let axis = |ai: usize| {
-        let cands: Vec<(Unit, f64)> = units
-            .iter()
-            .zip(names)
-            .filter(|(u, n)| u.gates[ai].is_none() && iso_axis[ai] != Isolation::Isolated(*n))
-            .filter_map(|(u, n)| u.values.map(|x| (n, x[ai])))
-            .collect();
-        vote(&cands, ai == 2)
+        // On the stack: this runs for every prompt output (the VN-200's rate).
+        let mut cands = [(Unit::Bahrs, 0.0); 3];
+        let mut n = 0;
+        for (u, name) in units.iter().zip(names) {
+            if u.gates[ai].is_none()
+                && iso_axis[ai] != Isolation::Isolated(name)
+                && let Some(x) = u.values
+            {
+                cands[n] = (name, x[ai]);
+                n += 1;
+            }
+        }
+        vote(&cands[..n], ai == 2)
     };
     Voted {
         roll: axis(0),

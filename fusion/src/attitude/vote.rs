@@ -14,7 +14,19 @@ const DEG: f64 = std::f64::consts::PI / 180.0;
 pub fn vote(cands: &[(Unit, f64)], circular: bool) -> Option<VotedAxis> {
     let &(_, r0) = cands.first()?;
     let rel = |v: f64| if circular { angle_diff(v, r0) } else { v };
-    let mut xs: Vec<(Unit, f64)> = cands.iter().map(|&(u, v)| (u, rel(v))).collect();
+    // One candidate per unit, so three at most: sorted on the stack (this runs at the VN-200's
+    // rate in the prompt attitude); more only through a caller passing duplicates.
+    let mut small = [(Unit::Bahrs, 0.0); 3];
+    let mut big = Vec::new();
+    let xs: &mut [(Unit, f64)] = if cands.len() <= small.len() {
+        for (d, &(u, v)) in small.iter_mut().zip(cands) {
+            *d = (u, rel(v));
+        }
+        &mut small[..cands.len()]
+    } else {
+        big.extend(cands.iter().map(|&(u, v)| (u, rel(v))));
+        &mut big
+    };
     xs.sort_by(|a, b| a.1.total_cmp(&b.1));
     let (value, selected) = match xs.len() {
         1 => (xs[0].1, Some(xs[0].0)),
