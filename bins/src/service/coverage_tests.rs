@@ -49,7 +49,7 @@ pub(super) fn run(sc: &vigil_sim::scenario::Scenario, seconds: i64) -> Collected
     out
 }
 
-/// Acceptance (issue 25): a flight whose BAHRS never gets a 0x06 (the VN-200 PPS not wired).
+/// Acceptance (issue 25): a 120 s flight whose BAHRS never gets a 0x06 (the VN-200 PPS not wired).
 /// Either the BAHRS is compared on at least 90 % of the attitude payloads after 20 s (a
 /// host-clock fallback, issue 25 point 3, aligns it), or, where it is not, every payload says
 /// why and `cross_check_unavailable` is active for it; never a repeated old verdict: a payload
@@ -58,7 +58,8 @@ pub(super) fn run(sc: &vigil_sim::scenario::Scenario, seconds: i64) -> Collected
 fn unwired_bahrs_is_compared_or_every_record_says_why_and_the_alert_is_active() {
     let mut sc = builtin("nominal").unwrap();
     sc.devices.vn200.as_mut().unwrap().pps = false;
-    let out = run(&sc, 40);
+    // The acceptance's 120 s recording.
+    let out = run(&sc, 120);
     let b = usize::from(att::UNIT_BAHRS);
     let t_first = out.attitude[0].header.gps_time_ns;
     let late: Vec<_> = out
