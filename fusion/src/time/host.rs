@@ -402,4 +402,38 @@ mod tests {
         assert!(s2 > s1);
         assert_eq!(c.to_gps(last + 200 * S), None);
     }
+
+    #[test]
+    fn single_reads_give_their_own_delay() {
+        // Messages 3..4 ms late (several reads each), single reads 1..3 ms late (uniform), both
+        // from a host clock 7 s ahead of GPS.
+        let mut c = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(5);
+        let off = 7 * S;
+        for k in 0..4_000 {
+            let gps = 1_000 * S + k * 5 * MS;
+            c.add(gps + off + 3 * MS + (rng.unit() * MS as f64) as i64, gps);
+            if k < 40 {
+                // Fewer than 50 single reads so far: the messages' delay stands in.
+                assert_eq!(c.to_gps_read(gps + off), c.to_gps(gps + off));
+            }
+            c.add_read(gps + off + MS + (rng.unit() * 2.0 * MS as f64) as i64, gps);
+        }
+        // Spread of the single reads: 2 ms (range per second of 200 uniform draws: within 2 %).
+        let spread = c.read_spread_ns().unwrap();
+        assert!((spread - 2e6).abs() < 40_000.0, "spread {spread}");
+        // A read delivered 2 ms (its mean delay) after bytes sent at GPS 1015 s.
+        let gps = 1_015 * S;
+        let (est, sigma) = c.to_gps_read(gps + off + 2 * MS).unwrap();
+        assert!((est - gps).abs() < 50_000, "error {}", est - gps);
+        // sigma: 2 ms / sqrt(12) = 0.577 ms and the reference's 0.5 ms: 0.764 ms.
+        assert!((sigma - 763_763.0).abs() < 20_000.0, "sigma {sigma}");
+        // The messages' own delay (3.5 ms mean) would put it 1.5 ms early.
+        let (msg_est, _) = c.to_gps(gps + off + 2 * MS).unwrap();
+        assert!(
+            (msg_est - (gps - 1_500_000)).abs() < 50_000,
+            "{}",
+            msg_est - gps
+        );
+    }
 }
