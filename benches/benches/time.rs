@@ -41,6 +41,7 @@ fn stream(seconds: i64) -> Vec<(Sample, Rx)> {
                 Rx {
                     host_ns: h,
                     wire_len: len,
+                    reads: None,
                 },
             )
         })

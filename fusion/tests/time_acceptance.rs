@@ -479,13 +479,13 @@ fn vn200_silent_for_five_minutes_keeps_the_traffic_aligned() {
     }
 }
 
-/// Host stamps in bursts (every read 3 +- 3 ms late instead of 1 +- 0.5 ms). Does NOT hold yet:
-/// the host clock maps every port with the VN-200 port's delay distribution (its messages span
-/// several reads, so their delay is the largest of a few), so single-read Watson lines come out
-/// biased (about 55 % inside 2 sigma). Issue 18 point 1 (a delay learned per port) is not done;
-/// run with `--ignored` to see the figures.
+/// Host stamps in bursts (every read 3 +- 3 ms late instead of 1 +- 0.5 ms). The VN-200's
+/// messages span several reads, so their delay is the largest of a few; a Watson line's last
+/// read is one read's delay. The host clock learns a single read's delay from the first reads of
+/// the VN-200's messages and maps each host-timed message by how its own reads split it (issue
+/// 18 point 1; `host_timed::hold_back_ns`). With the VN-200's delay for every port, the Watson
+/// came out about 55 % inside 2 sigma.
 #[test]
-#[ignore = "issue 18 point 1 (per-port delay learning) not done: fails, see the doc"]
 fn host_stamp_bursts() {
     let case = Case {
         name: "host stamp bursts (latency 3 +- 3 ms)",

@@ -29,7 +29,7 @@ use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
 use super::pps::PpsReferences;
 use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
 use super::vn200::{Vn200Aligner, Vn200AlignerConfig, Vn200Times};
-use super::{Aligned, AlignedTime, ClockStatus, NotAligned, Rx, TimeSource};
+use super::{Aligned, AlignedTime, ClockStatus, NotAligned, Reads, Rx, TimeSource};
 
 /// The devices of the installation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -273,6 +273,11 @@ impl Aligner {
         let rx = Rx {
             host_ns: rx.host_ns.clamp(0, MAX_HOST_NS),
             wire_len: rx.wire_len.min(MAX_WIRE_LEN),
+            reads: rx.reads.map(|r| Reads {
+                first_host_ns: r.first_host_ns.clamp(0, MAX_HOST_NS),
+                first_bytes: r.first_bytes.min(MAX_WIRE_LEN),
+                last_bytes: r.last_bytes.min(MAX_WIRE_LEN),
+            }),
         };
         let device = sample.device();
         let index = self.next_index[device.slot()];

@@ -34,6 +34,7 @@ fn vn200(gps: i64) -> (Sample, Rx) {
     let rx = Rx {
         host_ns: gps + OFF + tx_ns(len, 921_600) + MS,
         wire_len: len,
+        reads: None,
     };
     (Sample::Vn200(Box::new(Vn200Message::Binary(o))), rx)
 }
@@ -56,6 +57,7 @@ fn watson_rx(gps: i64) -> Rx {
     Rx {
         host_ns: gps + OFF + MS + tx_ns(64, 9600) + MS,
         wire_len: 64,
+        reads: None,
     }
 }
 
@@ -137,6 +139,7 @@ fn ttmrf_json_ts_and_ts24h_across_utc_midnight_through_the_aligner() {
             let rx = Rx {
                 host_ns: t + OFF + 2 * MS,
                 wire_len: 200,
+                reads: None,
             };
             truth.push((t, 1_000_000));
             out.extend(al.handle(
@@ -154,6 +157,7 @@ fn ttmrf_json_ts_and_ts24h_across_utc_midnight_through_the_aligner() {
             let rx = Rx {
                 host_ns: t + OFF + MS,
                 wire_len: 50,
+                reads: None,
             };
             truth.push((t, 1));
             out.extend(al.handle(Sample::TtRaw(Box::new(frame)), rx));
@@ -206,6 +210,7 @@ fn bahrs_indices_survive_late_time_messages_and_time_messages_come_out() {
     let rx = |ms: i64| Rx {
         host_ns: ms * MS,
         wire_len: 20,
+        reads: None,
     };
     let mut out = Vec::new();
     // Data 255 (index 0), data 0 (index 1, the counter wrapped), time of 255 (index 2), time of 0
@@ -250,6 +255,7 @@ fn ttmrf_csv_line_is_host_timed_with_its_transmission_time() {
     let rx = Rx {
         host_ns: t + OFF + tx_ns(line.len(), 921_600) + MS,
         wire_len: line.len(),
+        reads: None,
     };
     let out = al.handle(Sample::TtText(Box::new(msgs[0].clone())), rx);
     let a = out
@@ -291,6 +297,7 @@ fn random_inputs_never_panic_and_every_input_comes_out_once() {
             let rx = Rx {
                 host_ns: host,
                 wire_len: (rng.unit() * 2000.0) as usize,
+                reads: None,
             };
             let pick = (rng.unit() * 7.0) as u32;
             let wild = round % 2 == 1;
@@ -374,6 +381,7 @@ fn vn200_pps(gps: i64, ins: u16) -> (Sample, Rx) {
     let rx = Rx {
         host_ns: gps + OFF + tx_ns(len, 921_600) + MS,
         wire_len: len,
+        reads: None,
     };
     (Sample::Vn200(Box::new(Vn200Message::Binary(o))), rx)
 }
@@ -403,6 +411,7 @@ fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSam
         let rx = Rx {
             host_ns: pulse + OFF + MS / 2 + tx_ns(12, 115_200) + MS,
             wire_len: 12,
+            reads: None,
         };
         inputs.push((p, rx));
     }
@@ -428,6 +437,7 @@ fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSam
             Rx {
                 host_ns: end1,
                 wire_len: l1,
+                reads: None,
             },
         ));
         inputs.push((
@@ -435,6 +445,7 @@ fn pulses_near_vn200(pps_lost_at: Option<i64>) -> (Aligner, Vec<(i64, AlignedSam
             Rx {
                 host_ns: end1 + tx_ns(l5, 115_200),
                 wire_len: l5,
+                reads: None,
             },
         ));
     }

@@ -69,6 +69,10 @@ struct Bucket {
     sum_d: f64,
     /// Sum of `(d - ref_d)^2`, ns^2.
     sum_d2: f64,
+    /// Single-read references ([`HostClock::add_read`]): count, smallest and largest `d`, ns.
+    read_n: u32,
+    read_min: i64,
+    read_max: i64,
 }
 
 /// Host-to-GPS clock model.
@@ -81,7 +85,14 @@ pub struct HostClock {
     fit: Option<(i64, f64, f64, f64)>,
     excess_mean_ns: f64,
     excess_sigma_ns: f64,
+    /// Mean and 1-sigma of a single read's delay over the envelope, ns, and how many single-read
+    /// references gave them (issue 18 point 1).
+    read_excess: (f64, f64, f64),
 }
+
+/// Single-read references needed before [`HostClock::to_gps_read`] uses their delay
+/// distribution (fewer: the reference messages' distribution stands in).
+const MIN_READ_REFERENCES: f64 = 50.0;
 
 impl HostClock {
     /// A model with no references.
@@ -93,6 +104,21 @@ impl HostClock {
             fit: None,
             excess_mean_ns: 0.0,
             excess_sigma_ns: 0.0,
+            read_excess: (0.0, 0.0, 0.0),
+        }
+    }
+
+    /// Adds a single-read reference: a host read at `host_ns` that delivered bytes whose last
+    /// one left the device at GPS time `gps_ns`, and nothing that could have held it back (the
+    /// first read of a message after an idle line). Its delay over the envelope is one read's
+    /// latency: the link delay of a port whose message arrives in one read (issue 18 point 1).
+    /// It does not move the envelope (learned from whole messages, [`Self::add`]).
+    pub fn add_read(&mut self, host_ns: i64, gps_ns: i64) {
+        let d = host_ns.saturating_sub(gps_ns);
+        if let Some(b) = self.buckets.back_mut() {
+            b.read_n += 1;
+            b.read_min = b.read_min.min(d);
+            b.read_max = b.read_max.max(d);
         }
     }
 
@@ -137,6 +163,9 @@ impl HostClock {
             ref_d: d,
             sum_d: 0.0,
             sum_d2: 0.0,
+            read_n: 0,
+            read_min: i64::MAX,
+            read_max: i64::MIN,
         });
     }
 
@@ -191,6 +220,22 @@ impl HostClock {
             self.excess_mean_ns = sum / cnt;
             self.excess_sigma_ns = (sum2 / cnt - self.excess_mean_ns.powi(2)).max(0.0).sqrt();
         }
+        // The single reads: mid-range and range per bucket, over the same envelope. Decision: a
+        // read can be held back by the one before it (reads come in order), which raises low
+        // delays and never the largest nor (with a few idle-line reads a second) the smallest;
+        // mean and sum of squares would be biased late by it, the range is not. The delay is
+        // taken as uniform over the range (mid-range mean, range / sqrt(12) sigma).
+        let (mut cnt, mut mid, mut range) = (0.0, 0.0, 0.0);
+        for b in complete.iter().filter(|b| b.read_n >= 2) {
+            let n = f64::from(b.read_n);
+            cnt += n;
+            mid +=
+                n * ((b.read_min as f64 - b.min_d as f64) + (b.read_max - b.read_min) as f64 / 2.0);
+            range += n * (b.read_max - b.read_min) as f64;
+        }
+        if cnt > 0.0 {
+            self.read_excess = (mid / cnt, range / cnt / 12f64.sqrt(), cnt);
+        }
         self.fit = Some((h0, c0, slope, scatter));
     }
 
@@ -221,8 +266,30 @@ impl HostClock {
     }
 
     /// GPS time (ns) at which a message received at host time `host_ns` was sent, with its
-    /// 1-sigma (ns), or `None` while the model is unlocked.
+    /// 1-sigma (ns), or `None` while the model is unlocked. The link delay is the reference
+    /// messages' (the VN-200's: several reads each, the last one held back by the others).
     pub fn to_gps(&self, host_ns: i64) -> Option<(i64, f64)> {
+        self.map(host_ns, self.excess_mean_ns, self.excess_sigma_ns)
+    }
+
+    /// As [`Self::to_gps`], for bytes that came in one read nothing held back: the link delay is
+    /// the single reads' ([`Self::add_read`]) once enough were seen, else the reference
+    /// messages' (issue 18 point 1).
+    pub fn to_gps_read(&self, host_ns: i64) -> Option<(i64, f64)> {
+        match self.read_excess {
+            (mean, sigma, n) if n >= MIN_READ_REFERENCES => self.map(host_ns, mean, sigma),
+            _ => self.to_gps(host_ns),
+        }
+    }
+
+    /// The spread (max - min, taken as a uniform's sqrt(12) sigma) of a single read's delay, ns,
+    /// once enough single reads were seen: how long a read can be held back by the one before.
+    pub fn read_spread_ns(&self) -> Option<f64> {
+        let (_, sigma, n) = self.read_excess;
+        (n >= MIN_READ_REFERENCES).then_some(sigma * 12f64.sqrt())
+    }
+
+    fn map(&self, host_ns: i64, excess_mean_ns: f64, excess_sigma_ns: f64) -> Option<(i64, f64)> {
         if self.status(host_ns) == ClockStatus::Unlocked {
             return None;
         }
@@ -230,13 +297,13 @@ impl HostClock {
         let d = c0 + slope * host_ns.saturating_sub(h0) as f64;
         let since = host_ns.saturating_sub(self.last_host_ns?).max(0) as f64;
         let drift = self.cfg.rate_sigma_ppm * 1e-6 * since;
-        let sigma = (self.excess_sigma_ns.powi(2)
+        let sigma = (excess_sigma_ns.powi(2)
             + scatter.powi(2)
             + drift.powi(2)
             + self.cfg.reference_delay_sigma_ns.powi(2))
         .sqrt();
         Some((
-            host_ns.saturating_sub((d + self.excess_mean_ns).round() as i64),
+            host_ns.saturating_sub((d + excess_mean_ns).round() as i64),
             sigma,
         ))
     }
@@ -334,5 +401,39 @@ mod tests {
         let (_, s2) = c.to_gps(last + 60 * S).unwrap();
         assert!(s2 > s1);
         assert_eq!(c.to_gps(last + 200 * S), None);
+    }
+
+    #[test]
+    fn single_reads_give_their_own_delay() {
+        // Messages 3..4 ms late (several reads each), single reads 1..3 ms late (uniform), both
+        // from a host clock 7 s ahead of GPS.
+        let mut c = HostClock::new(HostClockConfig::default());
+        let mut rng = Lcg(5);
+        let off = 7 * S;
+        for k in 0..4_000 {
+            let gps = 1_000 * S + k * 5 * MS;
+            c.add(gps + off + 3 * MS + (rng.unit() * MS as f64) as i64, gps);
+            if k < 40 {
+                // Fewer than 50 single reads so far: the messages' delay stands in.
+                assert_eq!(c.to_gps_read(gps + off), c.to_gps(gps + off));
+            }
+            c.add_read(gps + off + MS + (rng.unit() * 2.0 * MS as f64) as i64, gps);
+        }
+        // Spread of the single reads: 2 ms (range per second of 200 uniform draws: within 2 %).
+        let spread = c.read_spread_ns().unwrap();
+        assert!((spread - 2e6).abs() < 40_000.0, "spread {spread}");
+        // A read delivered 2 ms (its mean delay) after bytes sent at GPS 1015 s.
+        let gps = 1_015 * S;
+        let (est, sigma) = c.to_gps_read(gps + off + 2 * MS).unwrap();
+        assert!((est - gps).abs() < 50_000, "error {}", est - gps);
+        // sigma: 2 ms / sqrt(12) = 0.577 ms and the reference's 0.5 ms: 0.764 ms.
+        assert!((sigma - 763_763.0).abs() < 20_000.0, "sigma {sigma}");
+        // The messages' own delay (3.5 ms mean) would put it 1.5 ms early.
+        let (msg_est, _) = c.to_gps(gps + off + 2 * MS).unwrap();
+        assert!(
+            (msg_est - (gps - 1_500_000)).abs() < 50_000,
+            "{}",
+            msg_est - gps
+        );
     }
 }

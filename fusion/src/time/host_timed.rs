@@ -11,7 +11,7 @@
 use std::collections::VecDeque;
 
 use super::host::HostClock;
-use super::{AlignedTime, NotAligned, Rx, TimeSource};
+use super::{AlignedTime, NotAligned, Reads, Rx, TimeSource};
 
 /// Bits per byte on an 8N1 serial line (start + 8 data + stop).
 pub const BITS_PER_BYTE: i64 = 10;
@@ -75,13 +75,41 @@ pub fn host_timed(
     link: HostTimedLink,
 ) -> Result<AlignedTime, NotAligned> {
     let h = first_byte_host_ns(rx, link.baud);
-    let (t, sigma) = host.to_gps(h).ok_or(NotAligned::HostClockUnknown)?;
+    let (t, sigma) = match hold_back_ns(host, rx, link.baud) {
+        Some((hold, spread)) => host.to_gps_read(h).map(|(t, sigma)| {
+            // With a single read's delay L and the read before's P both uniform over `spread`
+            // (s), the last read's delay is max(L, P - gap): it exceeds L by (P - gap - L)+,
+            // whose mean is h^3 / (6 s^2) and root mean square h^2 / (s sqrt(12)) (h the
+            // most it can hold back; by hand: E[(x - L)+] = x^2 / 2s, integrated over x in
+            // 0..h with density 1/s).
+            let s2 = spread * spread;
+            let mean = hold.powi(3) / (6.0 * s2);
+            let rms = hold * hold / (s2.sqrt() * 12f64.sqrt());
+            (t - mean.round() as i64, (sigma.powi(2) + rms * rms).sqrt())
+        }),
+        None => host.to_gps(h),
+    }
+    .ok_or(NotAligned::HostClockUnknown)?;
     Ok(AlignedTime {
         t_gps_ns: t - link.output_delay_ns,
         sigma_ns: (sigma.powi(2) + link.output_delay_sigma_ns.powi(2)).sqrt(),
         source: TimeSource::HostClock,
         status: host.status(h),
     })
+}
+
+/// How long the last read of a message may have been held back by the read before it, ns, when
+/// the host clock knows a single read's delay (issue 18 point 1); `None`: the reads or the
+/// single-read delay are unknown, and the reference messages' delay applies. Reads come in
+/// order, so a read can wait for the one before it; that one ended at least the transmission
+/// time of the last read's own bytes (`gap`) earlier, so it can hold the last read back by at
+/// most `spread - gap` (the spread of a single read's delay): a slow port's line (a Watson's
+/// bytes take 1 ms each) mostly has a single read's delay, a fast port's message split over
+/// reads (the VN-200's) more. Returns (most hold-back, spread), ns. Decision: a message in one
+/// read is treated alike (the previous message may have ended just before it).
+fn hold_back_ns(host: &HostClock, rx: Rx, baud: u32) -> Option<(f64, f64)> {
+    let (r, spread) = (rx.reads?, host.read_spread_ns()?);
+    Some(((spread - tx_ns(r.last_bytes, baud) as f64).max(0.0), spread))
 }
 
 /// Receive times of a port's read chunks by stream offset: which read delivered a given byte
@@ -119,10 +147,36 @@ impl ChunkClock {
     }
 
     /// The receive of a message starting at stream offset `offset`, `wire_len` bytes long: the
-    /// read holding its last byte.
+    /// read holding its last byte, and how the reads split it ([`Reads`]; `None` when the read
+    /// holding its first byte is forgotten).
     pub fn rx(&mut self, offset: u64, wire_len: usize) -> Option<Rx> {
         let last = offset + (wire_len as u64).saturating_sub(1);
-        self.time_of(last).map(|host_ns| Rx { host_ns, wire_len })
+        // The read holding the first byte becomes the front (older ones are forgotten).
+        self.time_of(offset)?;
+        let (first_start, first_host_ns) = self.chunks[0];
+        let j = self
+            .chunks
+            .partition_point(|c| c.0 <= last)
+            .saturating_sub(1);
+        let end = |i: usize| self.chunks.get(i + 1).map_or(self.fed, |c| c.0);
+        let reads = (first_start <= offset && wire_len > 0).then(|| {
+            let first_bytes = (end(0).min(last + 1) - offset) as usize;
+            let last_bytes = if j == 0 {
+                first_bytes
+            } else {
+                (last + 1 - self.chunks[j].0) as usize
+            };
+            Reads {
+                first_host_ns,
+                first_bytes,
+                last_bytes,
+            }
+        });
+        Some(Rx {
+            host_ns: self.chunks[j].1,
+            wire_len,
+            reads,
+        })
     }
 }
 
@@ -161,7 +215,22 @@ mod tests {
             c.rx(3, 12),
             Some(Rx {
                 host_ns: 200,
-                wire_len: 12
+                wire_len: 12,
+                // Bytes 3-9 in the first read (7), 10-14 in the second (5).
+                reads: Some(Reads {
+                    first_host_ns: 100,
+                    first_bytes: 7,
+                    last_bytes: 5,
+                }),
+            })
+        );
+        // A message inside one read: all its bytes in the first and last read.
+        assert_eq!(
+            c.rx(15, 4).unwrap().reads,
+            Some(Reads {
+                first_host_ns: 300,
+                first_bytes: 4,
+                last_bytes: 4,
             })
         );
         assert_eq!(c.time_of(15), Some(300));
@@ -208,6 +277,7 @@ mod tests {
             let rx = Rx {
                 host_ns: sample + off + MS + 66_666_666 + MS + wait,
                 wire_len: 64,
+                reads: None,
             };
             let a = host_timed(&host, rx, link).unwrap();
             let e = (a.t_gps_ns - sample) as f64;
@@ -235,6 +305,7 @@ mod tests {
         let rx = Rx {
             host_ns: sample + off + MS + 66_666_666 + MS,
             wire_len: 64,
+            reads: None,
         };
         let a = host_timed(&host, rx, HostTimedLink::WATSON).unwrap();
         assert!(

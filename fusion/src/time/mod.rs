@@ -99,6 +99,33 @@ pub struct Rx {
     pub host_ns: i64,
     /// Length of the message on the wire, bytes.
     pub wire_len: usize,
+    /// How the host's reads split the message, where the reader knows it (`None`: unknown; a
+    /// live port or replay gives it through [`host_timed::ChunkClock`]). Issue 18 point 1: the
+    /// delay of a message's last read depends on whether earlier reads of the same message
+    /// could hold it back.
+    pub reads: Option<Reads>,
+}
+
+/// How the host's reads delivered one message (issue 18 point 1, link delay per port).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Reads {
+    /// Host monotonic time of the read holding the message's FIRST byte, ns.
+    pub first_host_ns: i64,
+    /// The message's bytes in that read (== `wire_len` when one read held all of it).
+    pub first_bytes: usize,
+    /// The message's bytes in the read holding its last byte.
+    pub last_bytes: usize,
+}
+
+impl Rx {
+    /// A receive with no knowledge of how the reads split the message.
+    pub fn new(host_ns: i64, wire_len: usize) -> Self {
+        Self {
+            host_ns,
+            wire_len,
+            reads: None,
+        }
+    }
 }
 
 /// A sample on the GPS timebase, or marked as not aligned (never silently dropped).

@@ -186,6 +186,7 @@ mod tests {
             let rx = Rx {
                 host_ns: midnight + 2 * MS + 5 * S + MS,
                 wire_len: 0,
+                reads: None,
             };
             let a = json_ts(ts, rx, &cfg, &host, leap()).unwrap();
             // Truncated or rounded (issue 18): the mid point of [ts - 0.5, ts + 1) ms, 0.25 ms
@@ -203,6 +204,7 @@ mod tests {
         let rx = Rx {
             host_ns: t + 5 * S + 2 * MS,
             wire_len: 0,
+            reads: None,
         };
         let a = json_ts(69_061_337, rx, &cfg, &host, leap()).unwrap();
         assert_eq!(a.t_gps_ns, t + MS / 4);
@@ -230,6 +232,7 @@ mod tests {
         let rx = Rx {
             host_ns: midnight + 4 * MS + 5 * S + MS,
             wire_len: 0,
+            reads: None,
         };
         // TS24h 86 399.999 999 5 s: 0.5 us before midnight, the day before.
         let meta = RxMeta {

@@ -23,7 +23,7 @@ use vigil_drivers::vn200::status::{InsStatus, TimeStatus};
 
 use super::gps::{self, LeapSeconds, NS_PER_S};
 use super::host::HostClock;
-use super::host_timed::first_byte_host_ns;
+use super::host_timed::{first_byte_host_ns, tx_ns};
 use super::{AlignedTime, ClockStatus, NotAligned, Rx, TimeSource};
 
 /// Parameters of the VN-200 aligner, with units.
@@ -151,6 +151,8 @@ pub struct Vn200Aligner {
     time_sigma_ns: Option<f64>,
     leap: Option<i8>,
     last_valid_host_ns: Option<i64>,
+    /// Host time of the read that delivered the previous message's last byte, ns.
+    last_read_host_ns: Option<i64>,
     stats: Vn200AlignerStats,
 }
 
@@ -172,6 +174,7 @@ impl Vn200Aligner {
             time_sigma_ns: None,
             leap: None,
             last_valid_host_ns: None,
+            last_read_host_ns: None,
             stats: Vn200AlignerStats::default(),
         }
     }
@@ -245,6 +248,7 @@ impl Vn200Aligner {
             host_ns: rx.host_ns.clamp(0, MAX_TIME_NS),
             ..rx
         };
+        let previous_read_ns = self.last_read_host_ns.replace(rx.host_ns);
         if let Some(u) = t.time_u_s.filter(|u| u.is_finite() && *u > 0.0) {
             self.time_sigma_ns = Some(f64::from(u) * 1e9);
         }
@@ -289,6 +293,20 @@ impl Vn200Aligner {
                     first_byte_host_ns(rx, self.cfg.baud),
                     gps_ns + self.cfg.output_delay_ns,
                 );
+                // The read holding the first byte, after an idle line, is one read's latency
+                // (issue 18 point 1): the reference of every other port's single reads.
+                // Decision: a first read delivered no later than the previous message's last
+                // read may have been held back by it (reads come in order): left out, as it
+                // would bias the single-read delay late (a 200 Hz VN-200 leaves the line idle
+                // only ~4 ms between messages).
+                if let Some(r) = rx
+                    .reads
+                    .filter(|r| previous_read_ns.is_none_or(|p| r.first_host_ns > p))
+                {
+                    let sent =
+                        gps_ns + self.cfg.output_delay_ns + tx_ns(r.first_bytes, self.cfg.baud);
+                    host.add_read(r.first_host_ns, sent);
+                }
                 Ok(AlignedTime {
                     t_gps_ns: gps_ns,
                     sigma_ns: self.time_sigma_ns.unwrap_or(self.cfg.default_sigma_ns),

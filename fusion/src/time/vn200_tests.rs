@@ -29,6 +29,7 @@ fn rx(host_ns: i64) -> Rx {
     Rx {
         host_ns,
         wire_len: 100,
+        reads: None,
     }
 }
 
