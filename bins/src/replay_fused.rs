@@ -230,20 +230,25 @@ pub fn replay_fused<R: Read, W: Write>(
     cfg: &Config,
     out: &mut W,
 ) -> Result<ReplaySummary> {
+    // Each line is serialised into one reused buffer and written at once: serde_json's many
+    // small writes are cheaper into a Vec than through a `Write` adapter.
+    let mut line = Vec::with_capacity(1 << 14);
     replay_fused_with(input, cfg, |e| {
+        line.clear();
         match e {
             FusedEvent::Fused(Fused::Prompt(_)) => return Ok(()),
-            FusedEvent::Fused(o) => serde_json::to_writer(&mut *out, o)?,
+            FusedEvent::Fused(o) => serde_json::to_writer(&mut line, o)?,
             FusedEvent::Alerts(alerts, active) => {
                 for a in alerts {
-                    serde_json::to_writer(&mut *out, &alert_line(a))?;
-                    out.write_all(b"\n")?;
+                    serde_json::to_writer(&mut line, &alert_line(a))?;
+                    line.push(b'\n');
                 }
                 let t = alerts.last().map_or(0, |a| a.header.gps_time_ns);
-                serde_json::to_writer(&mut *out, &active_line(t, active))?;
+                serde_json::to_writer(&mut line, &active_line(t, active))?;
             }
         }
-        out.write_all(b"\n")?;
+        line.push(b'\n');
+        out.write_all(&line)?;
         Ok(())
     })
 }
