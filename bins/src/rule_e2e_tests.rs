@@ -29,7 +29,8 @@ use vigil_monitor::{Monitor, MonitorParams, Rule, target_alert_id};
 use vigil_sim::{MemorySink, Scenario, Simulator};
 
 use crate::monitor_cmd::GpsClock;
-use crate::service::config::{PipelineSection, Port, Protocol};
+use crate::service::config::PipelineSection;
+use crate::service::sim_drive::{drive, ports_of};
 use crate::service::{Outputs, Service};
 
 const S: i64 = 1_000_000_000;
@@ -149,38 +150,11 @@ fn run(sc: &Scenario, seconds: i64) -> Run {
     let mut sim = Simulator::new(sc, 5).unwrap();
     let mut sink = MemorySink::default();
     sim.run(seconds * S, &mut sink).unwrap();
-    let ports: Vec<Port> = sink
-        .info
-        .as_ref()
-        .unwrap()
-        .ports
-        .iter()
-        .map(|p| Port {
-            device: p.device.to_string(),
-            path: "/dev/null".into(),
-            baud: p.baud,
-            protocol: Protocol::resolve(p.protocol, p.device).unwrap(),
-            setup: None,
-            read_interval_ns: 0,
-        })
-        .collect();
+    let ports = ports_of(&sink);
     let cfg = PipelineSection::default().pipeline_config();
     let mut s = Service::new(&ports, cfg, MonitorParams::default(), 2.0).unwrap();
     let mut out = Stream::default();
-    let t0 = sink.chunks[0].t_host_ns;
-    for i in 0..ports.len() {
-        s.on_link(i, true, t0);
-    }
-    let mut next_tick = t0;
-    for c in &sink.chunks {
-        while c.t_host_ns >= next_tick {
-            out.now_host_ns = next_tick;
-            s.tick(next_tick, &mut out);
-            next_tick += TICK_NS;
-        }
-        out.now_host_ns = c.t_host_ns;
-        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
-    }
+    drive(&mut s, &sink, &mut out, TICK_NS, |o, t| o.now_host_ns = t);
     Run {
         t0_gps_ns: sim.world().start_gps_ns,
         stream: out,

@@ -7,7 +7,8 @@ use vigil_monitor::Rule;
 use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
 
-use super::config::{PipelineSection, Port, Protocol};
+use super::config::PipelineSection;
+use super::sim_drive::{drive, ports_of};
 use super::*;
 
 /// Runs `sc` for `seconds` through a service with `vigil run`'s pipeline configuration (prompt
@@ -16,36 +17,11 @@ pub(super) fn run(sc: &vigil_sim::scenario::Scenario, seconds: i64) -> Collected
     let mut sim = Simulator::new(sc, 3).unwrap();
     let mut sink = MemorySink::default();
     sim.run(seconds * 1_000_000_000, &mut sink).unwrap();
-    let ports: Vec<Port> = sink
-        .info
-        .as_ref()
-        .unwrap()
-        .ports
-        .iter()
-        .map(|p| Port {
-            device: p.device.to_string(),
-            path: "/dev/null".into(),
-            baud: p.baud,
-            protocol: Protocol::resolve(p.protocol, p.device).unwrap(),
-            setup: None,
-            read_interval_ns: 0,
-        })
-        .collect();
+    let ports = ports_of(&sink);
     let cfg = PipelineSection::default().pipeline_config();
     let mut s = Service::new(&ports, cfg, MonitorParams::default(), 2.0).unwrap();
     let mut out = Collected::default();
-    let t0 = sink.chunks[0].t_host_ns;
-    for i in 0..ports.len() {
-        s.on_link(i, true, t0);
-    }
-    let mut next_tick = t0;
-    for c in &sink.chunks {
-        while c.t_host_ns >= next_tick {
-            s.tick(next_tick, &mut out);
-            next_tick += 100_000_000;
-        }
-        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
-    }
+    drive(&mut s, &sink, &mut out, 100_000_000, |_, _| {});
     out
 }
 

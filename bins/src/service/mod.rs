@@ -528,6 +528,9 @@ impl Outputs for Collected {
 }
 
 #[cfg(test)]
+pub(crate) mod sim_drive;
+
+#[cfg(test)]
 #[path = "service_tests.rs"]
 mod tests;
 

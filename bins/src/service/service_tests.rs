@@ -5,7 +5,7 @@ use vigil_bus::payload::integrity as integ;
 use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
 
-use super::config::{Port, Protocol};
+use super::sim_drive::ports_of;
 use super::*;
 
 fn simulate(seconds: i64) -> MemorySink {
@@ -20,21 +20,7 @@ fn service_for(sink: &MemorySink) -> Service {
 }
 
 fn service_with(sink: &MemorySink, pipeline: PipelineConfig) -> Service {
-    let ports: Vec<Port> = sink
-        .info
-        .as_ref()
-        .unwrap()
-        .ports
-        .iter()
-        .map(|p| Port {
-            device: p.device.to_string(),
-            path: "/dev/null".into(),
-            baud: p.baud,
-            protocol: Protocol::resolve(p.protocol, p.device).unwrap(),
-            setup: None,
-            read_interval_ns: 0,
-        })
-        .collect();
+    let ports = ports_of(sink);
     Service::new(&ports, pipeline, MonitorParams::default(), 2.0).unwrap()
 }
 

@@ -1,0 +1,53 @@
+//! Test support: a simulator run fed through a [`Service`] as `vigil run` feeds its ports (no
+//! tokio, no bus), shared by the service, coverage, channel and rule tests.
+
+use vigil_sim::MemorySink;
+
+use super::config::{Port, Protocol};
+use super::{Outputs, Service};
+
+/// The simulator's ports as `[[ports]]` entries (the path is unused: chunks are fed directly).
+pub(crate) fn ports_of(sink: &MemorySink) -> Vec<Port> {
+    sink.info
+        .as_ref()
+        .expect("the simulator ran")
+        .ports
+        .iter()
+        .map(|p| Port {
+            device: p.device.to_string(),
+            path: "/dev/null".into(),
+            baud: p.baud,
+            protocol: Protocol::resolve(p.protocol, p.device).unwrap(),
+            setup: None,
+            read_interval_ns: 0,
+        })
+        .collect()
+}
+
+/// Feeds every chunk of `sink` to `s` in receive order, with every port's link up at the first
+/// chunk and `tick` every `tick_ns` of host time from then on; `now` is told the host time
+/// before each tick and each chunk (for outputs that stamp what they collect).
+pub(crate) fn drive<O: Outputs>(
+    s: &mut Service,
+    sink: &MemorySink,
+    out: &mut O,
+    tick_ns: u64,
+    mut now: impl FnMut(&mut O, u64),
+) {
+    let Some(t0) = sink.chunks.first().map(|c| c.t_host_ns) else {
+        return;
+    };
+    for i in 0..sink.info.as_ref().map_or(0, |i| i.ports.len()) {
+        s.on_link(i, true, t0);
+    }
+    let mut next_tick = t0;
+    for c in &sink.chunks {
+        while c.t_host_ns >= next_tick {
+            now(out, next_tick);
+            s.tick(next_tick, out);
+            next_tick += tick_ns;
+        }
+        now(out, c.t_host_ns);
+        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, out);
+    }
+}
