@@ -7,7 +7,10 @@
 //! `header.seq`). With `--latency` no sample is printed; one summary object is printed at the end:
 //! latency from the publisher's `CLOCK_MONOTONIC` send stamp to reception, in microseconds.
 //!
-//! It stops after `--count` samples, after `--duration` seconds, or at SIGINT/SIGTERM.
+//! It stops after `--count` samples, after `--duration` seconds, or at SIGINT/SIGTERM (quietly,
+//! exit status 0). When nothing has arrived after 2 s and no publisher is connected, it says so on
+//! stderr, with the prefixes under which vigil services do run (a wrong `--prefix` is the usual
+//! cause), and goes on waiting.
 //!
 //! `vigil listen alerts` prints the active set first (issue 25): one line per alert raised or
 //! latched now, from the latest `vigil/integrity` report (`"active": true`, `alert_id`,
@@ -133,6 +136,9 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
         .map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0)));
     let mut latencies = Vec::new();
     let mut seen = 0u64;
+    // When nothing has arrived and nothing publishes after this long, say so once (a wrong
+    // prefix is the usual cause) instead of waiting in silence.
+    let mut silence_check = Some(Instant::now() + NO_PUBLISHER_AFTER);
     if T::TOPIC == Topic::Alerts && !args.latency {
         // Subscribed to the transitions first: none is lost between the set and them.
         seen = print_active(bus, out)?;
@@ -165,6 +171,12 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
         if bus.termination_requested() || deadline.is_some_and(|d| Instant::now() >= d) {
             break;
         }
+        if silence_check.is_some_and(|t| Instant::now() >= t) {
+            silence_check = None;
+            if seen == 0 && sub.publishers() == 0 {
+                eprintln!("{}", no_publisher_hint(bus, T::TOPIC));
+            }
+        }
         bus.cleanup_if_due();
         // Wake on the publisher's event; the timeout bounds the reaction to a signal or deadline.
         sub.wait(Duration::from_millis(100))?;
@@ -178,6 +190,40 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
     }
     out.flush()?;
     Ok(())
+}
+
+/// How long `vigil listen` waits for a first sample before it checks for a publisher.
+const NO_PUBLISHER_AFTER: Duration = Duration::from_secs(2);
+
+/// What `vigil listen` says when nothing publishes on its service: the service, and the
+/// prefixes under which vigil services do exist on this host (as `--prefix` options to copy).
+fn no_publisher_hint(bus: &Bus, topic: Topic) -> String {
+    let service = topic.service_name(bus.prefix());
+    let others: Vec<String> = bus
+        .prefixes_in_use()
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|p| p != bus.prefix())
+        .map(|p| {
+            if p.is_empty() {
+                format!("vigil listen {topic}")
+            } else {
+                format!("vigil listen {topic} --prefix {p}")
+            }
+        })
+        .collect();
+    if others.is_empty() {
+        format!(
+            "vigil listen: nothing publishes on {service} (no vigil service runs on this host); \
+             still waiting"
+        )
+    } else {
+        format!(
+            "vigil listen: nothing publishes on {service}; still waiting. vigil services exist \
+             under other prefixes: {}",
+            others.join(" | ")
+        )
+    }
 }
 
 /// How long `vigil listen alerts` waits for an integrity report holding the active set.

@@ -119,3 +119,58 @@ fn listen_latency_prints_a_summary() {
     // Generous: a wake-up on a loaded 2-core machine, far below the 2 ms publishing period x 50.
     assert!(p50 < 100_000.0, "median latency {p50} us");
 }
+
+/// Issue 26: with nothing publishing, `vigil listen` says so after about 2 s, naming the
+/// prefixes where vigil services do exist (here the test's own publisher's), and SIGINT or
+/// SIGTERM ends it quietly with exit status 0 (it once failed with "wait on traffic:
+/// InterruptSignal").
+#[cfg(target_os = "linux")]
+#[test]
+fn listen_without_a_publisher_says_so_and_ends_quietly_on_a_signal() {
+    let pid = std::process::id();
+    // A vigil service under another prefix, for the hint to name.
+    let other = format!("listen-other{pid}");
+    let b = bus(&other);
+    let _publ = b.publisher::<AttitudePayload>().unwrap();
+    for signal in ["TERM", "INT"] {
+        let start = Instant::now();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["listen", "traffic", "--prefix", &format!("nobody{pid}")])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut err = BufReader::new(child.stderr.take().unwrap()).lines();
+        let hint = loop {
+            let l = err.next().expect("a hint line before stderr ends").unwrap();
+            if l.contains("nothing publishes") {
+                break l;
+            }
+        };
+        let waited = start.elapsed();
+        assert!(
+            waited >= Duration::from_millis(1900) && waited < Duration::from_secs(10),
+            "{waited:?}"
+        );
+        assert!(
+            hint.contains(&format!("nobody{pid}/vigil/traffic")),
+            "{hint}"
+        );
+        assert!(
+            hint.contains(&format!("vigil listen traffic --prefix {other}")),
+            "{hint}"
+        );
+        let kill = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+        let status = child.wait().unwrap();
+        let rest: Vec<String> = err.map_while(Result::ok).collect();
+        assert!(status.success(), "SIG{signal}: {status:?}, stderr {rest:?}");
+        assert!(
+            rest.iter().all(|l| !l.contains("error")),
+            "SIG{signal}: {rest:?}"
+        );
+    }
+}

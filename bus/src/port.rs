@@ -8,16 +8,21 @@ use std::time::{Duration, Instant};
 use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::node::{Node, NodeBuilder};
 use iceoryx2::port::BackpressureAction;
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher as IoxPublisher;
 use iceoryx2::port::subscriber::Subscriber as IoxSubscriber;
-use iceoryx2::prelude::{BackpressureStrategy, NodeName, ServiceName, SignalHandlingMode, ipc};
+use iceoryx2::prelude::{
+    BackpressureStrategy, CallbackProgression, NodeName, ServiceName, SignalHandlingMode, ipc,
+};
 use iceoryx2::sample::Sample;
+use iceoryx2::service::Service as _;
+use iceoryx2::service::port_factory::PortFactory as _;
 use iceoryx2::service::port_factory::event::PortFactory as EventFactory;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory as PubSubFactory;
 
 use crate::clock::monotonic_ns;
+use crate::names::SERVICE_ROOT;
 use crate::payload::{Payload, SCHEMA_VERSION};
 use crate::policy::Overflow;
 
@@ -180,6 +185,31 @@ impl Bus {
         Some(self.cleanup_dead_nodes())
     }
 
+    /// The deployment prefixes under which vigil services exist on this host now (`""` for the
+    /// default names), sorted, each once: what `vigil listen` suggests when nothing publishes
+    /// under the prefix it was given. A service is vigil's when its name is `[PREFIX/]vigil/...`.
+    pub fn prefixes_in_use(&self) -> Result<Vec<String>, BusError> {
+        let mut prefixes = Vec::new();
+        let root = format!("{SERVICE_ROOT}/");
+        ipc::Service::list(self.node.config(), |s| {
+            let name = s.static_details.name().as_str();
+            let prefix = if name.starts_with(&root) {
+                Some("")
+            } else {
+                name.find(&format!("/{root}")).map(|i| &name[..i])
+            };
+            if let Some(p) = prefix
+                && !prefixes.iter().any(|q: &String| q == p)
+            {
+                prefixes.push(p.to_string());
+            }
+            CallbackProgression::Continue
+        })
+        .map_err(iox("list services", "*"))?;
+        prefixes.sort();
+        Ok(prefixes)
+    }
+
     /// True once SIGINT or SIGTERM arrived (only with [`BusConfig::handle_signals`]).
     pub fn termination_requested(&self) -> bool {
         self.node.wait(Duration::ZERO).is_err()
@@ -299,7 +329,7 @@ impl Bus {
         Ok(Subscriber {
             inner,
             listener,
-            _pubsub: pubsub,
+            pubsub,
             _event: event,
             last_seq: Vec::new(),
             missed: 0,
@@ -421,7 +451,7 @@ impl<T: Payload> core::ops::Deref for Received<T> {
 pub struct Subscriber<T: Payload> {
     inner: IoxSubscriber<ipc::Service, T, ()>,
     listener: Listener<ipc::Service>,
-    _pubsub: PubSubFactory<ipc::Service, T, ()>,
+    pubsub: PubSubFactory<ipc::Service, T, ()>,
     _event: EventFactory<ipc::Service>,
     /// Last sequence number seen per publisher (a topic may have several: alerts).
     last_seq: Vec<(UniquePublisherId, u64)>,
@@ -466,12 +496,21 @@ impl<T: Payload> Subscriber<T> {
 
     /// Waits up to `timeout` for the publisher's wake-up (returns at once when one is pending).
     /// Returns true when woken. Wake-ups may be merged; drain with [`Subscriber::try_receive`].
+    ///
+    /// A SIGINT or SIGTERM (with [`BusConfig::handle_signals`]) ends the wait as a timeout does:
+    /// the caller asks [`Bus::termination_requested`] and stops quietly, instead of reporting the
+    /// interrupted wait as an error.
     pub fn wait(&self, timeout: Duration) -> Result<bool, BusError> {
-        let n = self
-            .listener
-            .timed_wait(|_| {}, timeout)
-            .map_err(iox("wait", T::TOPIC.as_str()))?;
-        Ok(n > 0)
+        match self.listener.timed_wait(|_| {}, timeout) {
+            Ok(n) => Ok(n > 0),
+            Err(ListenerWaitError::InterruptSignal) => Ok(false),
+            Err(e) => Err(iox("wait", T::TOPIC.as_str())(e)),
+        }
+    }
+
+    /// Publishers connected to the topic's service now (0: nothing publishes there).
+    pub fn publishers(&self) -> usize {
+        self.pubsub.dynamic_config().number_of_publishers()
     }
 
     /// The next sample, waiting up to `timeout` for one.
