@@ -229,6 +229,50 @@ fn decode_watson_sample_from_stdin() {
     assert_eq!(summary(&out)["malformed"], 1);
 }
 
+/// Issue 26: a southern or western receiver gives a negative `--ref`; clap once took `-2.5,40`
+/// for an unknown option. The Riddle's even airborne frame decodes with it, and an impossible
+/// latitude reaches vigil's own range check, so the value got through clap.
+#[test]
+fn negative_reference_positions_are_accepted() {
+    let decode = |r: &str| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["decode", "--device", "ttmrf", "--format", "hex", "--ref", r])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        use std::io::Write as _;
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(b"*8D40621D58C382D690C8AC2863A7;\n")
+            .unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let out = decode("-2.5,40");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let msgs = lines(&out);
+    assert_eq!(msgs.len(), 1);
+    assert_eq!(msgs[0]["icao"], "40621D");
+    assert_eq!(summary(&out)["frames_decoded"], 1);
+    let out = decode("-33.9,-151.2");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = decode("-91,0");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("latitude must be within +-90"), "{err}");
+}
+
 #[test]
 fn errors_are_clear_and_non_zero() {
     let out = vigil(&["decode", "--device", "bahrs", "/nonexistent/file.bin"]);

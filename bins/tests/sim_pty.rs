@@ -254,3 +254,51 @@ fn record_live_ports_then_replay() {
         assert!(t.windows(2).all(|w| w[0] <= w[1]));
     }
 }
+
+/// Issue 26: `vigil decode --port` opens a serial port in raw mode itself. The terminal is put
+/// in cooked mode first (`stty sane`: line editing, CR-to-NL translation, signal characters), as
+/// a freshly plugged USB adapter often is; `cat` on it would mangle the binary BAHRS stream. The
+/// decoder then sees every frame intact (no checksum failure, consecutive sequence counters) at
+/// the BAHRS's 100 Hz inertial rate, and it ends when the port goes away (the simulator exits).
+#[test]
+fn decode_port_reads_a_cooked_terminal_in_raw_mode() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("decode_port");
+    let (mut sim, ports) = start_live(&dir.join("ports"), "4");
+    let (device, path, baud) = &ports[0];
+    assert_eq!(device, "bahrs");
+    let stty = Command::new("stty")
+        .args(["-F", path, "sane"])
+        .status()
+        .expect("stty");
+    assert!(stty.success());
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["decode", "--device", "bahrs", "--port", path])
+        .args(["--baud", &baud.to_string()])
+        .output()
+        .expect("vigil decode --port");
+    assert!(sim.wait().unwrap().success());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: serde_json::Value = serde_json::from_str(
+        String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .last()
+            .expect("a summary line"),
+    )
+    .unwrap();
+    assert_eq!(summary["checksum_failures"], 0, "{summary}");
+    assert_eq!(summary["bytes_skipped"], 0, "{summary}");
+    let seqs: Vec<u64> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
+        .filter(|m| m["type"] == "inertial")
+        .map(|m| m["seq"].as_u64().unwrap())
+        .collect();
+    // About 4 s at 100 Hz, less the start-up.
+    assert!(seqs.len() > 250, "{} inertial messages", seqs.len());
+    let gaps = seqs.windows(2).filter(|p| p[1] != (p[0] + 1) % 256).count();
+    assert!(gaps <= 1, "{gaps} sequence gaps");
+}

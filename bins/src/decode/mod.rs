@@ -15,7 +15,7 @@ mod watson;
 
 use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use bytes::BytesMut;
@@ -72,12 +72,23 @@ pub struct DecodeArgs {
     /// TT-Multi-RF output protocol (only with --device ttmrf).
     #[arg(long, value_enum, default_value = "auto")]
     pub format: TtFormat,
-    /// Receiver position `LAT,LON` in degrees for Mode S surface and local CPR decoding.
-    #[arg(long = "ref", value_name = "LAT,LON")]
+    /// Receiver position `LAT,LON` in degrees for Mode S surface and local CPR decoding
+    /// (south and west negative: `--ref -33.9,151.2`).
+    #[arg(long = "ref", value_name = "LAT,LON", allow_hyphen_values = true)]
     pub reference: Option<String>,
     /// Input file, or `-` for standard input.
     #[arg(default_value = "-")]
     pub input: PathBuf,
+    /// Serial port to read instead of a file (e.g. /dev/ttyUSB0). vigil opens it in raw mode
+    /// (8N1, no flow control, no echo, no line editing, no CR/LF translation), which `cat` on a
+    /// port does not do and which binary streams need; it reads until Ctrl-C or the port goes
+    /// away, and prints each message as it arrives.
+    #[arg(long, value_name = "DEVICE", conflicts_with = "input")]
+    pub port: Option<PathBuf>,
+    /// Baud rate of `--port`, bit/s (default: the device's usual rate: BAHRS 115200, Watson
+    /// 9600, VN-200 and TT-Multi-RF 921600).
+    #[arg(long, requires = "port")]
+    pub baud: Option<u32>,
 }
 
 /// Runs `vigil decode`.
@@ -88,7 +99,10 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
     if args.device != Device::Ttmrf && args.reference.is_some() {
         bail!("--ref applies to --device ttmrf with a raw Mode S format only");
     }
-    let mut input = open_input(&args.input)?;
+    let mut input = match &args.port {
+        Some(port) => open_port(port, args.baud.unwrap_or(default_baud(args.device)))?,
+        None => open_input(&args.input)?,
+    };
     let stdout = io::stdout();
     let mut out = JsonLines::new(stdout.lock());
     let result = match args.device {
@@ -124,6 +138,44 @@ fn open_input(path: &PathBuf) -> Result<Box<dyn Read>> {
     }
     let file = File::open(path).with_context(|| format!("cannot open input {}", path.display()))?;
     Ok(Box::new(file))
+}
+
+/// The device's usual baud rate (the rate the simulator and the default configuration use).
+fn default_baud(device: Device) -> u32 {
+    match device {
+        Device::Bahrs => 115_200,
+        Device::Watson => 9600,
+        Device::Vn200 | Device::Ttmrf => 921_600,
+    }
+}
+
+/// Opens serial port `path` at `baud` in raw mode (serialport's open: 8N1, no flow control,
+/// raw termios).
+fn open_port(path: &Path, baud: u32) -> Result<Box<dyn Read>> {
+    let port = tokio_serial::new(path.to_string_lossy(), baud)
+        .timeout(std::time::Duration::from_millis(200))
+        .open()
+        .with_context(|| format!("cannot open serial port {} at {baud} baud", path.display()))?;
+    Ok(Box::new(PortInput(port)))
+}
+
+/// A serial port as an input stream: a read timeout means "nothing yet" (read again), and a
+/// port that goes away (a USB adapter unplugged, a pseudo-terminal whose other side closed:
+/// serialport reports the hang-up as BrokenPipe, a read as EIO) is the end of the input, with
+/// the summary, not a silent exit.
+struct PortInput(Box<dyn tokio_serial::SerialPort>);
+
+impl Read for PortInput {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        loop {
+            match self.0.read(buf) {
+                Err(e) if e.kind() == io::ErrorKind::TimedOut => continue,
+                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => return Ok(0),
+                Err(e) if e.raw_os_error() == Some(5) => return Ok(0), // EIO
+                other => return other,
+            }
+        }
+    }
 }
 
 /// The summary written to stderr at the end of a decode.
@@ -203,6 +255,9 @@ where
         while let Some(m) = decoder.decode(&mut buf) {
             emit(m, out)?;
         }
+        // Each read's messages go out at once: a live port's reader sees them as they come
+        // (a file is read 64 KiB at a time, so this costs it nothing).
+        out.flush()?;
     }
     while let Some(m) = decoder.decode_eof(&mut buf) {
         emit(m, out)?;
