@@ -82,6 +82,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    demo::sweep_stale_temp_dirs();
     let result = match cli.command {
         #[cfg(target_os = "linux")]
         Command::Demo(args) => demo::run(&args),

@@ -131,15 +131,78 @@ pub(crate) fn spawn(name: &'static str, args: &[&str], log: &Path) -> Result<Gua
     let exe = std::env::current_exe().context("locating the vigil executable")?;
     let log_file =
         std::fs::File::create(log).with_context(|| format!("cannot create {}", log.display()))?;
-    let child = Command::new(exe)
-        .args(args)
+    let mut cmd = Command::new(exe);
+    cmd.args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
-        .stderr(log_file)
+        .stderr(log_file);
+    die_with_parent(&mut cmd);
+    let child = cmd
         .spawn()
         .with_context(|| format!("starting vigil {name}"))?;
     Ok(Guard { name, child })
 }
+
+/// The child gets SIGTERM when this process dies, however it dies (a SIGKILLed `vigil demo` left
+/// its `vigil run` reparented to init, publishing for good): SIGTERM, not SIGKILL, so the child
+/// still shuts down cleanly and removes its bus resources.
+#[cfg(target_os = "linux")]
+fn die_with_parent(cmd: &mut Command) {
+    use std::os::unix::process::CommandExt;
+    let parent = rustix::process::getpid();
+    // SAFETY: the closure runs in the forked child before exec and calls only prctl and
+    // getppid, both async-signal-safe system calls; it allocates nothing and takes no lock.
+    unsafe {
+        cmd.pre_exec(move || {
+            rustix::process::set_parent_process_death_signal(Some(rustix::process::Signal::TERM))?;
+            // The parent may have died between fork and prctl: then no signal will come.
+            if rustix::process::getppid() != Some(parent) {
+                return Err(std::io::Error::other(
+                    "the parent exited before the child started",
+                ));
+            }
+            Ok(())
+        });
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn die_with_parent(_cmd: &mut Command) {}
+
+/// Removes the temporary directories (`vigil-KIND-PID`) that a `vigil demo` or `vigil measure`
+/// killed before it could clean up left behind: those whose process no longer exists. Run at the
+/// start of every vigil command; a live process's directory is never touched.
+#[cfg(target_os = "linux")]
+pub(crate) fn sweep_stale_temp_dirs() {
+    let Ok(entries) = std::fs::read_dir(std::env::temp_dir()) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(pid) = name
+            .to_str()
+            .and_then(|n| n.strip_prefix("vigil-"))
+            .and_then(|rest| rest.split_once('-'))
+            .filter(|(kind, _)| ["demo", "measure"].contains(kind))
+            .and_then(|(_, pid)| pid.parse::<i32>().ok())
+        else {
+            continue;
+        };
+        // EPERM: the process exists but belongs to another user.
+        let alive = rustix::process::Pid::from_raw(pid).is_some_and(|p| {
+            !matches!(
+                rustix::process::test_kill_process(p),
+                Err(rustix::io::Errno::SRCH)
+            )
+        });
+        if !alive && e.file_type().is_ok_and(|t| t.is_dir()) {
+            let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+pub(crate) fn sweep_stale_temp_dirs() {}
 
 pub(crate) fn tail(path: &Path, lines: usize) -> String {
     let text = std::fs::read_to_string(path).unwrap_or_default();
@@ -264,6 +327,14 @@ fn view_loop(
     let mut v = View::default();
     let mut t0: Option<i64> = None;
     let mut next_draw = start;
+    // The bus prefix is this demo's own (`demoPID`, so it never meets another vigil): say how to
+    // reach it, at start and under every redraw of the terminal view.
+    let attach = format!(
+        "attach from another terminal: vigil listen traffic --prefix {prefix}   \
+         (or attitude, ownship, integrity, alerts)"
+    );
+    writeln!(out, "vigil demo: {attach}")?;
+    out.flush()?;
     let period = if tty {
         Duration::from_millis(500)
     } else {
@@ -299,7 +370,11 @@ fn view_loop(
         if Instant::now() >= next_draw {
             next_draw += period;
             if tty {
-                write!(out, "\x1b[H\x1b[2J{}", view::render(&v, t0.unwrap_or(0)))?;
+                write!(
+                    out,
+                    "\x1b[H\x1b[2J{}\n{attach}\n",
+                    view::render(&v, t0.unwrap_or(0))
+                )?;
             } else {
                 writeln!(
                     out,
