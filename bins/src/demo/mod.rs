@@ -50,6 +50,10 @@ pub struct DemoArgs {
     /// With --record: the channels recorded.
     #[arg(long, value_enum, default_value = "raw+fused", requires = "record")]
     pub record_channels: crate::recording::ChannelSet,
+    /// Also send the fused traffic as MAVLink ADSB_VEHICLE (and HEARTBEAT) over UDP to this
+    /// address (`IP:PORT`, e.g. 127.0.0.1:14550 for a ground station on this machine).
+    #[arg(long, value_name = "IP:PORT")]
+    pub mavlink_out: Option<String>,
 }
 
 /// The `[record]` section of a `vigil run` configuration writing `path` with `channels`.
@@ -278,6 +282,11 @@ fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
     if let Some(path) = &args.record {
         let path = std::path::absolute(path).context("the --record path")?;
         text += &record_section(&path, args.record_channels);
+    }
+    if let Some(addr) = &args.mavlink_out {
+        addr.parse::<std::net::SocketAddr>()
+            .with_context(|| format!("--mavlink-out {addr:?}: expected IP:PORT"))?;
+        text += &format!("\n[outputs.mavlink]\naddress = \"{addr}\"\n");
     }
     std::fs::write(&config, text)?;
     let mut run = spawn(

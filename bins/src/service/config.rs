@@ -365,6 +365,45 @@ impl Default for StatusSection {
     }
 }
 
+/// `[outputs.mavlink]`: fused traffic as MAVLink `ADSB_VEHICLE` over UDP (see
+/// [`super::mavlink_out`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MavlinkSection {
+    /// Destination `HOST:PORT` (an IP address; e.g. `"127.0.0.1:14550"`, a ground station's
+    /// usual port). Empty: no MAVLink output.
+    pub address: String,
+    /// MAVLink system id vigil sends as (usually the vehicle's), 1..=255.
+    pub system_id: u8,
+    /// MAVLink component id vigil sends as (156: `MAV_COMP_ID_ADSB`).
+    pub component_id: u8,
+}
+
+impl Default for MavlinkSection {
+    fn default() -> Self {
+        Self {
+            address: String::new(),
+            system_id: 1,
+            component_id: 156,
+        }
+    }
+}
+
+impl MavlinkSection {
+    /// Whether the output is configured.
+    pub fn enabled(&self) -> bool {
+        !self.address.is_empty()
+    }
+}
+
+/// `[outputs]`: vigil's outputs besides the bus.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OutputsSection {
+    /// MAVLink traffic output.
+    pub mavlink: MavlinkSection,
+}
+
 /// The whole configuration of `vigil run`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -389,6 +428,8 @@ pub struct Config {
     pub live_view: LiveViewSection,
     /// CPU wake-up latency (see [`super::realtime`]).
     pub realtime: RealtimeSection,
+    /// Outputs besides the bus (MAVLink traffic).
+    pub outputs: OutputsSection,
 }
 
 impl Default for Config {
@@ -409,6 +450,7 @@ impl Default for Config {
             monitor: MonitorParams::default(),
             live_view: LiveViewSection::default(),
             realtime: RealtimeSection::default(),
+            outputs: OutputsSection::default(),
         }
     }
 }
@@ -579,6 +621,19 @@ impl Config {
             ));
         }
         positive("bus.cleanup_period_s", self.bus.cleanup_period_s)?;
+        let m = &self.outputs.mavlink;
+        if m.enabled() && m.address.parse::<std::net::SocketAddr>().is_err() {
+            return Err(invalid(
+                "outputs.mavlink.address",
+                format!("{:?} is not IP:PORT (e.g. \"127.0.0.1:14550\")", m.address),
+            ));
+        }
+        if m.system_id == 0 {
+            return Err(invalid(
+                "outputs.mavlink.system_id",
+                "1..=255 (0 is MAVLink's broadcast id)",
+            ));
+        }
         if self.ports.is_empty() {
             return Err(invalid("ports", "at least one port is needed"));
         }

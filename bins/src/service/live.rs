@@ -32,6 +32,7 @@ use crate::recording::{METADATA_RUN, RichRecorder, run_metadata};
 
 use super::config::{Config, LinkSection, Port};
 use super::live_view::{Tee, View};
+use super::mavlink_out::MavlinkUdp;
 use super::{Outputs, Service, reader};
 
 /// Arguments of `vigil run`.
@@ -180,7 +181,7 @@ async fn port_task(i: usize, port: Port, link: LinkSection, ctx: Rc<RefCell<Ctx>
 struct Ctx {
     ports: Vec<Port>,
     service: Service,
-    out: Tee<BusOutputs, Option<View>>,
+    out: Tee<BusOutputs, Tee<Option<View>, Option<MavlinkUdp>>>,
     recorder: Option<Recorder>,
     record_errors: u64,
     /// Closures are logged once per port until it opens again.
@@ -294,9 +295,30 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
     })
     .context("connecting to the bus")?;
     // The bus, and the optional live view (off the safety path; see `live_view`).
+    // The bus first; then the optional live view and MAVLink output (off the safety path: they
+    // never delay the bus, and a failure of theirs is logged, not fatal).
+    let mavlink = config.outputs.mavlink.enabled().then(|| {
+        let m = &config.outputs.mavlink;
+        match MavlinkUdp::open(m) {
+            Ok(o) => {
+                info!(
+                    "MAVLink traffic output to {} (system {}, component {})",
+                    m.address, m.system_id, m.component_id
+                );
+                Some(o)
+            }
+            Err(e) => {
+                tracing::warn!("MAVLink output to {}: {e}; going on without it", m.address);
+                None
+            }
+        }
+    });
     let out = Tee(
         BusOutputs::new(&bus).context("creating the publishers")?,
-        super::live_view::start(&config.live_view),
+        Tee(
+            super::live_view::start(&config.live_view),
+            mavlink.flatten(),
+        ),
     );
     let recorder = match &config.record.path {
         Some(p) => Some(open_recorder(&config, p, &ports)?),

@@ -135,6 +135,11 @@ impl<A: Outputs, B: Outputs> Outputs for Tee<A, B> {
         self.0.publish(p);
         self.1.publish(p);
     }
+
+    fn traffic_picture(&mut self, pic: &vigil_fusion::pipeline::TrafficPicture) {
+        self.0.traffic_picture(pic);
+        self.1.traffic_picture(pic);
+    }
 }
 
 /// An output that may be absent (a view that is disabled or failed to start).
@@ -142,6 +147,12 @@ impl<O: Outputs> Outputs for Option<O> {
     fn publish<T: vigil_bus::Payload>(&mut self, p: &T) {
         if let Some(o) = self {
             o.publish(p);
+        }
+    }
+
+    fn traffic_picture(&mut self, pic: &vigil_fusion::pipeline::TrafficPicture) {
+        if let Some(o) = self {
+            o.traffic_picture(pic);
         }
     }
 }

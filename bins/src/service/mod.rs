@@ -16,6 +16,7 @@ pub mod convert;
 pub mod foxglove_view;
 pub mod live;
 pub mod live_view;
+pub mod mavlink_out;
 pub mod reader;
 pub mod realtime;
 pub mod setup;
@@ -41,6 +42,11 @@ use convert::PortReport;
 pub trait Outputs {
     /// Publishes a payload. A failure is the sink's to count and log: it never stops the service.
     fn publish<T: Payload>(&mut self, p: &T);
+
+    /// Takes the fused traffic picture itself (absolute positions, velocities, callsigns: more
+    /// than the bus payload holds), for the outputs that re-encode traffic (MAVLink). Called
+    /// before the picture's payload is published. Default: ignored.
+    fn traffic_picture(&mut self, _pic: &vigil_fusion::pipeline::TrafficPicture) {}
 }
 
 /// Counters of the service since start.
@@ -230,6 +236,7 @@ impl Service {
                     self.counters.ownship += 1;
                 }
                 Fused::Traffic(pic) => {
+                    out.traffic_picture(pic);
                     let own = self.last_ownship.filter(|o| o.t_gps_ns == pic.t_gps_ns);
                     convert::traffic(pic, own.as_ref(), &mut self.traffic);
                     self.monitor.traffic(&self.traffic);

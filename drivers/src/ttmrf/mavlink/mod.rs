@@ -110,6 +110,22 @@ pub fn encode_adsb_vehicle(frame: &FrameInfo, vehicle: &AdsbVehicle, out: &mut V
     encode(frame, &MavMessage::ADSB_VEHICLE(vehicle.to_data()), out);
 }
 
+/// Appends a MAVLink HEARTBEAT from an ADS-B receiver component (`MAV_TYPE_ADSB`, no autopilot,
+/// state active): what a traffic source sends once a second so that autopilots and ground
+/// stations list it (vigil's MAVLink traffic output).
+pub fn encode_adsb_heartbeat(frame: &FrameInfo, out: &mut Vec<u8>) {
+    use mavlink::dialects::common::{HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType};
+    let hb = HEARTBEAT_DATA {
+        custom_mode: 0,
+        mavtype: MavType::MAV_TYPE_ADSB,
+        autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+        base_mode: MavModeFlag::empty(),
+        system_status: MavState::MAV_STATE_ACTIVE,
+        mavlink_version: 3,
+    };
+    encode(frame, &MavMessage::HEARTBEAT(hb), out);
+}
+
 /// Appends a MAVLink frame carrying `collision` (unsigned, `frame.version` 1 or else 2).
 pub fn encode_collision(frame: &FrameInfo, collision: &Collision, out: &mut Vec<u8>) {
     encode(frame, &MavMessage::COLLISION(collision.to_data()), out);
