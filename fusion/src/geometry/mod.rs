@@ -122,3 +122,6 @@ pub fn relative(own: &AircraftState, intruder: &AircraftState) -> Relative {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod boundary_tests;
