@@ -54,6 +54,10 @@ pub struct DemoArgs {
     /// address (`IP:PORT`, e.g. 127.0.0.1:14550 for a ground station on this machine).
     #[arg(long, value_name = "IP:PORT")]
     pub mavlink_out: Option<String>,
+    /// Also send traffic and ownship as GDL90 over UDP to this address (`IP:PORT`, e.g.
+    /// 127.0.0.1:4000 for an EFB on this machine).
+    #[arg(long, value_name = "IP:PORT")]
+    pub gdl90_out: Option<String>,
 }
 
 /// The `[record]` section of a `vigil run` configuration writing `path` with `channels`.
@@ -287,6 +291,11 @@ fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
         addr.parse::<std::net::SocketAddr>()
             .with_context(|| format!("--mavlink-out {addr:?}: expected IP:PORT"))?;
         text += &format!("\n[outputs.mavlink]\naddress = \"{addr}\"\n");
+    }
+    if let Some(addr) = &args.gdl90_out {
+        addr.parse::<std::net::SocketAddr>()
+            .with_context(|| format!("--gdl90-out {addr:?}: expected IP:PORT"))?;
+        text += &format!("\n[outputs.gdl90]\naddress = \"{addr}\"\n");
     }
     std::fs::write(&config, text)?;
     let mut run = spawn(

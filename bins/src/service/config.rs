@@ -396,12 +396,30 @@ impl MavlinkSection {
     }
 }
 
+/// `[outputs.gdl90]`: traffic and ownship as GDL90 over UDP (see [`super::gdl90_out`]).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Gdl90Section {
+    /// Destination `HOST:PORT` (an IP address; EFBs listen on port 4000, often on the broadcast
+    /// address, e.g. `"192.168.1.255:4000"`). Empty: no GDL90 output.
+    pub address: String,
+}
+
+impl Gdl90Section {
+    /// Whether the output is configured.
+    pub fn enabled(&self) -> bool {
+        !self.address.is_empty()
+    }
+}
+
 /// `[outputs]`: vigil's outputs besides the bus.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OutputsSection {
     /// MAVLink traffic output.
     pub mavlink: MavlinkSection,
+    /// GDL90 traffic output.
+    pub gdl90: Gdl90Section,
 }
 
 /// The whole configuration of `vigil run`.
@@ -626,6 +644,16 @@ impl Config {
             return Err(invalid(
                 "outputs.mavlink.address",
                 format!("{:?} is not IP:PORT (e.g. \"127.0.0.1:14550\")", m.address),
+            ));
+        }
+        let g = &self.outputs.gdl90;
+        if g.enabled() && g.address.parse::<std::net::SocketAddr>().is_err() {
+            return Err(invalid(
+                "outputs.gdl90.address",
+                format!(
+                    "{:?} is not IP:PORT (e.g. \"192.168.1.255:4000\")",
+                    g.address
+                ),
             ));
         }
         if m.system_id == 0 {

@@ -31,6 +31,7 @@ use vigil_sim::record::RawRecorder;
 use crate::recording::{METADATA_RUN, RichRecorder, run_metadata};
 
 use super::config::{Config, LinkSection, Port};
+use super::gdl90_out::Gdl90Udp;
 use super::live_view::{Tee, View};
 use super::mavlink_out::MavlinkUdp;
 use super::{Outputs, Service, reader};
@@ -176,12 +177,16 @@ async fn port_task(i: usize, port: Port, link: LinkSection, ctx: Rc<RefCell<Ctx>
     }
 }
 
+/// Where `vigil run` sends its outputs: the bus first, then the optional live view and the
+/// optional MAVLink and GDL90 traffic outputs (off the safety path).
+type LiveOutputs = Tee<BusOutputs, Tee<Option<View>, Tee<Option<MavlinkUdp>, Option<Gdl90Udp>>>>;
+
 /// Everything the port tasks and the main loop share (one thread; borrowed only between
 /// awaits).
 struct Ctx {
     ports: Vec<Port>,
     service: Service,
-    out: Tee<BusOutputs, Tee<Option<View>, Option<MavlinkUdp>>>,
+    out: LiveOutputs,
     recorder: Option<Recorder>,
     record_errors: u64,
     /// Closures are logged once per port until it opens again.
@@ -313,11 +318,24 @@ async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result
             }
         }
     });
+    let gdl90 = config.outputs.gdl90.enabled().then(|| {
+        let g = &config.outputs.gdl90;
+        match Gdl90Udp::open(g) {
+            Ok(o) => {
+                info!("GDL90 traffic output to {}", g.address);
+                Some(o)
+            }
+            Err(e) => {
+                tracing::warn!("GDL90 output to {}: {e}; going on without it", g.address);
+                None
+            }
+        }
+    });
     let out = Tee(
         BusOutputs::new(&bus).context("creating the publishers")?,
         Tee(
             super::live_view::start(&config.live_view),
-            mavlink.flatten(),
+            Tee(mavlink.flatten(), gdl90.flatten()),
         ),
     );
     let recorder = match &config.record.path {

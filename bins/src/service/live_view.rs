@@ -136,9 +136,13 @@ impl<A: Outputs, B: Outputs> Outputs for Tee<A, B> {
         self.1.publish(p);
     }
 
-    fn traffic_picture(&mut self, pic: &vigil_fusion::pipeline::TrafficPicture) {
-        self.0.traffic_picture(pic);
-        self.1.traffic_picture(pic);
+    fn traffic_picture(
+        &mut self,
+        pic: &vigil_fusion::pipeline::TrafficPicture,
+        own: Option<&vigil_fusion::ownship::Ownship>,
+    ) {
+        self.0.traffic_picture(pic, own);
+        self.1.traffic_picture(pic, own);
     }
 }
 
@@ -150,9 +154,13 @@ impl<O: Outputs> Outputs for Option<O> {
         }
     }
 
-    fn traffic_picture(&mut self, pic: &vigil_fusion::pipeline::TrafficPicture) {
+    fn traffic_picture(
+        &mut self,
+        pic: &vigil_fusion::pipeline::TrafficPicture,
+        own: Option<&vigil_fusion::ownship::Ownship>,
+    ) {
         if let Some(o) = self {
-            o.traffic_picture(pic);
+            o.traffic_picture(pic, own);
         }
     }
 }

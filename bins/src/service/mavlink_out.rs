@@ -204,7 +204,11 @@ impl MavlinkUdp {
 impl Outputs for MavlinkUdp {
     fn publish<T: vigil_bus::Payload>(&mut self, _: &T) {}
 
-    fn traffic_picture(&mut self, pic: &TrafficPicture) {
+    fn traffic_picture(
+        &mut self,
+        pic: &TrafficPicture,
+        _own: Option<&vigil_fusion::ownship::Ownship>,
+    ) {
         for frame in self.encoder.picture(pic) {
             if let Err(e) = self.socket.send_to(&frame, self.to) {
                 self.send_failures += 1;

@@ -14,6 +14,7 @@ pub mod config;
 pub mod convert;
 #[cfg(feature = "foxglove")]
 pub mod foxglove_view;
+pub mod gdl90_out;
 pub mod live;
 pub mod live_view;
 pub mod mavlink_out;
@@ -44,9 +45,15 @@ pub trait Outputs {
     fn publish<T: Payload>(&mut self, p: &T);
 
     /// Takes the fused traffic picture itself (absolute positions, velocities, callsigns: more
-    /// than the bus payload holds), for the outputs that re-encode traffic (MAVLink). Called
-    /// before the picture's payload is published. Default: ignored.
-    fn traffic_picture(&mut self, _pic: &vigil_fusion::pipeline::TrafficPicture) {}
+    /// than the bus payload holds) and the ownship of the same fusion step, for the outputs that
+    /// re-encode traffic (MAVLink, GDL90). Called before the picture's payload is published.
+    /// Default: ignored.
+    fn traffic_picture(
+        &mut self,
+        _pic: &vigil_fusion::pipeline::TrafficPicture,
+        _own: Option<&vigil_fusion::ownship::Ownship>,
+    ) {
+    }
 }
 
 /// Counters of the service since start.
@@ -236,8 +243,8 @@ impl Service {
                     self.counters.ownship += 1;
                 }
                 Fused::Traffic(pic) => {
-                    out.traffic_picture(pic);
                     let own = self.last_ownship.filter(|o| o.t_gps_ns == pic.t_gps_ns);
+                    out.traffic_picture(pic, own.as_ref());
                     convert::traffic(pic, own.as_ref(), &mut self.traffic);
                     self.monitor.traffic(&self.traffic);
                     out.publish(&*self.traffic);
