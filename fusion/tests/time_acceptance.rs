@@ -618,3 +618,53 @@ fn a_device_time_a_second_off_disagrees_with_the_host_clock() {
         && j.at_s < 20.0
         && j.source == Some(TimeSource::NativeGps)));
 }
+
+/// Issue 18 point 4, with no second host-clock source: the TT-Multi-RF on CSV (no GNSS time of
+/// its own) and the VN-200's GPS time a second off from 20 s to the end (200 s). The relation
+/// held before keeps refusing the VN-200's time past the host clock's 120 s coast limit, so the
+/// VN-200 never re-seeds the host clock with its wrong time: its samples are host-timed while
+/// the host clock coasts, then not aligned (reason `clock_disagreement`), never wrong.
+#[test]
+fn a_vn200_time_a_second_off_without_a_second_source_is_never_passed_off() {
+    let case = Case {
+        name: "VN-200 GPS time +1 s from 20 s, TT on CSV, 200 s",
+        scenario: nominal_with(|s| {
+            tt_host_timed(s);
+            s.faults.push(Fault::DeviceTimeOffset {
+                device: "vn200".into(),
+                from_s: 20.0,
+                to_s: None,
+                offset_ms: 1_000.0,
+            })
+        }),
+        seconds: 200,
+        setup: none,
+        extra_jitter_ns: no_jitter,
+        disagreeing: &[Device::Vn200],
+    };
+    let runs = check_all(std::slice::from_ref(&case));
+    let r = &runs[0].1;
+    assert_eq!(r.disagreements_at_end, vec![Device::Vn200]);
+    let vn = |from: f64, to: f64| -> Vec<&Joined> {
+        r.joined
+            .iter()
+            .filter(|j| j.device == Device::Vn200 && j.at_s >= from && j.at_s < to)
+            .collect()
+    };
+    // While the host clock coasts (up to 120 s after its last reference): host-timed.
+    let coasting = vn(20.2, 135.0);
+    assert!(
+        coasting
+            .iter()
+            .all(|j| j.source == Some(TimeSource::HostClock))
+    );
+    // Past it: not aligned (no clock left to place them by), and still refused.
+    let late = vn(145.0, 200.0);
+    let aligned = late.iter().filter(|j| j.err_ns.is_some()).count();
+    println!(
+        "VN-200 +1 s, TT on CSV: {} host-timed 20-135 s; 145-200 s: {aligned} of {} aligned",
+        coasting.len(),
+        late.len()
+    );
+    assert!(!late.is_empty() && aligned == 0);
+}
