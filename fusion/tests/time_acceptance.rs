@@ -668,3 +668,39 @@ fn a_vn200_time_a_second_off_without_a_second_source_is_never_passed_off() {
     );
     assert!(!late.is_empty() && aligned == 0);
 }
+
+/// Issue 18 point 1, named adapters: the Watson and the TT-Multi-RF (CSV and HEXd: host-timed)
+/// behind a native UART or a USB CDC bridge, the VN-200 (the host clock's reference) on the
+/// default link. The aligner is told nothing: it maps their reads with the single-read delay it
+/// learned on the VN-200's port.
+#[test]
+fn native_uart_and_usb_cdc_ports() {
+    use vigil_sim::scenario::Adapter;
+    let on = |a: Adapter| {
+        nominal_with(move |s| {
+            tt_host_timed(s);
+            for d in ["watson", "ttmrf"] {
+                s.host.adapters.insert(d.into(), a);
+            }
+        })
+    };
+    let cases = [
+        Case {
+            name: "native UART (Watson, TT CSV)",
+            scenario: on(Adapter::NativeUart),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+            disagreeing: &[],
+        },
+        Case {
+            name: "USB CDC (Watson, TT CSV)",
+            scenario: on(Adapter::UsbCdc),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+            disagreeing: &[],
+        },
+    ];
+    check_all(&cases);
+}
