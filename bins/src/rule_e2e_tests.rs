@@ -19,7 +19,7 @@ use vigil_bus::payload::alerts::{
     SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_WARNING, STATE_CLEARED, STATE_RAISED,
 };
 use vigil_bus::payload::attitude::{AXIS_ROLL, UNIT_BAHRS, UNIT_WATSON};
-use vigil_bus::payload::integrity::{DEVICE_BAHRS, DEVICE_WATSON};
+use vigil_bus::payload::integrity::{DEVICE_BAHRS, DEVICE_TTMRF, DEVICE_VN200, DEVICE_WATSON};
 use vigil_bus::payload::read_text;
 use vigil_bus::payload::traffic::ADDRESS_ICAO;
 use vigil_bus::{
@@ -216,7 +216,7 @@ fn number_after(text: &str, key: &str) -> f64 {
 }
 
 /// Rules whose end-to-end test lives in this file, with the test's name.
-const COVERED_HERE: [(Rule, &str); 13] = [
+const COVERED_HERE: [(Rule, &str); 14] = [
     (
         Rule::AttitudeMiscompare,
         "attitude_miscompare_on_a_bahrs_roll_bias",
@@ -250,6 +250,10 @@ const COVERED_HERE: [(Rule, &str); 13] = [
     (
         Rule::CrossCheckUnavailable,
         "cross_check_unavailable_while_the_watson_is_silent",
+    ),
+    (
+        Rule::ClockDisagreement,
+        "clock_disagreement_on_a_vn200_gps_time_then_a_ttmrf_ts_a_second_off",
     ),
 ];
 
@@ -492,6 +496,57 @@ fn clock_not_locked_holds_over_through_a_vn200_gnss_outage() {
         "clock holding over after losing lock",
         11.5..12.8,
         16.0..18.0,
+    );
+}
+
+/// Issue 18 point 4: the VN-200's GPS time a second off from 8 s to 14 s (a leap-second error),
+/// then the TT-Multi-RF's JSON `ts` a second off from 18 s to 24 s.
+const DEVICE_TIMES_OFF: &str = r#"
+[[faults]]
+kind = "device_time_offset"
+device = "vn200"
+from_s = 8.0
+to_s = 14.0
+offset_ms = 1000.0
+
+[[faults]]
+kind = "device_time_offset"
+device = "ttmrf"
+from_s = 18.0
+to_s = 24.0
+offset_ms = 1000.0
+"#;
+
+#[test]
+fn clock_disagreement_on_a_vn200_gps_time_then_a_ttmrf_ts_a_second_off() {
+    // Each device's bit is set by its first time after the fault starts (the VN-200 sends every
+    // 20 ms; the TT-Multi-RF's JSON `ts` comes with each report and its GNSS section, several a
+    // second) and the rule raises 1 s (delay) later, at the next 100 ms tick. When the fault
+    // ends the next time agrees with the host clock again (held before the fault, 6 s of
+    // coasting at 1 ppm is 6 us) and the alert clears 2 s (hysteresis) later. The TT's `ts`
+    // comes less often: 0.5 s of margin on both.
+    let run = run(&scenario(DEVICE_TIMES_OFF), 30);
+    raised_then_cleared(
+        &run,
+        Rule::ClockDisagreement.alert_id(u32::from(DEVICE_VN200)),
+        SEVERITY_CAUTION,
+        "VN-200 GPS time disagrees with the host clock",
+        9.0..9.3,
+        16.0..16.3,
+    );
+    raised_then_cleared(
+        &run,
+        Rule::ClockDisagreement.alert_id(u32::from(DEVICE_TTMRF)),
+        SEVERITY_CAUTION,
+        "TT-Multi-RF ts / TS24h disagrees with the host clock",
+        19.0..19.8,
+        26.0..26.8,
+    );
+    // The BAHRS clock agrees throughout (its pulses are named by the host clock while the
+    // VN-200's PPS times are not trusted).
+    assert!(
+        run.transitions(Rule::ClockDisagreement.alert_id(u32::from(DEVICE_BAHRS)))
+            .is_empty()
     );
 }
 

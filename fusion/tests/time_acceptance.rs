@@ -32,6 +32,9 @@ struct Case {
     setup: fn(&mut Aligner),
     /// Extra link jitter of host-timed samples per device (an FTDI latency timer), ns.
     extra_jitter_ns: fn(Device) -> i64,
+    /// The devices whose `clock_disagreement` bit the case must raise; no other may be raised
+    /// (issue 18 point 4: a false disagreement replaces a right time by a worse one).
+    disagreeing: &'static [Device],
 }
 
 fn none(_: &mut Aligner) {}
@@ -139,6 +142,22 @@ fn judge(c: &Case, seed: u64) -> (Run, Vec<String>) {
             c.name, r.inputs, r.outputs
         ));
     }
+    let seen: Vec<Device> = r.disagreements_first_s.keys().copied().collect();
+    println!(
+        "{}: clock_disagreement raised {:?} (first at s), at the end {:?}; disagreeing times: \
+         VN-200 {}, TT-Multi-RF {}",
+        c.name,
+        r.disagreements_first_s,
+        r.disagreements_at_end,
+        r.vn200_disagreeing,
+        r.tt_disagreeing
+    );
+    if seen != c.disagreeing {
+        failures.push(format!(
+            "{}: clock_disagreement raised for {seen:?}, expected {:?}",
+            c.name, c.disagreeing
+        ));
+    }
     for ((device, source, class), row) in rows(&r, c) {
         println!(
             "| {} | {device:?} | {source} | {class} | {} | {} | {} | {:.1} % | {} | {} |",
@@ -198,6 +217,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 40,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "0x06 sent 0.3 s late",
@@ -205,6 +225,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 30,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "0x06 sent 0.7 s late",
@@ -212,6 +233,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 30,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "0x06 repeated every 100 ms",
@@ -219,6 +241,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 30,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "software pulse capture 0-30 us",
@@ -226,6 +249,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 40,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "wrong PPS edge (+100 ms)",
@@ -233,6 +257,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 30,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[Device::Bahrs],
         },
         Case {
             name: "PPS absent (sync not wired)",
@@ -240,6 +265,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 30,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "BAHRS MCU reset at 20 s",
@@ -252,6 +278,7 @@ fn pps_and_pulse_report_readings() {
             seconds: 35,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
     ];
     let runs = check_all(&cases);
@@ -358,6 +385,7 @@ fn links_outages_and_time_stamp_readings() {
             seconds: 30,
             setup: ftdi_16,
             extra_jitter_ns: ftdi_16_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "FTDI 1 ms (Watson, TT CSV, BAHRS)",
@@ -365,6 +393,7 @@ fn links_outages_and_time_stamp_readings() {
             seconds: 30,
             setup: ftdi_1,
             extra_jitter_ns: ftdi_1_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "TT-Multi-RF CSV at 115200",
@@ -379,6 +408,7 @@ fn links_outages_and_time_stamp_readings() {
             seconds: 30,
             setup: tt_115200,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "JSON ts rounded",
@@ -386,6 +416,7 @@ fn links_outages_and_time_stamp_readings() {
             seconds: 30,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "GNSS outage 15-60 s (PPS stops)",
@@ -399,6 +430,7 @@ fn links_outages_and_time_stamp_readings() {
             seconds: 70,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "VN-200 GNSS loss 15-60 s (PPS stops)",
@@ -412,6 +444,7 @@ fn links_outages_and_time_stamp_readings() {
             seconds: 70,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
         Case {
             name: "UTC midnight",
@@ -419,6 +452,7 @@ fn links_outages_and_time_stamp_readings() {
             seconds: 30,
             setup: none,
             extra_jitter_ns: no_jitter,
+            disagreeing: &[],
         },
     ];
     let runs = check_all(&cases);
@@ -458,6 +492,7 @@ fn vn200_silent_for_five_minutes_keeps_the_traffic_aligned() {
         seconds: 325,
         setup: none,
         extra_jitter_ns: no_jitter,
+        disagreeing: &[],
     };
     let runs = check_all(std::slice::from_ref(&case));
     let r = &runs[0].1;
@@ -496,6 +531,176 @@ fn host_stamp_bursts() {
         seconds: 30,
         setup: none,
         extra_jitter_ns: bursts_jitter,
+        disagreeing: &[],
     };
     check_all(std::slice::from_ref(&case));
+}
+
+/// A device's own time a second off from 20 s on (issue 18 point 4).
+fn time_offset(device: &str) -> Scenario {
+    nominal_with(|s| {
+        // HEX frames too: TS24h is checked like JSON `ts`.
+        s.devices.ttmrf.as_mut().unwrap().raw = "hex".into();
+        s.faults.push(Fault::DeviceTimeOffset {
+            device: device.into(),
+            from_s: 20.0,
+            to_s: None,
+            offset_ms: 1_000.0,
+        })
+    })
+}
+
+/// Issue 18 point 4: the VN-200's GPS time and the TT-Multi-RF's `ts` / TS24h each a second off
+/// from 20 s on (a leap-second error; a `ts` a second off). Each is cross-checked against the
+/// host clock's relation held before (the VN-200 is the host clock's own reference, so the
+/// check cannot use a relation that includes its new times): after the fault no sample is
+/// passed off with a wrong time (the table's rules), the device's `clock_disagreement` bit is
+/// raised at the fault and stays raised, nothing else is raised, and the device's samples keep
+/// coming aligned through another clock (the host clock) with that clock's sigma.
+#[test]
+fn a_device_time_a_second_off_disagrees_with_the_host_clock() {
+    let cases = [
+        Case {
+            name: "VN-200 GPS time +1 s from 20 s",
+            scenario: time_offset("vn200"),
+            seconds: 45,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+            disagreeing: &[Device::Vn200],
+        },
+        Case {
+            name: "TT-Multi-RF ts / TS24h +1 s from 20 s",
+            scenario: time_offset("ttmrf"),
+            seconds: 45,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+            disagreeing: &[Device::Ttmrf],
+        },
+    ];
+    let runs = check_all(&cases);
+    for ((name, r), device) in runs.iter().zip([Device::Vn200, Device::Ttmrf]) {
+        // Raised at the fault (within 0.2 s of truth time), held to the end.
+        let first = r.disagreements_first_s[&device];
+        assert!((20.0..20.2).contains(&first), "{name}: first at {first} s");
+        assert_eq!(r.disagreements_at_end, vec![device], "{name}");
+        // After the fault: no sample of the device on its own time; all of them aligned through
+        // the host clock.
+        let after: Vec<&Joined> = r
+            .joined
+            .iter()
+            .filter(|j| j.device == device && j.at_s >= 20.2)
+            .collect();
+        let own = after
+            .iter()
+            .filter(|j| {
+                matches!(
+                    j.source,
+                    Some(TimeSource::NativeGps | TimeSource::UtcTimeOfDay)
+                )
+            })
+            .count();
+        let host = after
+            .iter()
+            .filter(|j| j.source == Some(TimeSource::HostClock))
+            .count();
+        println!(
+            "{name}: after the fault {} samples: {own} on their own time, {host} host-timed",
+            after.len()
+        );
+        assert!(
+            !after.is_empty() && own == 0 && host == after.len(),
+            "{name}"
+        );
+    }
+    // Before the fault the VN-200 was on its GPS time.
+    let vn = &runs[0].1;
+    assert!(vn.joined.iter().any(|j| j.device == Device::Vn200
+        && j.at_s < 20.0
+        && j.source == Some(TimeSource::NativeGps)));
+}
+
+/// Issue 18 point 4, with no second host-clock source: the TT-Multi-RF on CSV (no GNSS time of
+/// its own) and the VN-200's GPS time a second off from 20 s to the end (200 s). The relation
+/// held before keeps refusing the VN-200's time past the host clock's 120 s coast limit, so the
+/// VN-200 never re-seeds the host clock with its wrong time: its samples are host-timed while
+/// the host clock coasts, then not aligned (reason `clock_disagreement`), never wrong.
+#[test]
+fn a_vn200_time_a_second_off_without_a_second_source_is_never_passed_off() {
+    let case = Case {
+        name: "VN-200 GPS time +1 s from 20 s, TT on CSV, 200 s",
+        scenario: nominal_with(|s| {
+            tt_host_timed(s);
+            s.faults.push(Fault::DeviceTimeOffset {
+                device: "vn200".into(),
+                from_s: 20.0,
+                to_s: None,
+                offset_ms: 1_000.0,
+            })
+        }),
+        seconds: 200,
+        setup: none,
+        extra_jitter_ns: no_jitter,
+        disagreeing: &[Device::Vn200],
+    };
+    let runs = check_all(std::slice::from_ref(&case));
+    let r = &runs[0].1;
+    assert_eq!(r.disagreements_at_end, vec![Device::Vn200]);
+    let vn = |from: f64, to: f64| -> Vec<&Joined> {
+        r.joined
+            .iter()
+            .filter(|j| j.device == Device::Vn200 && j.at_s >= from && j.at_s < to)
+            .collect()
+    };
+    // While the host clock coasts (up to 120 s after its last reference): host-timed.
+    let coasting = vn(20.2, 135.0);
+    assert!(
+        coasting
+            .iter()
+            .all(|j| j.source == Some(TimeSource::HostClock))
+    );
+    // Past it: not aligned (no clock left to place them by), and still refused.
+    let late = vn(145.0, 200.0);
+    let aligned = late.iter().filter(|j| j.err_ns.is_some()).count();
+    println!(
+        "VN-200 +1 s, TT on CSV: {} host-timed 20-135 s; 145-200 s: {aligned} of {} aligned",
+        coasting.len(),
+        late.len()
+    );
+    assert!(!late.is_empty() && aligned == 0);
+}
+
+/// Issue 18 point 1, named adapters: the Watson and the TT-Multi-RF (CSV and HEXd: host-timed)
+/// behind a native UART or a USB CDC bridge, the VN-200 (the host clock's reference) on the
+/// default link. The aligner is told nothing: it maps their reads with the single-read delay it
+/// learned on the VN-200's port.
+#[test]
+fn native_uart_and_usb_cdc_ports() {
+    use vigil_sim::scenario::Adapter;
+    let on = |a: Adapter| {
+        nominal_with(move |s| {
+            tt_host_timed(s);
+            for d in ["watson", "ttmrf"] {
+                s.host.adapters.insert(d.into(), a);
+            }
+        })
+    };
+    let cases = [
+        Case {
+            name: "native UART (Watson, TT CSV)",
+            scenario: on(Adapter::NativeUart),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+            disagreeing: &[],
+        },
+        Case {
+            name: "USB CDC (Watson, TT CSV)",
+            scenario: on(Adapter::UsbCdc),
+            seconds: 30,
+            setup: none,
+            extra_jitter_ns: no_jitter,
+            disagreeing: &[],
+        },
+    ];
+    check_all(&cases);
 }

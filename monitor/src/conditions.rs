@@ -16,7 +16,8 @@ use vigil_bus::payload::attitude::{
     INERTIAL_ANGULAR_RATE_X,
 };
 use vigil_bus::payload::integrity::{
-    CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, IntegrityPayload,
+    CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, DEVICE_BAHRS, DEVICE_TTMRF,
+    DEVICE_VN200, IntegrityPayload,
 };
 use vigil_bus::payload::ownship::{
     OwnshipPayload, SOURCE_EXTERNAL, SOURCE_NONE, SOURCE_TTMRF_GNSS, SOURCE_VN200_INS,
@@ -384,6 +385,40 @@ pub(crate) fn clock(p: &IntegrityPayload, params: &MonitorParams, out: &mut Acti
     };
     let id = Rule::ClockNotLocked.alert_id(0);
     push(out, params, Rule::ClockNotLocked, id, severity, reason);
+}
+
+/// Clock disagreement rule (issue 18 point 4): one alert per `DEVICE_*` code whose bit is set
+/// in the integrity payload's `clock_disagreement`. The payload carries only the bits, so the
+/// reason says what each device's check compares and what the aligner does meanwhile.
+pub(crate) fn clock_disagreement(p: &IntegrityPayload, params: &MonitorParams, out: &mut Active) {
+    for code in 0..8u8 {
+        if p.clock_disagreement & (1 << code) == 0 {
+            continue;
+        }
+        let reason = match code {
+            DEVICE_BAHRS => "BAHRS PPS-named time disagrees with the host clock (wrong pulse \
+                             edge or second?): PPS model dropped, BAHRS timed through the host \
+                             clock"
+                .to_string(),
+            DEVICE_VN200 => "VN-200 GPS time disagrees with the host clock (leap second or \
+                             week wrong?): not used, VN-200 timed by its start-up clock or the \
+                             host clock"
+                .to_string(),
+            DEVICE_TTMRF => "TT-Multi-RF ts / TS24h disagrees with the host clock (a second \
+                             off?): not used, TT-Multi-RF timed by the host clock"
+                .to_string(),
+            other => format!("device code {other}: clock disagrees with the host clock"),
+        };
+        let id = Rule::ClockDisagreement.alert_id(u32::from(code));
+        push(
+            out,
+            params,
+            Rule::ClockDisagreement,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
 }
 
 /// What the monitor keeps of a traffic target that has an alert level or a plausibility flag.

@@ -66,6 +66,10 @@ impl RuleTiming {
             // hovers at the limit from raising and clearing in turn.
             Rule::VerticalMiscompare => Self::new(0.0, 2.0),
             Rule::InertialMiscompare => Self::new(0.0, 2.0),
+            // Issue 18 point 4: the bit follows the latest checked time (a BAHRS pulse a second,
+            // a VN-200 message every 5 ms); 1 s of it set before raising passes over a single
+            // late host read, and 2 s without it (two agreeing BAHRS pulses) clear.
+            Rule::ClockDisagreement => Self::new(1.0, 2.0),
         }
     }
 
@@ -131,6 +135,7 @@ timing_field!(de_suspected_spoofing, Rule::SuspectedSpoofing);
 timing_field!(de_cross_check_unavailable, Rule::CrossCheckUnavailable);
 timing_field!(de_vertical_miscompare, Rule::VerticalMiscompare);
 timing_field!(de_inertial_miscompare, Rule::InertialMiscompare);
+timing_field!(de_clock_disagreement, Rule::ClockDisagreement);
 
 /// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`].
 pub const ALL_PLAUSIBILITY_FLAGS: u8 = PLAUSIBILITY_IMPOSSIBLE_SPEED
@@ -191,6 +196,9 @@ pub struct MonitorParams {
     /// Timing of [`Rule::InertialMiscompare`].
     #[serde(deserialize_with = "de_inertial_miscompare")]
     pub inertial_miscompare: RuleTiming,
+    /// Timing of [`Rule::ClockDisagreement`].
+    #[serde(deserialize_with = "de_clock_disagreement")]
+    pub clock_disagreement: RuleTiming,
 
     /// A device is silent when its last valid message is older than this, s.
     pub device_silent_s: f64,
@@ -227,6 +235,7 @@ impl Default for MonitorParams {
             cross_check_unavailable: RuleTiming::default_for(Rule::CrossCheckUnavailable),
             vertical_miscompare: RuleTiming::default_for(Rule::VerticalMiscompare),
             inertial_miscompare: RuleTiming::default_for(Rule::InertialMiscompare),
+            clock_disagreement: RuleTiming::default_for(Rule::ClockDisagreement),
             device_silent_s: 2.0,
             feed_silent_s: 2.0,
             decode_window_s: 10.0,
@@ -269,6 +278,7 @@ impl MonitorParams {
             Rule::CrossCheckUnavailable => &self.cross_check_unavailable,
             Rule::VerticalMiscompare => &self.vertical_miscompare,
             Rule::InertialMiscompare => &self.inertial_miscompare,
+            Rule::ClockDisagreement => &self.clock_disagreement,
         }
     }
 
@@ -290,6 +300,7 @@ impl MonitorParams {
             Rule::CrossCheckUnavailable => &mut self.cross_check_unavailable,
             Rule::VerticalMiscompare => &mut self.vertical_miscompare,
             Rule::InertialMiscompare => &mut self.inertial_miscompare,
+            Rule::ClockDisagreement => &mut self.clock_disagreement,
         }
     }
 
@@ -358,6 +369,7 @@ fn rule_doc(rule: Rule) -> &'static str {
         Rule::CrossCheckUnavailable => "An attitude unit is not cross-checked (and why)",
         Rule::VerticalMiscompare => "The BAHRS vertical channel disagrees with the VN-200",
         Rule::InertialMiscompare => "A BAHRS inertial signal disagrees with the VN-200 on one axis",
+        Rule::ClockDisagreement => "A device's own clock disagrees with the host clock",
     }
 }
 

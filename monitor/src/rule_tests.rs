@@ -907,3 +907,45 @@ fn vertical_miscompare_names_the_comparison_and_the_bahrs_as_suspect() {
          VN-200 -2.00 m/s, difference 2.00 (sigma 0.50)"
     );
 }
+
+// --- issue 18 point 4 ---
+#[test]
+fn clock_disagreement_per_device_bit_after_one_second_clears_after_two() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(1000);
+    // The BAHRS (bit 0) and the TT-Multi-RF (bit 3) disagree from t = 1.0 s.
+    rig.integ.clock_disagreement = (1 << DEVICE_BAHRS) | (1 << DEVICE_TTMRF);
+    // A bit set for less than the 1 s delay raises nothing.
+    assert!(rig.run(900).is_empty());
+    let out = rig.run(300);
+    let ids: Vec<u32> = out.iter().map(|(_, a)| a.alert_id).collect();
+    // Subject: the DEVICE_* code; ids in order, both raised at 2.0 s, caution.
+    assert_eq!(ids, vec![0x0F00_0000, 0x0F00_0003]);
+    for (t, a) in &out {
+        assert_eq!(
+            (*t, a.state, a.severity),
+            (2000, STATE_RAISED, SEVERITY_CAUTION)
+        );
+    }
+    assert!(
+        out[0]
+            .1
+            .reason()
+            .starts_with("BAHRS PPS-named time disagrees")
+    );
+    assert!(
+        out[1]
+            .1
+            .reason()
+            .starts_with("TT-Multi-RF ts / TS24h disagrees")
+    );
+    // The TT agrees again from 2.2 s: cleared 2 s (hysteresis) later; the BAHRS stays.
+    rig.integ.clock_disagreement = 1 << DEVICE_BAHRS;
+    let (t, _) = only(
+        &rig.run(3000),
+        Rule::ClockDisagreement.alert_id(u32::from(DEVICE_TTMRF)),
+        STATE_CLEARED,
+        SEVERITY_CAUTION,
+    );
+    assert_eq!(t, 4200);
+}

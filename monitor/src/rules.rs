@@ -19,8 +19,11 @@
 //! | [`Rule::CrossCheckUnavailable`] | `0x0B` | unit (`UNIT_*`) |
 //! | [`Rule::VerticalMiscompare`] | `0x0C` | comparison: 0 down velocity, 1 height rate (`VERTICAL_*`) |
 //! | [`Rule::InertialMiscompare`] | `0x0D` | signal: 0..2 specific force x/y/z, 3..5 angular rate x/y/z (`INERTIAL_*`) |
+//! | [`Rule::ClockDisagreement`] | `0x0F` | device: `DEVICE_*` code (0 BAHRS, 1 VN-200, 3 TT-Multi-RF) |
 //! | [`Rule::TrafficAlert`] | `0x20 + t` | 24-bit target address |
 //! | [`Rule::SuspectedSpoofing`] | `0x30 + t` | 24-bit target address |
+//!
+//! Code `0x0E` is reserved (`health_disagreement`, another change in flight).
 //!
 //! Per-target alerts: `t` is the target's `ADDRESS_*` type code when it is below 15 and 15
 //! otherwise (so `ADDRESS_UNKNOWN` = 0xFF maps to 15). A 24-bit ICAO address and a non-ICAO or
@@ -74,11 +77,16 @@ pub enum Rule {
     /// A BAHRS inertial signal (specific force or angular rate on one body axis) disagrees with
     /// the VN-200's while both are usable (comparison verdict FAIL after persistence).
     InertialMiscompare,
+    // --- issue 18 point 4 ---
+    /// A device's own clock disagrees with the host clock beyond their combined sigmas (the
+    /// integrity payload's `clock_disagreement` bit of its `DEVICE_*` code): its own time is not
+    /// used, its samples are timed by another clock or not aligned.
+    ClockDisagreement,
 }
 
 impl Rule {
     /// Every rule, in evaluation order.
-    pub const ALL: [Rule; 15] = [
+    pub const ALL: [Rule; 16] = [
         Rule::AttitudeMiscompare,
         Rule::UnitIsolated,
         Rule::UnitHealth,
@@ -94,6 +102,7 @@ impl Rule {
         Rule::CrossCheckUnavailable,
         Rule::VerticalMiscompare,
         Rule::InertialMiscompare,
+        Rule::ClockDisagreement,
     ];
 
     /// The rule's base code (the top byte of its alert ids; per-target rules add the address
@@ -115,6 +124,7 @@ impl Rule {
             Rule::CrossCheckUnavailable => 0x0B,
             Rule::VerticalMiscompare => 0x0C,
             Rule::InertialMiscompare => 0x0D,
+            Rule::ClockDisagreement => 0x0F,
         }
     }
 
@@ -136,6 +146,7 @@ impl Rule {
             Rule::CrossCheckUnavailable => "cross_check_unavailable",
             Rule::VerticalMiscompare => "vertical_miscompare",
             Rule::InertialMiscompare => "inertial_miscompare",
+            Rule::ClockDisagreement => "clock_disagreement",
         }
     }
 
@@ -167,6 +178,7 @@ impl Rule {
             0x0B => Rule::CrossCheckUnavailable,
             0x0C => Rule::VerticalMiscompare,
             0x0D => Rule::InertialMiscompare,
+            0x0F => Rule::ClockDisagreement,
             0x20..=0x2F => Rule::TrafficAlert,
             0x30..=0x3F => Rule::SuspectedSpoofing,
             _ => return None,

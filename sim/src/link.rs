@@ -16,13 +16,15 @@
 //!   restarts at every packet sent, and a partial packet goes out at the first expiry after its
 //!   first byte (a sparse port's message tail waits up to the timer; a dense one fills packets).
 //!   The host receives a packet after the configured latency (the USB poll and the OS).
+//! - A native UART or a USB CDC bridge (`host.adapters`; issue 18 point 1): see [`Adapter`]'s
+//!   variants (FIFO-trigger reads and the FIFO timeout; 64-byte packets on the 1 ms USB frame).
 //! - A device holds at most [`TX_BUFFER_BYTES`] unsent bytes: a message that does not fit (the
 //!   configured output exceeds the baud rate) is discarded by the device and marked corrupted
 //!   (it never reaches the host).
 
 use crate::device::{Emission, FaultSchedule};
 use crate::rng::Rng;
-use crate::scenario::HostConfig;
+use crate::scenario::{Adapter, HostConfig};
 
 /// Transmit buffer of a device, bytes.
 pub const TX_BUFFER_BYTES: f64 = 4096.0;
@@ -105,7 +107,18 @@ pub struct Link {
     ftdi_restart_ns: f64,
     /// FTDI: when the open packet goes out if it does not fill first, ns since the start.
     ftdi_flush_ns: f64,
+    /// Another named adapter, if the port is behind one.
+    adapter: Option<Adapter>,
 }
+
+/// Native UART: bytes per read (the receive FIFO's trigger level).
+pub const UART_FIFO_TRIGGER_BYTES: usize = 8;
+/// Native UART: a partial FIFO is read this many character times after its last byte.
+pub const UART_TIMEOUT_CHARS: f64 = 4.0;
+/// USB CDC: bytes per full-speed bulk packet.
+pub const CDC_PACKET_BYTES: usize = 64;
+/// USB CDC: the full-speed frame period, ns.
+pub const CDC_FRAME_NS: f64 = 1e6;
 
 impl Link {
     /// The link of `device` on port index `port`.
@@ -131,6 +144,7 @@ impl Link {
             ftdi_timer_ns: host.ftdi_latency_timer_ms.get(device).map(|ms| ms * 1e6),
             ftdi_restart_ns: 0.0,
             ftdi_flush_ns: f64::MAX,
+            adapter: host.adapters.get(device).copied(),
         }
     }
 
@@ -204,6 +218,10 @@ impl Link {
             if open.target == 0 {
                 open.target = if ftdi {
                     FTDI_PACKET_BYTES
+                } else if self.adapter == Some(Adapter::NativeUart) {
+                    UART_FIFO_TRIGGER_BYTES
+                } else if self.adapter == Some(Adapter::UsbCdc) {
+                    CDC_PACKET_BYTES
                 } else if self.host.full_chunks {
                     self.host.max_chunk_bytes as usize
                 } else {
@@ -262,9 +280,29 @@ impl Link {
         if open.bytes.is_empty() {
             return;
         }
-        let lat_ms = self.host.latency_ms + self.rng.range(-1.0, 1.0) * self.host.latency_jitter_ms;
+        let jitter = self.rng.range(-1.0, 1.0);
+        let partial = open.bytes.len() < open.target;
+        let (ready_ns, lat_ms) = match self.adapter {
+            Some(Adapter::NativeUart) => (
+                open.last_done_ns
+                    + if partial {
+                        UART_TIMEOUT_CHARS * self.byte_ns
+                    } else {
+                        0.0
+                    },
+                0.1 + 0.05 * jitter,
+            ),
+            Some(Adapter::UsbCdc) => (
+                ((open.last_done_ns / CDC_FRAME_NS).floor() + 1.0) * CDC_FRAME_NS,
+                0.2 + 0.1 * jitter,
+            ),
+            None => (
+                open.last_done_ns,
+                self.host.latency_ms + jitter * self.host.latency_jitter_ms,
+            ),
+        };
         let t = clock
-            .host_ns_since_start(open.last_done_ns + lat_ms.max(0.0) * 1e6)
+            .host_ns_since_start(ready_ns + lat_ms.max(0.0) * 1e6)
             .max(self.last_host_ns);
         self.last_host_ns = t;
         out.push(Chunk {
@@ -444,5 +482,45 @@ mod tests {
         assert!(lost[40..].iter().all(|l| *l));
         link.close(&clock, &mut out);
         assert_eq!(out.iter().map(|c| c.bytes.len()).sum::<usize>(), 4000);
+    }
+
+    #[test]
+    fn native_uart_reads_fifo_triggers_and_times_out_a_partial_one() {
+        let (w, f, clock) = setup(vec![]);
+        let mut host = HostConfig::default();
+        host.adapters.insert("watson".into(), Adapter::NativeUart);
+        let mut link = Link::new("watson", 0, 9600, &host, w.start_gps_ns, 1);
+        let mut out = Vec::new();
+        let t0 = w.start_gps_ns + 1_000_000_000;
+        link.transmit(&emission(t0, 20), &f, &clock, &mut out);
+        link.close(&clock, &mut out);
+        // 20 bytes: two 8-byte FIFO reads and a partial one of 4.
+        let sizes: Vec<usize> = out.iter().map(|c| c.bytes.len()).collect();
+        assert_eq!(sizes, vec![8, 8, 4]);
+        // A byte takes 10 / 9600 s = 1.0417 ms. The second read: byte 16 done at 16.667 ms,
+        // then 0.1 +- 0.05 ms. The partial one: byte 20 at 20.833 ms, plus the 4-character
+        // timeout (4.167 ms), plus 0.1 +- 0.05 ms. Host time at t0 is 6 s.
+        let at = |i: usize| out[i].t_host_ns as f64 - 6.0e9;
+        assert!((16.7166e6..=16.8167e6).contains(&at(1)), "{}", at(1));
+        assert!((25.0499e6..=25.1501e6).contains(&at(2)), "{}", at(2));
+    }
+
+    #[test]
+    fn usb_cdc_sends_64_byte_packets_on_the_1_ms_frame() {
+        let (w, f, clock) = setup(vec![]);
+        let mut host = HostConfig::default();
+        host.adapters.insert("ttmrf".into(), Adapter::UsbCdc);
+        let mut link = Link::new("ttmrf", 0, 921_600, &host, w.start_gps_ns, 1);
+        let mut out = Vec::new();
+        let t0 = w.start_gps_ns + 1_000_000_000;
+        link.transmit(&emission(t0, 100), &f, &clock, &mut out);
+        link.close(&clock, &mut out);
+        let sizes: Vec<usize> = out.iter().map(|c| c.bytes.len()).collect();
+        assert_eq!(sizes, vec![64, 36]);
+        // 100 bytes x 10 / 921600 s = 1.085 ms: the first packet is full at 0.694 ms and goes
+        // with the frame at 1 ms, the rest with the frame at 2 ms; then 0.2 +- 0.1 ms.
+        let at = |i: usize| out[i].t_host_ns as f64 - 6.0e9;
+        assert!((1.0999e6..=1.3001e6).contains(&at(0)), "{}", at(0));
+        assert!((2.0999e6..=2.3001e6).contains(&at(1)), "{}", at(1));
     }
 }

@@ -24,6 +24,7 @@ use vigil_drivers::vn200::Vn200Message;
 use vigil_drivers::{bahrs, watson};
 
 use super::bahrs::{BahrsAligner, BahrsAlignerConfig};
+use super::cross_check::{CrossCheckConfig, host_view};
 use super::host::{HostClock, HostClockConfig};
 use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
 use super::pps::PpsReferences;
@@ -126,6 +127,8 @@ pub struct AlignerConfig {
     pub host_wait_ns: i64,
     /// Most samples waiting for the host clock; the oldest is released beyond it.
     pub host_wait_capacity: usize,
+    /// The VN-200's and the TT-Multi-RF's own times against the host clock (issue 18 point 4).
+    pub cross_check: CrossCheckConfig,
 }
 
 impl Default for AlignerConfig {
@@ -138,6 +141,7 @@ impl Default for AlignerConfig {
             ttmrf: TtAlignerConfig::default(),
             host_wait_ns: 3_000_000_000,
             host_wait_capacity: 4096,
+            cross_check: CrossCheckConfig::default(),
         }
     }
 }
@@ -194,6 +198,11 @@ pub struct Aligner {
     /// where the VN-200's model is not locked and this one is better (a VN-200 silent for
     /// minutes).
     tt_host: HostClock,
+    // --- issue 18 point 4: the TT-Multi-RF's own time against the host clock ---
+    /// The latest cross-checked TT-Multi-RF time (JSON `ts`, TS24h) disagreed with the host clock.
+    tt_disagreement: bool,
+    /// TT-Multi-RF times that disagreed with the host clock.
+    tt_disagreeing: u64,
 }
 
 impl Aligner {
@@ -213,6 +222,8 @@ impl Aligner {
             read_interval_ns: [0; 4],
             latency_timer_ns: [0; 4],
             tt_host: HostClock::new(cfg.host),
+            tt_disagreement: false,
+            tt_disagreeing: 0,
         }
     }
 
@@ -237,13 +248,26 @@ impl Aligner {
 
     /// The devices whose clock disagrees with another beyond their combined sigmas now
     /// (`clock_disagreement`, issue 18 point 4): the BAHRS when its latest pulse contradicted
-    /// the host clock's view of its MCU time.
+    /// the host clock's view of its MCU time; the VN-200 when its latest valid GPS time, the
+    /// TT-Multi-RF when its latest `ts` / TS24h, contradicted the host clock
+    /// ([`super::cross_check`]).
     pub fn clock_disagreements(&self) -> Vec<Device> {
         let mut v = Vec::new();
         if self.bahrs.clock_disagreement() {
             v.push(Device::Bahrs);
         }
+        if self.vn200.clock_disagreement() {
+            v.push(Device::Vn200);
+        }
+        if self.tt_disagreement {
+            v.push(Device::Ttmrf);
+        }
         v
+    }
+
+    /// TT-Multi-RF times (JSON `ts`, TS24h) that disagreed with the host clock so far.
+    pub fn ttmrf_times_disagreeing(&self) -> u64 {
+        self.tt_disagreeing
     }
 
     /// The host clock model.
@@ -299,7 +323,13 @@ impl Aligner {
                 let time = match &*m {
                     Vn200Message::Binary(o) => {
                         let times = Vn200Times::of(o);
-                        let time = self.vn200.handle_times(&times, rx, &mut self.host);
+                        let time = self.vn200.handle_times_checked(
+                            &times,
+                            rx,
+                            &mut self.host,
+                            &self.tt_host,
+                            &self.cfg.cross_check,
+                        );
                         // Its PPS time names the BAHRS pulses, when its GPS time is valid.
                         if let (Ok(a), Some(pps)) = (&time, times.time_gps_pps_ns)
                             && a.source == TimeSource::NativeGps
@@ -320,6 +350,14 @@ impl Aligner {
                             Err(
                                 why @ (NotAligned::DeviceTimeInvalid | NotAligned::ClockUnlocked),
                             ) => host_timed(&self.host, rx, self.vn200_link()).or(Err(why)),
+                            // Its GPS time disagreed with the host clock (and it has no TimeStartup
+                            // model): placed by the host clock, the better of the two relations,
+                            // with its sigma (issue 18 point 4).
+                            Err(NotAligned::ClockDisagreement) => {
+                                let host = Self::pick(&self.host, &self.tt_host, rx.host_ns);
+                                host_timed(host, rx, self.vn200_link())
+                                    .or(Err(NotAligned::ClockDisagreement))
+                            }
                             t => t,
                         }
                     }
@@ -337,7 +375,7 @@ impl Aligner {
                 self.retry_held(&mut out);
             }
             other => {
-                let time = self.place_host_dependent(&other, rx);
+                let time = self.place_checked(&other, rx);
                 if self.learn_tt_host(&other, rx, &time) {
                     // A new host-clock reference may free what waits for it.
                     self.retry_held(&mut out);
@@ -533,6 +571,41 @@ impl Aligner {
         }
     }
 
+    /// As [`Self::place_host_dependent`], with a TT-Multi-RF time of day (JSON `ts`, TS24h)
+    /// cross-checked against the host clock's view of the same message (issue 18 point 4,
+    /// [`super::cross_check`]): the better relation held before (the VN-200's, or the TT's own
+    /// from its earlier agreeing times), its first byte's host time less the port's output
+    /// delay, with the port's link sigma. A disagreeing time is replaced by the host-timed
+    /// placement (its sigma; not a reference of the TT's host clock), or marked
+    /// [`NotAligned::ClockDisagreement`] without a host clock. TS1s is not checked: its second
+    /// is named by the host clock itself.
+    fn place_checked(&mut self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
+        let time = self.place_host_dependent(sample, rx);
+        let Ok(a) = time else { return time };
+        let link = self.cfg.ttmrf.link;
+        let h = first_byte_host_ns(rx, link.baud);
+        if a.source != TimeSource::UtcTimeOfDay {
+            return time;
+        }
+        let Some((t, s)) = host_view(&self.host, &self.tt_host, h) else {
+            return time;
+        };
+        let view = (
+            t.saturating_sub(link.output_delay_ns),
+            (s * s + link.output_delay_sigma_ns.powi(2)).sqrt(),
+        );
+        self.tt_disagreement = self
+            .cfg
+            .cross_check
+            .disagrees((a.t_gps_ns, a.sigma_ns), view);
+        if !self.tt_disagreement {
+            return time;
+        }
+        self.tt_disagreeing += 1;
+        let host = Self::pick(&self.host, &self.tt_host, h);
+        host_timed(host, rx, link).or(Err(NotAligned::ClockDisagreement))
+    }
+
     /// A TT-Multi-RF sample placed by its own GNSS time (JSON `ts`, raw TS24h) is a reference of
     /// the second host clock: host time its first byte left against its GPS time plus the
     /// port's assumed output delay (issue 18 point 6). TS1s is not one (its second is named by
@@ -576,7 +649,7 @@ impl Aligner {
             return;
         }
         for h in std::mem::take(&mut self.held) {
-            let time = self.place_host_dependent(&h.sample, h.rx);
+            let time = self.place_checked(&h.sample, h.rx);
             if time == Err(NotAligned::HostClockUnknown) {
                 self.held.push_back(h);
             } else {

@@ -289,10 +289,33 @@ impl HostClock {
         (n >= MIN_READ_REFERENCES).then_some(sigma * 12f64.sqrt())
     }
 
+    /// As [`Self::to_gps`], past the coast limit too (issue 18 point 4): the host-to-GPS relation
+    /// held before, extrapolated with its growing sigma (`rate_sigma_ppm` of the time since the
+    /// last reference), to cross-check a device's own time with, never to place a sample by.
+    /// Decision: a host monotonic clock does not jump, so an old relation still shows a device
+    /// time a second off for hours (1 ppm: 0.2 s of 5-sigma tolerance after 11 h); `None`
+    /// before the model was ever locked (fewer buckets leave its slope too loose to carry).
+    pub fn extrapolate(&self, host_ns: i64) -> Option<(i64, f64)> {
+        if self.buckets.len() < self.cfg.buckets_to_lock {
+            return None;
+        }
+        self.map_any(host_ns, self.excess_mean_ns, self.excess_sigma_ns)
+    }
+
     fn map(&self, host_ns: i64, excess_mean_ns: f64, excess_sigma_ns: f64) -> Option<(i64, f64)> {
         if self.status(host_ns) == ClockStatus::Unlocked {
             return None;
         }
+        self.map_any(host_ns, excess_mean_ns, excess_sigma_ns)
+    }
+
+    /// The mapping of [`Self::map`] whatever the model's status.
+    fn map_any(
+        &self,
+        host_ns: i64,
+        excess_mean_ns: f64,
+        excess_sigma_ns: f64,
+    ) -> Option<(i64, f64)> {
         let (h0, c0, slope, scatter) = self.fit?;
         let d = c0 + slope * host_ns.saturating_sub(h0) as f64;
         let since = host_ns.saturating_sub(self.last_host_ns?).max(0) as f64;

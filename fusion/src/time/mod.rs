@@ -14,10 +14,13 @@
 //! - [`vn200`]: the VN-200 aligner (native GPS time, its start-up clock while GNSS time is
 //!   invalid, the host clock references and GPS - UTC);
 //! - [`ttmrf`]: TT-Multi-RF JSON `ts`, raw TS24h / TS1s and host-timed outputs;
+//! - [`cross_check`]: a device's own time (VN-200 GPS time, TT-Multi-RF `ts` / TS24h) against
+//!   the host clock (issue 18 point 4);
 //! - [`aligner`]: one deterministic object for every device, with per-device clock status.
 
 pub mod aligner;
 pub mod bahrs;
+pub mod cross_check;
 pub mod gps;
 pub mod host;
 pub mod host_timed;
@@ -84,6 +87,9 @@ pub enum NotAligned {
     DeviceTimeInvalid,
     /// The device's time stamp is out of range (e.g. a time of day past 24 h).
     BadTimeStamp,
+    /// The device's own time disagrees with the host clock beyond their combined sigmas
+    /// ([`cross_check`], issue 18 point 4) and no other clock could place the sample.
+    ClockDisagreement,
 }
 
 /// How a message reached the host: the inputs of every receive-time computation.

@@ -11,6 +11,8 @@
 //!   (TimeStartup, TimeGps) pair and the rate measured between valid pairs, source
 //!   [`TimeSource::DeviceClock`], status coasting, sigma growing with the time since that pair.
 //!   TimeStartup going backwards (a device restart) drops the model.
+//! - A valid GPS time is cross-checked against the host clock's relation held before it
+//!   ([`Vn200Aligner::handle_times_checked`], issue 18 point 4); a disagreeing one is not used.
 //! - Each valid message feeds the host clock: the host time its first byte left (arrival minus
 //!   transmission time at the baud rate) against its GPS time plus the output delay.
 //! - GPS - UTC: GnssTimeInfo's leap seconds when the receiver reports UTC valid, else the table with
@@ -21,6 +23,7 @@ use std::collections::VecDeque;
 use vigil_drivers::vn200::binary::BinaryOutput;
 use vigil_drivers::vn200::status::{InsStatus, TimeStatus};
 
+use super::cross_check::{CrossCheckConfig, host_view};
 use super::gps::{self, LeapSeconds, NS_PER_S};
 use super::host::HostClock;
 use super::host_timed::{first_byte_host_ns, tx_ns};
@@ -133,6 +136,9 @@ pub struct Vn200AlignerStats {
     pub not_aligned: u64,
     /// Device restarts detected (TimeStartup going backwards).
     pub restarts: u64,
+    /// Messages whose valid GPS time disagreed with the host clock (issue 18 point 4): not used
+    /// as GPS time, nor as a host-clock reference.
+    pub disagreeing: u64,
 }
 
 /// Aligns VN-200 binary output messages.
@@ -154,6 +160,8 @@ pub struct Vn200Aligner {
     /// Host time of the read that delivered the previous message's last byte, ns.
     last_read_host_ns: Option<i64>,
     stats: Vn200AlignerStats,
+    /// The latest cross-checked GPS time disagreed with the host clock (issue 18 point 4).
+    disagreement: bool,
 }
 
 impl Vn200Aligner {
@@ -176,6 +184,7 @@ impl Vn200Aligner {
             last_valid_host_ns: None,
             last_read_host_ns: None,
             stats: Vn200AlignerStats::default(),
+            disagreement: false,
         }
     }
 
@@ -237,6 +246,42 @@ impl Vn200Aligner {
         rx: Rx,
         host: &mut HostClock,
     ) -> Result<AlignedTime, NotAligned> {
+        self.handle_inner(t, rx, host, None)
+    }
+
+    /// True while the latest cross-checked GPS time disagreed with the host clock
+    /// ([`Self::handle_times_checked`]; `clock_disagreement` in the integrity topic).
+    pub fn clock_disagreement(&self) -> bool {
+        self.disagreement
+    }
+
+    /// As [`Self::handle_times`], with a valid GPS time first cross-checked against the host
+    /// clock ([`super::cross_check`], issue 18 point 4): the view of `host` (the relation the
+    /// VN-200's own earlier times built) or `other` (the TT-Multi-RF's), whichever is better.
+    /// Decision: the VN-200 is normally the host clock's reference, so the check is against the
+    /// relation held BEFORE this message (a host monotonic clock does not jump), never one that
+    /// includes it. A disagreeing time is not used, feeds neither the host clock nor the
+    /// TimeStartup model, and the message is timed by TimeStartup where that model exists
+    /// (the VN-200's own crystal, independent of how it names GPS time), else
+    /// [`NotAligned::ClockDisagreement`] (the caller may place it by the host clock).
+    pub fn handle_times_checked(
+        &mut self,
+        t: &Vn200Times,
+        rx: Rx,
+        host: &mut HostClock,
+        other: &HostClock,
+        check: &CrossCheckConfig,
+    ) -> Result<AlignedTime, NotAligned> {
+        self.handle_inner(t, rx, host, Some((other, check)))
+    }
+
+    fn handle_inner(
+        &mut self,
+        t: &Vn200Times,
+        rx: Rx,
+        host: &mut HostClock,
+        check: Option<(&HostClock, &CrossCheckConfig)>,
+    ) -> Result<AlignedTime, NotAligned> {
         // Decision: times beyond 2^61 ns (73 years after the GPS epoch or the start-up) are
         // garbage: dropped, so differences of times below fit in an i64.
         let t = &Vn200Times {
@@ -284,6 +329,27 @@ impl Vn200Aligner {
         });
         match (valid, t.time_gps_ns.filter(|g| *g > 0)) {
             (true, Some(gps_ns)) => {
+                if let Some((other, cc)) = check
+                    && let Some(view) =
+                        host_view(host, other, first_byte_host_ns(rx, self.cfg.baud))
+                {
+                    let sent = gps_ns.saturating_add(self.cfg.output_delay_ns);
+                    let sigma = self.time_sigma_ns.unwrap_or(self.cfg.default_sigma_ns);
+                    self.disagreement = cc.disagrees((sent, sigma), view);
+                    if self.disagreement {
+                        self.stats.disagreeing += 1;
+                        return match t.time_startup_ns.map(|s| self.through_startup(s)) {
+                            Some(Ok(a)) => {
+                                self.stats.startup_clock += 1;
+                                Ok(a)
+                            }
+                            _ => {
+                                self.stats.not_aligned += 1;
+                                Err(NotAligned::ClockDisagreement)
+                            }
+                        };
+                    }
+                }
                 self.stats.native += 1;
                 if let Some(s) = t.time_startup_ns {
                     self.learn(s, gps_ns);

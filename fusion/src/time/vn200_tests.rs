@@ -210,3 +210,57 @@ fn leap_table_boundary_through_the_aligner() {
     let gps_2028 = (1_830_297_600 - 315_964_800 + 18) * S;
     assert!(!al.gps_minus_utc(gps_2028).table_valid);
 }
+
+#[test]
+fn regression_18_a_gps_time_a_second_off_is_refused_and_timed_by_time_startup() {
+    // Issue 18 point 4. 20 s of valid times at 40 Hz from a host clock 42 s ahead of GPS with a
+    // 1 ms link; TimeStartup counts from 7 s at the GPS rate. Then the VN-200 names GPS time a
+    // second late (a leap-second error) for 10 s, then right again.
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    let other = HostClock::new(HostClockConfig::default());
+    let check = CrossCheckConfig::default();
+    let (off, tx) = (42 * S, 1_085_069);
+    let step = |al: &mut Vn200Aligner, host: &mut HostClock, gps: i64, named: i64| {
+        let t = Vn200Times::of(&common(named, (7 * S + gps - G0) as u64, INS_OK));
+        al.handle_times_checked(&t, rx(gps + off + tx + MS), host, &other, &check)
+    };
+    for k in 0..800 {
+        let gps = G0 + k * 25 * MS;
+        let a = step(&mut al, &mut host, gps, gps).unwrap();
+        assert_eq!((a.t_gps_ns, a.source), (gps, TimeSource::NativeGps));
+    }
+    assert!(!al.clock_disagreement());
+    let before = host.to_gps(G0 + 25 * S + off + MS).unwrap();
+    for k in 800..1_200 {
+        let gps = G0 + k * 25 * MS;
+        let a = step(&mut al, &mut host, gps, gps + S).unwrap();
+        // Never the wrong GPS time: the VN-200's own crystal through the last right pair.
+        assert_eq!(a.source, TimeSource::DeviceClock, "{k}");
+        assert!(
+            (a.t_gps_ns - gps).abs() < 1_000,
+            "{k}: {}",
+            a.t_gps_ns - gps
+        );
+        assert!(al.clock_disagreement());
+    }
+    assert_eq!(al.stats().disagreeing, 400);
+    // The wrong times did not move the host clock (still the relation from before).
+    let after = host.to_gps(G0 + 25 * S + off + MS).unwrap();
+    assert_eq!(before.0, after.0);
+    // Right again: native at once, the bit cleared.
+    let gps = G0 + 30 * S;
+    let a = step(&mut al, &mut host, gps, gps).unwrap();
+    assert_eq!((a.t_gps_ns, a.source), (gps, TimeSource::NativeGps));
+    assert!(!al.clock_disagreement());
+    // Without TimeStartup there is no other clock here: not aligned, with the reason.
+    let t = Vn200Times {
+        time_startup_ns: None,
+        ..Vn200Times::of(&common(gps + 2 * S, 0, INS_OK))
+    };
+    let mut fresh = Vn200Aligner::new(Vn200AlignerConfig::default());
+    assert_eq!(
+        fresh.handle_times_checked(&t, rx(gps + off + tx + MS), &mut host, &other, &check),
+        Err(NotAligned::ClockDisagreement)
+    );
+}

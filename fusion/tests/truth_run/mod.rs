@@ -62,6 +62,14 @@ pub struct Run {
     /// The BAHRS clock disagreement flag at the end, and whether it was ever raised.
     pub disagreement_at_end: bool,
     pub disagreement_seen: bool,
+    /// Issue 18 point 4: every device whose `clock_disagreement` bit was ever set, with the
+    /// scenario time (s, truth of the message that set it first), and the bits at the end.
+    pub disagreements_first_s: BTreeMap<Device, f64>,
+    pub disagreements_at_end: Vec<Device>,
+    /// TT-Multi-RF times that disagreed with the host clock.
+    pub tt_disagreeing: u64,
+    /// The VN-200 aligner's GPS times that disagreed with the host clock.
+    pub vn200_disagreeing: u64,
 }
 
 /// The class of a decoded sample: what kind of time it carries.
@@ -238,6 +246,8 @@ pub fn run_with(
     let mut outs: Vec<AlignedSample> = Vec::new();
     let mut last_host = 0;
     let mut disagreement_seen = false;
+    let mut disagreements_first_s: BTreeMap<Device, f64> = BTreeMap::new();
+    let mut last_at_s = 0.0;
     for i in inputs_all {
         let d = i.sample.device();
         let n = inputs.entry(d).or_default();
@@ -246,8 +256,14 @@ pub fn run_with(
         }
         *n += 1;
         last_host = i.rx.host_ns;
+        if let Some((t, _)) = i.truth {
+            last_at_s = (t - start) as f64 / 1e9;
+        }
         outs.extend(aligner.handle(i.sample, i.rx));
         disagreement_seen |= aligner.bahrs().clock_disagreement();
+        for d in aligner.clock_disagreements() {
+            disagreements_first_s.entry(d).or_insert(last_at_s);
+        }
     }
     let report = aligner.clock_report(last_host);
     let stats = *aligner.bahrs().stats();
@@ -299,6 +315,10 @@ pub fn run_with(
         bahrs: stats,
         disagreement_at_end: aligner.bahrs().clock_disagreement(),
         disagreement_seen,
+        disagreements_first_s,
+        disagreements_at_end: aligner.clock_disagreements(),
+        tt_disagreeing: aligner.ttmrf_times_disagreeing(),
+        vn200_disagreeing: aligner.vn200().stats().disagreeing,
     }
 }
 

@@ -229,6 +229,24 @@ impl FaultSchedule {
             })
     }
 
+    /// What a [`Fault::DeviceTimeOffset`] adds to `device`'s time stamps at `t_s`, ns.
+    pub fn time_offset_ns(&self, device: &str, t_s: f64) -> i64 {
+        self.faults
+            .iter()
+            .filter_map(|f| match f {
+                Fault::DeviceTimeOffset {
+                    device: d,
+                    from_s,
+                    to_s,
+                    offset_ms,
+                } if d == device && active(t_s, *from_s, *to_s) => {
+                    Some((offset_ms * 1e6).round() as i64)
+                }
+                _ => None,
+            })
+            .sum()
+    }
+
     /// Whether the link of `device` is cut at `t_s`.
     pub fn link_lost(&self, device: &str, t_s: f64) -> bool {
         self.faults.iter().any(

@@ -162,6 +162,9 @@ pub struct TtmrfModel {
     channel: &'static str,
     /// MAVLink packet sequence number of the next frame.
     mavlink_seq: u8,
+    /// Time-offset faults of its `ts` / TS24h (issue 18 point 4) and the scenario start, ns.
+    faults: FaultSchedule,
+    start_gps_ns: i64,
 }
 
 /// The value of `ADSB_RX_PROTOCOL_DECODED` (manual table 12) for a scenario protocol name.
@@ -199,11 +202,19 @@ pub fn channel_protocol(name: &str) -> &'static str {
 impl TtmrfModel {
     /// The JSON `ts` of a message at GPS time `t` (truncated or rounded, as configured).
     pub(crate) fn ts_ms(&self, t: i64) -> u32 {
+        let t = self.stamp_time(t);
         if self.cfg.ts_rounded {
             utc_ms_of_day_rounded(t)
         } else {
             utc_ms_of_day(t)
         }
+    }
+
+    /// The GPS time the module's `ts` / TS24h name for an event at `t`: `t`, or `t` plus a
+    /// [`crate::scenario::Fault::DeviceTimeOffset`] in force.
+    fn stamp_time(&self, t: i64) -> i64 {
+        let elapsed_s = (t - self.start_gps_ns) as f64 / NS_PER_S as f64;
+        t + self.faults.time_offset_ns("ttmrf", elapsed_s)
     }
 
     /// A module powered on before the scenario start, in RUN.
@@ -240,6 +251,8 @@ impl TtmrfModel {
                 .collect(),
             channel: channel_protocol(&cfg.protocol),
             mavlink_seq: 0,
+            faults: faults.clone(),
+            start_gps_ns: start,
         }
     }
 
@@ -610,7 +623,7 @@ impl TtmrfModel {
             }
             _ => return None,
         };
-        let utc_ns = utc_ns_of_day(t);
+        let utc_ns = utc_ns_of_day(self.stamp_time(t));
         let raw_protocol = self.raw_protocol();
         let beast_mode = raw_protocol == RawProtocol::Beast;
         let meta = RxMeta {

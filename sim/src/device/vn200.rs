@@ -137,6 +137,8 @@ struct Sample {
     pos_u_m: f32,
     vel_u_mps: f32,
     startup_ns: u64,
+    /// What a [`crate::scenario::Fault::DeviceTimeOffset`] adds to the GPS time fields, ns.
+    time_offset_ns: i64,
 }
 
 /// The VN-200 model.
@@ -256,6 +258,7 @@ impl Vn200Model {
             pos_u_m: pos_u as f32,
             vel_u_mps: vel_u as f32,
             startup_ns: (t - self.boot_gps_ns).max(0) as u64,
+            time_offset_ns: faults.time_offset_ns("vn200", world.elapsed_s(t)),
         }
     }
 
@@ -263,7 +266,9 @@ impl Vn200Model {
     fn message(&self, i: usize, s: &Sample) -> (BinaryOutput, Map<String, Value>) {
         let m = self.masks[i];
         let t = s.t_gps_ns;
-        let tg = t.max(0) as u64;
+        // The GPS time it names (wrong under a time-offset fault); the time since its PPS is
+        // measured, and stays right.
+        let tg = (t + s.time_offset_ns).max(0) as u64;
         let pps = t.rem_euclid(NS_PER_S) as u64;
         let ypr = Ypr {
             yaw_deg: s.ypr_deg[0],

@@ -350,6 +350,24 @@ pub struct HostConfig {
     /// port's bytes reach the host in 62-byte packets, sent when full or when the timer runs
     /// out (a partial packet waits up to the timer); the latency above is then the USB poll.
     pub ftdi_latency_timer_ms: std::collections::BTreeMap<String, f64>,
+    /// Ports behind another named adapter (issue 18 point 1): device name -> adapter. The
+    /// latency above then does not apply to them (each adapter has its own; `link` module).
+    pub adapters: std::collections::BTreeMap<String, Adapter>,
+}
+
+/// A serial adapter with its own delivery pattern (issue 18 point 1; the FTDI one is
+/// [`HostConfig::ftdi_latency_timer_ms`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Adapter {
+    /// An on-board UART (16550-type): reads of 8 bytes (the receive FIFO's trigger level), a
+    /// partial FIFO read 4 character times after its last byte (the FIFO timeout), then
+    /// 0.1 +- 0.05 ms to the read.
+    NativeUart,
+    /// A USB CDC-ACM bridge at full speed: packets of up to 64 bytes, sent when full or when
+    /// the line goes idle, collected at the next 1 ms USB frame, then 0.2 +- 0.1 ms to the
+    /// read.
+    UsbCdc,
 }
 
 impl Default for HostConfig {
@@ -361,6 +379,7 @@ impl Default for HostConfig {
             full_chunks: false,
             clock_drift_ppm_max: 10.0,
             ftdi_latency_timer_ms: std::collections::BTreeMap::new(),
+            adapters: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -378,6 +397,16 @@ impl HostConfig {
             return Err(invalid(
                 "host.ftdi_latency_timer_ms",
                 format!("{d}: must be within 1 .. 255 (the FTDI timer's range)"),
+            ));
+        }
+        if let Some(d) = self
+            .adapters
+            .keys()
+            .find(|d| self.ftdi_latency_timer_ms.contains_key(*d))
+        {
+            return Err(invalid(
+                "host.adapters",
+                format!("{d}: also in host.ftdi_latency_timer_ms (one adapter per port)"),
             ));
         }
         if !(self.latency_jitter_ms >= 0.0 && self.latency_jitter_ms <= self.latency_ms) {

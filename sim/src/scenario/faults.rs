@@ -210,6 +210,22 @@ pub enum Fault {
         #[serde(default)]
         aligning_s: f64,
     },
+    // --- issue 18 point 4: a device's own time wrong ---
+    /// A device names time wrongly: from `from_s` its time stamps are `offset_ms` off while its
+    /// data, its PPS and its link stay right. The VN-200: TimeGps, GpsTow and GpsWeek (a GPS
+    /// time a second off after a leap-second error, a week off after a week-number error);
+    /// TimeGpsPps (time since the pulse) stays right. The TT-Multi-RF: JSON `ts` and raw TS24h
+    /// (a `ts` a second off); TS1s, NMEA and the GNSS section stay right.
+    DeviceTimeOffset {
+        /// "vn200" or "ttmrf".
+        device: String,
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Added to every time stamp, ms.
+        offset_ms: f64,
+    },
 }
 
 /// Whether `t_s` lies in [from, to).
@@ -231,7 +247,8 @@ impl Fault {
             | Fault::GnssOutage { from_s, to_s, .. }
             | Fault::LinkLoss { from_s, to_s, .. }
             | Fault::BitErrors { from_s, to_s, .. }
-            | Fault::DroppedBytes { from_s, to_s, .. } => (*from_s, *to_s),
+            | Fault::DroppedBytes { from_s, to_s, .. }
+            | Fault::DeviceTimeOffset { from_s, to_s, .. } => (*from_s, *to_s),
             Fault::DeviceReset { at_s, .. } | Fault::InsReset { at_s, .. } => (*at_s, None),
         };
         if !(from.is_finite() && from >= 0.0) {
@@ -262,6 +279,17 @@ impl Fault {
                 &format!("{key}.device"),
                 "must be vn200 or ttmrf (the devices with a GNSS receiver)",
             )),
+            Fault::DeviceTimeOffset { device, .. }
+                if !["vn200", "ttmrf"].contains(&device.as_str()) =>
+            {
+                Err(invalid(
+                    &format!("{key}.device"),
+                    "must be vn200 or ttmrf (the devices that stamp their own time)",
+                ))
+            }
+            Fault::DeviceTimeOffset { offset_ms, .. } if !offset_ms.is_finite() => {
+                Err(invalid(&format!("{key}.offset_ms"), "must be finite"))
+            }
             Fault::InsReset { aligning_s, .. }
                 if !(aligning_s.is_finite() && *aligning_s >= 0.0) =>
             {

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 pub use builtin::{BUILTIN_NAMES, builtin};
 pub use devices::{
-    BahrsConfig, BahrsNoise, BahrsSync, Devices, HostConfig, TtmrfConfig, Vn200Config,
+    Adapter, BahrsConfig, BahrsNoise, BahrsSync, Devices, HostConfig, TtmrfConfig, Vn200Config,
     WatsonConfig, WatsonNoise,
 };
 pub(crate) use faults::active as faults_active;
