@@ -250,6 +250,26 @@ impl AlignedReplay {
         Some(kind)
     }
 
+    /// Port `device` (wire `protocol`) is behind a USB adapter whose latency timer is
+    /// `timer_ns` (0: none): the aligner widens its host-timed samples' sigma by the adapter's
+    /// hold ([`Aligner::set_latency_timer`]). Returns the device kind it was applied to, if any.
+    pub fn set_latency_timer(
+        &mut self,
+        device: &str,
+        protocol: &str,
+        timer_ns: u64,
+    ) -> Option<Device> {
+        let named =
+            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
+        let kind = ["bahrs", "watson", "vn200", "ttmrf"]
+            .into_iter()
+            .zip([Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf])
+            .find(|(k, _)| named(k))?
+            .1;
+        self.aligner.set_latency_timer(kind, timer_ns);
+        Some(kind)
+    }
+
     /// Port `device` (wire `protocol`) runs at `baud` bit/s, as configured or recorded (issue 18
     /// point 2): the aligner computes that port's transmission times with it. 0 keeps the
     /// built-in rate. Returns the device kind it was applied to, if any.
@@ -402,16 +422,18 @@ pub fn replay_aligned_with(
             bytes,
             read_interval_ns,
             baud,
+            latency_timer_ns,
         } = m
         else {
             return Ok(());
         };
-        // The live service's pacing, as it modelled it, and the port's recorded baud (a
-        // channel's metadata: set once).
+        // The live service's pacing, as it modelled it, and the port's recorded baud and
+        // adapter timer (a channel's metadata: set once).
         if !seen.iter().any(|d| d == device) {
             seen.push(device.to_string());
             let _ = r.set_read_interval(device, protocol, read_interval_ns);
             let _ = r.set_baud(device, protocol, baud);
+            let _ = r.set_latency_timer(device, protocol, latency_timer_ns);
         }
         r.feed(device, protocol, t_host_ns, bytes, &mut f)
     })?;

@@ -46,6 +46,10 @@ pub enum Step<'a> {
         protocol: &'a str,
         /// Its channel's read interval, ns.
         read_interval_ns: u64,
+        /// Its channel's baud (0: not recorded).
+        baud: u32,
+        /// Its channel's adapter latency timer, ns (0: none recorded).
+        latency_timer_ns: u64,
         /// Host receive time, ns.
         t_host_ns: u64,
         /// The bytes.
@@ -84,6 +88,7 @@ pub fn replay_service<R: Read>(
             bytes,
             read_interval_ns,
             baud,
+            latency_timer_ns,
         } = m
         else {
             return Ok(());
@@ -104,6 +109,7 @@ pub fn replay_service<R: Read>(
                         protocol,
                         setup: None,
                         read_interval_ns,
+                        latency_timer_ns: (latency_timer_ns > 0).then_some(latency_timer_ns),
                     })
                 });
                 if let Some(i) = port {
@@ -133,6 +139,8 @@ pub fn replay_service<R: Read>(
                 device,
                 protocol,
                 read_interval_ns,
+                baud,
+                latency_timer_ns,
                 t_host_ns,
                 bytes,
             },

@@ -76,6 +76,8 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
             device,
             protocol,
             read_interval_ns,
+            baud,
+            latency_timer_ns,
             ..
         } = m
             && !ports.iter().any(|p| p.device == device)
@@ -86,10 +88,16 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
             ports.push(Port {
                 device: device.to_string(),
                 path: Default::default(),
-                baud: protocol.default_baud(),
+                // The recorded baud and adapter timer (issue 18), as `vigil replay` uses them.
+                baud: if baud > 0 {
+                    baud
+                } else {
+                    protocol.default_baud()
+                },
                 protocol,
                 setup: None,
                 read_interval_ns,
+                latency_timer_ns: (latency_timer_ns > 0).then_some(latency_timer_ns),
             });
         }
         Ok(())

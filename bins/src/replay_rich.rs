@@ -65,15 +65,19 @@ pub fn replay_rich(
             device,
             protocol,
             read_interval_ns,
+            baud,
+            latency_timer_ns,
             t_host_ns,
             bytes,
-            ..
         } = step
         {
             let port = match ports.get(device) {
                 Some(&p) => p,
                 None => {
-                    let p = rec.add_port(device, protocol, 0, read_interval_ns)?;
+                    // The channel's timing metadata carries over (issue 18: a replay of the
+                    // re-processed file aligns as the original's did).
+                    let p =
+                        rec.add_port(device, protocol, baud, read_interval_ns, latency_timer_ns)?;
                     ports.insert(device.to_string(), p);
                     p
                 }

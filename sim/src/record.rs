@@ -99,6 +99,20 @@ impl<W: Write + Seek> RawRecorder<W> {
         baud: u32,
         read_interval_ns: u64,
     ) -> Result<u16, mcap::McapError> {
+        self.add_port_with_adapter(device, protocol, baud, read_interval_ns, 0)
+    }
+
+    /// As [`RawRecorder::add_port`], with the port's USB adapter latency timer, ns (0: none
+    /// known), kept as channel metadata `latency_timer_ns` when not 0 so that a replay models
+    /// the adapter as the live service did ([`Recorded::Raw::latency_timer_ns`]).
+    pub fn add_port_with_adapter(
+        &mut self,
+        device: &str,
+        protocol: &str,
+        baud: u32,
+        read_interval_ns: u64,
+        latency_timer_ns: u64,
+    ) -> Result<u16, mcap::McapError> {
         let mut meta = BTreeMap::from([
             ("device".to_string(), device.to_string()),
             ("protocol".to_string(), protocol.to_string()),
@@ -106,6 +120,9 @@ impl<W: Write + Seek> RawRecorder<W> {
         ]);
         if read_interval_ns > 0 {
             meta.insert("read_interval_ns".to_string(), read_interval_ns.to_string());
+        }
+        if latency_timer_ns > 0 {
+            meta.insert("latency_timer_ns".to_string(), latency_timer_ns.to_string());
         }
         let name = if protocol.is_empty() {
             device
@@ -347,6 +364,9 @@ pub enum Recorded<'a> {
         read_interval_ns: u64,
         /// Baud rate of the port (channel metadata `baud`); 0 when absent or unreadable.
         baud: u32,
+        /// The port's USB adapter latency timer, ns (channel metadata `latency_timer_ns`); 0
+        /// when none was known (also when absent or unreadable).
+        latency_timer_ns: u64,
     },
     /// A truth record (JSON).
     Truth {

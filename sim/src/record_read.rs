@@ -78,6 +78,8 @@ struct ChannelInfo {
     read_interval_ns: u64,
     /// Channel metadata `baud` (issue 18: the recorded baud reaches the aligner); 0 if absent.
     baud: u32,
+    /// Channel metadata `latency_timer_ns`; 0 if absent.
+    latency_timer_ns: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -115,6 +117,11 @@ impl ChannelInfo {
             baud: c
                 .metadata
                 .get("baud")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(0),
+            latency_timer_ns: c
+                .metadata
+                .get("latency_timer_ns")
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(0),
         }
@@ -170,6 +177,7 @@ impl State {
             bytes: &self.arena[p.start..p.start + p.len],
             read_interval_ns: c.read_interval_ns,
             baud: c.baud,
+            latency_timer_ns: c.latency_timer_ns,
         })
     }
 

@@ -174,6 +174,41 @@ fn read_intervals_are_kept_per_channel_and_read_back() {
     );
 }
 
+/// Issue 18 point 1: a port's adapter latency timer and baud are channel metadata, read back
+/// with every chunk of the channel; a port without a timer reads 0.
+#[test]
+fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
+    use vigil_sim::record::RawRecorder;
+    let mut rec = RawRecorder::new(Cursor::new(Vec::new()), &[]).unwrap();
+    rec.add_port_with_adapter("watson", "watson-ahrs-e304", 9600, 0, 16_000_000)
+        .unwrap();
+    rec.add_port("vn200", "vn200-icd", 921_600, 0).unwrap();
+    rec.write_raw(0, 100, b"ab").unwrap();
+    rec.write_raw(1, 200, b"cd").unwrap();
+    let bytes = rec.finish().unwrap().into_inner();
+    let mut got = Vec::new();
+    read_recording::<()>(&bytes, |m| {
+        if let Recorded::Raw {
+            device,
+            baud,
+            latency_timer_ns,
+            ..
+        } = m
+        {
+            got.push((device.to_string(), baud, latency_timer_ns));
+        }
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(
+        got,
+        [
+            ("watson".to_string(), 9600, 16_000_000),
+            ("vn200".to_string(), 921_600, 0)
+        ]
+    );
+}
+
 /// Issue 20: messages grouped by channel inside a chunk (a writer that buffers per port) replay
 /// in receive order, and the file is zstd-compressed by default.
 #[test]

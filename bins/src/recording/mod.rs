@@ -323,10 +323,15 @@ impl<W: Write + Seek> RichRecorder<W> {
         protocol: &str,
         baud: u32,
         read_interval_ns: u64,
+        latency_timer_ns: u64,
     ) -> Result<u16> {
-        Ok(self
-            .rec
-            .add_port(device, protocol, baud, read_interval_ns)?)
+        Ok(self.rec.add_port_with_adapter(
+            device,
+            protocol,
+            baud,
+            read_interval_ns,
+            latency_timer_ns,
+        )?)
     }
 
     /// Records one raw chunk of port `port` received at host time `t_host_ns`.

@@ -191,6 +191,13 @@ pub struct PortConfig {
     /// protocol's default ([`Protocol::default_read_interval_ms`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub read_interval_ms: Option<f64>,
+    /// The port's USB adapter latency timer, ms (an FTDI chip holds a partial USB packet until
+    /// it runs out: 16 ms by default on Linux, 1..=255); 0: no such adapter (a native UART, a
+    /// USB CDC device). Absent: `vigil run` reads it from sysfs when the port is an FTDI
+    /// device (`/sys/bus/usb-serial/devices/ttyUSBn/latency_timer`), else none is modelled.
+    /// The aligner widens that port's host-timed sigmas by it (issue 18 point 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub latency_timer_ms: Option<f64>,
 }
 
 impl PortConfig {
@@ -201,6 +208,7 @@ impl PortConfig {
             baud: protocol.default_baud(),
             protocol: protocol.name().to_string(),
             read_interval_ms: None,
+            latency_timer_ms: None,
         }
     }
 }
@@ -488,6 +496,9 @@ pub struct Port {
     pub setup: Option<Setup>,
     /// Read every this many ns (0: as the bytes arrive); see [`super::reader`].
     pub read_interval_ns: u64,
+    /// The USB adapter latency timer, ns: configured, read from sysfs by `vigil run`, or
+    /// recorded (a replay); `None`: not known, no adapter wait modelled.
+    pub latency_timer_ns: Option<u64>,
 }
 
 /// The service's part of the example configuration (see [`example`]).
@@ -767,6 +778,18 @@ impl Config {
                 protocol,
                 setup,
                 read_interval_ns: (interval_ms * 1e6).round() as u64,
+                latency_timer_ns: match p.latency_timer_ms {
+                    None => None,
+                    Some(ms) if ms.is_finite() && (0.0..=255.0).contains(&ms) => {
+                        Some((ms * 1e6).round() as u64)
+                    }
+                    Some(_) => {
+                        return Err(invalid(
+                            key("latency_timer_ms"),
+                            "0 (no adapter timer) or 1..=255 ms (the FTDI range)",
+                        ));
+                    }
+                },
             });
         }
         let rate = self.configure.vn200_rate_hz;
@@ -828,6 +851,39 @@ mod tests {
         assert_eq!(ports.len(), 4);
         assert_eq!(ports[1].protocol, Protocol::Watson);
         assert_eq!(ports[1].baud, 9600);
+    }
+
+    /// Issue 18 point 1: `latency_timer_ms` per port: absent (detected by `vigil run`), 0 (no
+    /// adapter timer) or the FTDI range 1..=255 ms; anything else names the key.
+    #[test]
+    fn latency_timers_are_optional_and_validated() {
+        let one = |extra: &str| {
+            Config::parse(&format!(
+                "[[ports]]\ndevice = \"watson\"\npath = \"/dev/x\"\n{extra}"
+            ))
+            .unwrap()
+            .validate()
+        };
+        assert_eq!(one("").unwrap()[0].latency_timer_ns, None);
+        assert_eq!(
+            one("latency_timer_ms = 16").unwrap()[0].latency_timer_ns,
+            Some(16_000_000)
+        );
+        assert_eq!(
+            one("latency_timer_ms = 0").unwrap()[0].latency_timer_ns,
+            Some(0)
+        );
+        for bad in [
+            "latency_timer_ms = 256",
+            "latency_timer_ms = -1",
+            "latency_timer_ms = nan",
+        ] {
+            assert_eq!(
+                one(bad).unwrap_err().key,
+                "ports[0].latency_timer_ms",
+                "{bad}"
+            );
+        }
     }
 
     #[test]

@@ -13,7 +13,7 @@
 use std::cell::RefCell;
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::time::Duration;
 
@@ -261,19 +261,29 @@ type Recorder = RichRecorder<BufWriter<File>>;
 
 fn open_recorder(config: &Config, path: &PathBuf, ports: &[Port]) -> Result<Recorder> {
     let out = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
-    let specs: Vec<(&str, &str, u32)> = ports
-        .iter()
-        .map(|p| (p.device.as_str(), p.protocol.name(), p.baud))
-        .collect();
-    let intervals: Vec<u64> = ports.iter().map(|p| p.read_interval_ns).collect();
-    let raw = RawRecorder::with_read_intervals(BufWriter::new(out), &specs, &intervals)?;
+    let raw = RawRecorder::new(BufWriter::new(out), &[])?;
     let mut rec = RichRecorder::new(raw, config.record.channels)?;
+    // Each port's timing as the aligner models it (baud, read interval, adapter timer), so a
+    // replay aligns as this run did.
+    for p in ports {
+        rec.add_port(
+            &p.device,
+            p.protocol.name(),
+            p.baud,
+            p.read_interval_ns,
+            p.latency_timer_ns.unwrap_or(0),
+        )?;
+    }
     let toml = toml::to_string(config).context("writing the configuration as TOML")?;
     let mut meta = run_metadata("vigil run", &toml);
     meta.extend([
         (
             "ports".to_string(),
-            specs.iter().map(|s| s.0).collect::<Vec<_>>().join(","),
+            ports
+                .iter()
+                .map(|p| p.device.as_str())
+                .collect::<Vec<_>>()
+                .join(","),
         ),
         (
             "paths".to_string(),
@@ -288,7 +298,35 @@ fn open_recorder(config: &Config, path: &PathBuf, ports: &[Port]) -> Result<Reco
     Ok(rec)
 }
 
-async fn live(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result<()> {
+/// The latency timer of the FTDI adapter behind serial port `dev` (a `/dev/ttyUSBn` path, or a
+/// symlink to one such as `/dev/serial/by-id/...`), ns, from sysfs under `sys_root` (`/sys`):
+/// `bus/usb-serial/devices/ttyUSBn/latency_timer` (ms), which only the FTDI driver provides.
+/// `None` for any other port (a native UART, a USB CDC device, a pseudo-terminal).
+pub fn ftdi_latency_timer_ns(sys_root: &Path, dev: &Path) -> Option<u64> {
+    let real = std::fs::canonicalize(dev).unwrap_or_else(|_| dev.to_path_buf());
+    let name = real.file_name()?.to_str()?;
+    let file = sys_root
+        .join("bus/usb-serial/devices")
+        .join(name)
+        .join("latency_timer");
+    let ms: u64 = std::fs::read_to_string(file).ok()?.trim().parse().ok()?;
+    Some(ms * 1_000_000)
+}
+
+async fn live(config: Config, mut ports: Vec<Port>, duration: Option<f64>) -> Result<()> {
+    // Issue 18 point 1: a port whose adapter timer is not configured takes the FTDI driver's,
+    // when it is one; the aligner then widens that port's host-timed sigmas by it.
+    for p in ports.iter_mut().filter(|p| p.latency_timer_ns.is_none()) {
+        p.latency_timer_ns = ftdi_latency_timer_ns(Path::new("/sys"), &p.path);
+        if let Some(ns) = p.latency_timer_ns {
+            info!(
+                "port {}: FTDI adapter, latency timer {} ms (sysfs); its host-timed samples' \
+                 sigma covers it (set [[ports]] latency_timer_ms to override)",
+                p.device,
+                ns / 1_000_000
+            );
+        }
+    }
     // Held (when configured) until the service ends.
     let _wakeup_latency = config.realtime.hold();
     let mut bus = Bus::new(&BusConfig {
@@ -492,4 +530,29 @@ pub fn config(args: &ConfigArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The FTDI driver's sysfs file is read through the device name (and through a by-id
+    /// symlink); a port without it (any other driver) has no timer.
+    #[test]
+    fn ftdi_latency_timer_from_sysfs() {
+        let root = std::env::temp_dir().join(format!("vigil-sysfs-{}", std::process::id()));
+        let dev_dir = root.join("bus/usb-serial/devices/ttyUSB7");
+        std::fs::create_dir_all(&dev_dir).unwrap();
+        std::fs::write(dev_dir.join("latency_timer"), "16\n").unwrap();
+        assert_eq!(
+            ftdi_latency_timer_ns(&root, Path::new("/dev/ttyUSB7")),
+            Some(16_000_000)
+        );
+        assert_eq!(
+            ftdi_latency_timer_ns(&root, Path::new("/dev/ttyACM0")),
+            None
+        );
+        assert_eq!(ftdi_latency_timer_ns(&root, Path::new("/dev/ttyS0")), None);
+        let _ = std::fs::remove_dir_all(&root);
+    }
 }

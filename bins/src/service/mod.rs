@@ -148,6 +148,12 @@ impl Service {
             let _ = replay.set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
             // Issue 18 point 2: the configured baud reaches the aligner.
             let _ = replay.set_baud(&p.device, p.protocol.name(), p.baud);
+            // Issue 18 point 1: and the adapter's latency timer, when known.
+            let _ = replay.set_latency_timer(
+                &p.device,
+                p.protocol.name(),
+                p.latency_timer_ns.unwrap_or(0),
+            );
         }
         Ok(Self {
             ports: ports.iter().map(PortState::new).collect(),
@@ -407,6 +413,11 @@ impl Service {
             .set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
         // Issue 18 point 2: the configured (or recorded) baud reaches the aligner.
         let _ = self.replay.set_baud(&p.device, p.protocol.name(), p.baud);
+        let _ = self.replay.set_latency_timer(
+            &p.device,
+            p.protocol.name(),
+            p.latency_timer_ns.unwrap_or(0),
+        );
         self.ports.push(PortState::new(p));
         self.ports.len() - 1
     }

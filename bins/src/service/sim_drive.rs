@@ -20,6 +20,7 @@ pub(crate) fn ports_of(sink: &MemorySink) -> Vec<Port> {
             protocol: Protocol::resolve(p.protocol, p.device).unwrap(),
             setup: None,
             read_interval_ns: 0,
+            latency_timer_ns: None,
         })
         .collect()
 }
