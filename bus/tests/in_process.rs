@@ -12,6 +12,7 @@ use vigil_bus::payload::SCHEMA_VERSION;
 use vigil_bus::{
     AlertPayload, AttitudePayload, ChannelComparison, DeviceIntegrity, Header, IntegrityPayload,
     OwnshipPayload, Target, Topic, TrafficPayload, UnitAttitude,
+    payload::integrity::HealthComparison,
 };
 
 #[test]
@@ -164,7 +165,10 @@ fn payload_layouts_are_fixed() {
     // 8*104 = 888, + issue 18's u8 + 7 pad = 896, + issue 25's 2 u32 and 32 active alerts of
     // (u32 + 2 u8 + 2 pad + i64 + 160) = 176: 896 + 8 + 5632 = 6536.
     assert_eq!(size_of::<DeviceIntegrity>(), 104);
-    assert_eq!(size_of::<IntegrityPayload>(), 6536);
+    // Issue 25 point 4 (v3): 5 + 6 health u8 + 2 u8 + 1 pad + u16 = 16, 2 f64 = 16, and 4
+    // health comparisons of (2 u8 + 6 pad + f64) = 16: 6536 + 96 = 6632.
+    assert_eq!(size_of::<HealthComparison>(), 16);
+    assert_eq!(size_of::<IntegrityPayload>(), 6632);
     // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
     assert_eq!(size_of::<AlertPayload>(), 208);
     assert_eq!(align_of::<TrafficPayload>(), 8);
@@ -189,7 +193,7 @@ fn type_names_are_explicit_and_versioned() {
             "vigil.Attitude.v3",
             "vigil.Ownship.v2",
             "vigil.Traffic.v2",
-            "vigil.Integrity.v2",
+            "vigil.Integrity.v3",
             "vigil.Alert.v1"
         ]
     );
