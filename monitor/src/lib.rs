@@ -50,6 +50,7 @@
 //! | `cross_check_unavailable` (per unit) | the unit's `unit_coverage` is not `COVERAGE_COMPARED` (reason: `not_aligned`, `not_wired`, `stale`, `absent`, `invalid`, `no_partner`, `no_check`) | caution | 2 | 1 |
 //! | `vertical_miscompare` (per comparison) | `vertical[VERTICAL_*].verdict == VERDICT_FAIL` (BAHRS down velocity or pressure-height rate against the GNSS-aided VN-200; the reason attributes it to the BAHRS) | caution | 0 | 2 |
 //! | `inertial_miscompare` (per signal) | `inertial[INERTIAL_*].verdict == VERDICT_FAIL` (a BAHRS specific force or angular rate axis against the VN-200, both usable) | caution | 0 | 2 |
+//! | `health_disagreement` (per combination) | integrity `health_checks[HEALTH_*].state == HEALTH_DISAGREE` (BAHRS pulses without a VN-200 fix, a fix without pulses, an INS mode against its fix bit; not compared is never a disagreement) | caution | 3 | 2 |
 //!
 //! No rule latches by default; any can (`[monitor.RULE] latch = true`). Why the delays are 0
 //! where they are: the fusion cross-check and the traffic alert filter already apply persistence
@@ -252,6 +253,7 @@ impl Monitor {
                 self.devices.update(p, t, &params);
             }
             conditions::clock(p, &params, &mut active);
+            conditions::health(p, &params, &mut active);
             self.devices.conditions(p, t, &params, &mut active);
         }
         self.feeds.conditions(t, start, &params, &mut active);

@@ -66,6 +66,13 @@ impl RuleTiming {
             // hovers at the limit from raising and clearing in turn.
             Rule::VerticalMiscompare => Self::new(0.0, 2.0),
             Rule::InertialMiscompare => Self::new(0.0, 2.0),
+            // Issue 25 point 4: "disagree for longer than a configured time" is the raise delay.
+            // 3 s: three 1 Hz sync pulses against a VN-200 without a fix (the fusion already
+            // skips pulses reported within 0.5 s of the loss, and waits `pulse_timeout_s` (2.5 s)
+            // before calling pulses missing, or `extended_outage_s` (60 s) for an INS mode
+            // against its fix bit); 2 s of agreement before it clears, so a pulse train at the
+            // edge of a fix does not raise and clear in turn.
+            Rule::HealthDisagreement => Self::new(3.0, 2.0),
         }
     }
 
@@ -131,6 +138,7 @@ timing_field!(de_suspected_spoofing, Rule::SuspectedSpoofing);
 timing_field!(de_cross_check_unavailable, Rule::CrossCheckUnavailable);
 timing_field!(de_vertical_miscompare, Rule::VerticalMiscompare);
 timing_field!(de_inertial_miscompare, Rule::InertialMiscompare);
+timing_field!(de_health_disagreement, Rule::HealthDisagreement);
 
 /// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`].
 pub const ALL_PLAUSIBILITY_FLAGS: u8 = PLAUSIBILITY_IMPOSSIBLE_SPEED
@@ -191,6 +199,9 @@ pub struct MonitorParams {
     /// Timing of [`Rule::InertialMiscompare`].
     #[serde(deserialize_with = "de_inertial_miscompare")]
     pub inertial_miscompare: RuleTiming,
+    /// Timing of [`Rule::HealthDisagreement`].
+    #[serde(deserialize_with = "de_health_disagreement")]
+    pub health_disagreement: RuleTiming,
 
     /// A device is silent when its last valid message is older than this, s.
     pub device_silent_s: f64,
@@ -227,6 +238,7 @@ impl Default for MonitorParams {
             cross_check_unavailable: RuleTiming::default_for(Rule::CrossCheckUnavailable),
             vertical_miscompare: RuleTiming::default_for(Rule::VerticalMiscompare),
             inertial_miscompare: RuleTiming::default_for(Rule::InertialMiscompare),
+            health_disagreement: RuleTiming::default_for(Rule::HealthDisagreement),
             device_silent_s: 2.0,
             feed_silent_s: 2.0,
             decode_window_s: 10.0,
@@ -269,6 +281,7 @@ impl MonitorParams {
             Rule::CrossCheckUnavailable => &self.cross_check_unavailable,
             Rule::VerticalMiscompare => &self.vertical_miscompare,
             Rule::InertialMiscompare => &self.inertial_miscompare,
+            Rule::HealthDisagreement => &self.health_disagreement,
         }
     }
 
@@ -290,6 +303,7 @@ impl MonitorParams {
             Rule::CrossCheckUnavailable => &mut self.cross_check_unavailable,
             Rule::VerticalMiscompare => &mut self.vertical_miscompare,
             Rule::InertialMiscompare => &mut self.inertial_miscompare,
+            Rule::HealthDisagreement => &mut self.health_disagreement,
         }
     }
 
@@ -358,6 +372,9 @@ fn rule_doc(rule: Rule) -> &'static str {
         Rule::CrossCheckUnavailable => "An attitude unit is not cross-checked (and why)",
         Rule::VerticalMiscompare => "The BAHRS vertical channel disagrees with the VN-200",
         Rule::InertialMiscompare => "A BAHRS inertial signal disagrees with the VN-200 on one axis",
+        Rule::HealthDisagreement => {
+            "The BAHRS health or sync pulses contradict the VN-200 INS status"
+        }
     }
 }
 

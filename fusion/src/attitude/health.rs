@@ -22,7 +22,7 @@
 //!
 //! | code | combination | disagrees when | document |
 //! |---|---|---|---|
-//! | 0 | [`HealthCombination::PpsWithoutFix`] | a BAHRS 0x06 arrives more than one PPS period (1 s) after the VN-200 reported its fix lost, while it still reports none | ICD Table 3.22 with BAHRS 3.6: no 3D fix, no pulse. A pulse then comes from somewhere else: a miswired sync input (another receiver's PPS), a VN-200 SyncOut not in GpsPps mode, or its `alwaysPpsPulse` legacy option (Table 3.44: pulses *before* a first fix) |
+//! | 0 | [`HealthCombination::PpsWithoutFix`] | a BAHRS 0x06 arrives more than 0.5 s (the report's latency allowance) after the VN-200 reported its fix lost, while it still reports none | ICD Table 3.22 with BAHRS 3.6: no 3D fix, no pulse. A pulse then comes from somewhere else: a miswired sync input (another receiver's PPS), a VN-200 SyncOut not in GpsPps mode, or its `alwaysPpsPulse` legacy option (Table 3.44: pulses *before* a first fix) |
 //! | 1 | [`HealthCombination::FixWithoutPps`] | the VN-200 has reported a fix for longer than `pulse_timeout_s`, the BAHRS is sending, had pulses before, and none came for `pulse_timeout_s` | Table 3.22: with a 3D fix a pulse comes every second; a BAHRS that stops receiving them has lost its sync wire or edge |
 //! | 2 | [`HealthCombination::TrackingWithoutFix`] | INS mode Tracking (position and velocity valid) with no GNSS fix for longer than `extended_outage_s` | Table 2.78 says GnssLost follows "an extended outage" but not after how long (silent): the reading that fails safe is that a minute without a fix (the figure) is extended, so a Tracking claim past it contradicts the fix bit |
 //! | 3 | [`HealthCombination::GnssLostWithFix`] | INS mode GnssLost while the fix bit has been set for longer than `extended_outage_s` | the reverse of 2; the ICD is silent on how fast the INS recovers from GnssLost, so the same limit |
@@ -56,9 +56,11 @@ use vigil_drivers::bahrs::{InertialHealth, NavigationHealth};
 use vigil_drivers::vn200::status::{InsMode, InsStatus};
 
 const NS_PER_S: f64 = 1e9;
-/// The VN-200 GpsPps period (ICD Table 3.22: 1 Hz), ns: a pulse reported within one period of
-/// the fix loss may be the last legitimate one.
-const PPS_PERIOD_NS: i64 = 1_000_000_000;
+/// Allowance for a 0x06's report latency, ns: a pulse reported within this of the VN-200's first
+/// no-fix status may have fired while the fix was still valid (the last legitimate one). The
+/// BAHRS sends 0x06 right after the pulse (milliseconds; protocol 2.0 gives no figure); half the
+/// 1 Hz GpsPps period (ICD Table 3.22) keeps the next pulse, a second later, well clear of it.
+const PULSE_REPORT_GRACE_NS: i64 = 500_000_000;
 
 /// Parameters of the health cross-check, with units and defaults.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -232,7 +234,7 @@ impl HealthCheck {
         self.last_pulse_ns = Some(now);
         if let Some(v) = self.vn
             && !v.status.gnss_fix()
-            && now > v.fix_since_ns.saturating_add(PPS_PERIOD_NS)
+            && now > v.fix_since_ns.saturating_add(PULSE_REPORT_GRACE_NS)
             && self.pulse_without_fix_ns.is_none()
         {
             self.pulse_without_fix_ns = Some(now);
@@ -415,8 +417,8 @@ mod tests {
             |t| if lost(t) { LOST_NO_FIX } else { TRACKING_FIX },
             |_| true,
         );
-        // Status first seen clear at 10.00 s; the pulse reported at 10.02 s is within one PPS
-        // period of the loss and not counted; the one at 11.02 s is the first contradiction.
+        // Status first seen clear at 10.00 s; the pulse reported at 10.02 s is within the 0.5 s
+        // report allowance and not counted; the one at 11.02 s is the first contradiction.
         let now = 30 * S - S / 50;
         let v = h.verdict(HealthCombination::PpsWithoutFix, now);
         assert_eq!(disagree(v), Some(11 * S + 20_000_000), "{v:?}");

@@ -280,7 +280,10 @@ impl BahrsModel {
     /// A PPS second at `t`: captures it (unless lost) and queues its 0x06 report.
     fn pulse(&mut self, t: i64, world: &World, faults: &FaultSchedule) {
         let t_s = world.elapsed_s(t);
-        if t < self.outputs_from_gps_ns || faults.pps_lost(t_s) || faults.gnss_lost("vn200", t_s) {
+        // Without a VN-200 fix no GpsPps pulse comes, unless the input is miswired to a pulse
+        // that does not follow that fix (issue 25 point 4's fault).
+        let no_fix = faults.gnss_lost("vn200", t_s) && !faults.bahrs_sync_miswired(t_s);
+        if t < self.outputs_from_gps_ns || faults.pps_lost(t_s) || no_fix {
             return;
         }
         let sync = &self.cfg.sync;
