@@ -8,7 +8,8 @@
 //!   counter at 0, and sends the versions again.
 //! - Synchronisation: the sync input is wired to the VN-200 PPS (on every whole GPS second when a
 //!   VN-200 with `pps = true` is present, has a 3D fix (VN-200 ICD: SyncOut GpsPps only with a
-//!   valid fix, so no pulses in a VN-200 GNSS outage) and no PPS loss is scheduled); 0x06 carries
+//!   valid fix, so no pulses in a VN-200 GNSS outage, unless a `bahrs_sync_miswired` fault says
+//!   the input follows another pulse) and no PPS loss is scheduled); 0x06 carries
 //!   the MCU time of the pulse (truncated to the us) and is ready `latency_us` after it. The
 //!   `sync` options model what the document leaves open (issue 18): the report sent late or
 //!   repeated, the wrong edge captured, a software capture's latency.
