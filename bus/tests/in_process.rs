@@ -116,6 +116,28 @@ fn a_late_subscriber_gets_the_current_state_from_the_history() {
     assert_eq!(v["devices"].as_array().unwrap().len(), 3);
     assert_eq!(v["devices"][2]["name"], "watson");
     assert!(v["devices"][2]["last_message_age_s"].is_null());
+    // Issue 25 point 4 (v3): the health fields, unknown as the documented sentinels (health
+    // 0xFF, VN-200 status 0xFF, ages null) and every combination "not compared".
+    assert_eq!(
+        v["bahrs_navigation_health"],
+        serde_json::json!([255u8; 5].to_vec())
+    );
+    assert_eq!(
+        v["bahrs_inertial_health"],
+        serde_json::json!([255u8; 6].to_vec())
+    );
+    assert_eq!(
+        (v["vn200_ins_mode"].clone(), v["vn200_gnss_fix"].clone()),
+        (255.into(), 255.into())
+    );
+    assert!(v["vn200_status_age_s"].is_null() && v["bahrs_pulse_age_s"].is_null());
+    let checks = v["health_checks"].as_array().unwrap();
+    assert_eq!(checks.len(), 4);
+    assert!(
+        checks
+            .iter()
+            .all(|c| c["state"] == 2 && c["disagree_s"].is_null())
+    );
     drop(a);
     assert_eq!(sub.try_receive().unwrap().unwrap().header.seq, 6);
 }
