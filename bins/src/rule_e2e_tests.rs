@@ -19,7 +19,10 @@ use vigil_bus::payload::alerts::{
     SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_WARNING, STATE_CLEARED, STATE_RAISED,
 };
 use vigil_bus::payload::attitude::{AXIS_ROLL, UNIT_BAHRS, UNIT_WATSON};
-use vigil_bus::payload::integrity::{DEVICE_BAHRS, DEVICE_TTMRF, DEVICE_VN200, DEVICE_WATSON};
+use vigil_bus::payload::integrity::{
+    DEVICE_BAHRS, DEVICE_TTMRF, DEVICE_VN200, DEVICE_WATSON, HEALTH_AGREE, HEALTH_FIX_WITHOUT_PPS,
+    HEALTH_PPS_WITHOUT_FIX,
+};
 use vigil_bus::payload::read_text;
 use vigil_bus::payload::traffic::ADDRESS_ICAO;
 use vigil_bus::{
@@ -216,7 +219,7 @@ fn number_after(text: &str, key: &str) -> f64 {
 }
 
 /// Rules whose end-to-end test lives in this file, with the test's name.
-const COVERED_HERE: [(Rule, &str); 14] = [
+const COVERED_HERE: [(Rule, &str); 15] = [
     (
         Rule::AttitudeMiscompare,
         "attitude_miscompare_on_a_bahrs_roll_bias",
@@ -250,6 +253,10 @@ const COVERED_HERE: [(Rule, &str); 14] = [
     (
         Rule::CrossCheckUnavailable,
         "cross_check_unavailable_while_the_watson_is_silent",
+    ),
+    (
+        Rule::HealthDisagreement,
+        "health_disagreement_on_bahrs_pulses_through_a_vn200_gnss_outage",
     ),
     (
         Rule::ClockDisagreement,
@@ -877,5 +884,122 @@ fn cross_check_unavailable_while_the_watson_is_silent() {
             run.transitions(Rule::CrossCheckUnavailable.alert_id(u32::from(unit)))
                 .is_empty()
         );
+    }
+}
+
+// --- issue 25 point 4: health cross-check ---
+
+/// The VN-200 loses its fix from 8 s to 20 s while the BAHRS sync input is miswired to a pulse
+/// that does not follow that fix: the BAHRS keeps reporting a pulse every GPS second.
+const MISWIRED_SYNC_OUTAGE: &str = r#"
+[[faults]]
+kind = "gnss_outage"
+device = "vn200"
+from_s = 8.0
+to_s = 20.0
+
+[[faults]]
+kind = "bahrs_sync_miswired"
+from_s = 0.0
+"#;
+
+#[test]
+fn health_disagreement_on_bahrs_pulses_through_a_vn200_gnss_outage() {
+    // The VN-200 reports no fix from 8.0 s (InsStatus 0x0043: GnssLost, GnssErr). The fusion
+    // skips pulses reported within 0.5 s of the loss (one at 8 s may be the last legitimate
+    // one), so the first contradicting pulse is the 9 s one; raise delay 3 s, plus up to a
+    // 100 ms tick and the pulse report's latency: raised within 12.0 .. 12.3 s. The fix returns
+    // at 20.0 s (agreement at once: with a fix, pulses are expected), hysteresis 2 s, plus the
+    // VN-200 status reaching the fusion and a tick: cleared within 22.0 .. 22.3 s.
+    let run = run(&scenario(MISWIRED_SYNC_OUTAGE), 26);
+    let id = Rule::HealthDisagreement.alert_id(HEALTH_PPS_WITHOUT_FIX as u32);
+    let (raised, _) = raised_then_cleared(
+        &run,
+        id,
+        SEVERITY_CAUTION,
+        "health disagreement: BAHRS sync pulses without a VN-200 GNSS fix",
+        12.0..12.3,
+        22.0..22.3,
+    );
+    // The reason carries the VN-200 status as the ICD encodes an outage: mode 3, fix bit clear.
+    assert!(
+        raised.reason.contains("INS GnssLost, status 0x0043"),
+        "{}",
+        raised.reason
+    );
+    // The disagreement had lasted the raise delay when raised (3 s, plus a tick).
+    let lasted = number_after(&raised.reason, ") for ");
+    assert!((3.0..3.2).contains(&lasted), "{}", raised.reason);
+    // No other combination disagrees (the fix returning is met by the next pulse).
+    for c in 1..4 {
+        assert!(
+            run.transitions(Rule::HealthDisagreement.alert_id(c))
+                .is_empty(),
+            "combination {c}"
+        );
+    }
+}
+
+/// A true VN-200 GNSS outage (the BAHRS loses its pulses with the fix, as the ICD has it) is
+/// an agreement of both units, never a health disagreement; nor is a jamming outage in which
+/// every receiver loses GNSS and the PPS with it. Both on the base flight, and the built-in
+/// `vn200-gnss-loss` and `gnss-outage` scenarios (outage 60 .. 120 s) through 130 s.
+#[test]
+fn health_disagreement_stays_silent_through_true_gnss_outages() {
+    use vigil_sim::scenario::builtin;
+    let runs = [
+        (
+            "builtin vn200-gnss-loss",
+            run(&builtin("vn200-gnss-loss").unwrap(), 130),
+        ),
+        (
+            "builtin gnss-outage",
+            run(&builtin("gnss-outage").unwrap(), 130),
+        ),
+        ("vn200 gnss loss", run(&scenario(VN200_GNSS_LOSS), 20)),
+        (
+            "jamming with pps loss",
+            run(
+                &scenario(
+                    r#"
+[[faults]]
+kind = "gnss_outage"
+from_s = 8.0
+to_s = 14.0
+
+[[faults]]
+kind = "pps_loss"
+from_s = 8.0
+to_s = 14.0
+"#,
+                ),
+                20,
+            ),
+        ),
+    ];
+    for (name, run) in &runs {
+        let raised: Vec<String> = run
+            .alerts()
+            .filter(|a| Rule::of_alert(a.alert_id) == Some(Rule::HealthDisagreement))
+            .map(|a| a.reason().to_string())
+            .collect();
+        assert!(raised.is_empty(), "{name}: {raised:?}");
+        // And the check did run: every report after the first seconds compared the two
+        // pulse combinations (agree), none "not compared".
+        let late: Vec<_> = run
+            .stream
+            .events
+            .iter()
+            .filter_map(|(_, e)| match e {
+                Published::Integrity(p) if run.secs(p.header.gps_time_ns) > 4.0 => Some(p),
+                _ => None,
+            })
+            .collect();
+        assert!(late.len() > 100, "{name}: {}", late.len());
+        for p in late {
+            for c in [HEALTH_PPS_WITHOUT_FIX, HEALTH_FIX_WITHOUT_PPS] {
+                assert_eq!(p.health_checks[c].state, HEALTH_AGREE, "{name}: {p:?}");
+            }
+        }
     }
 }

@@ -12,6 +12,7 @@ use vigil_bus::payload::SCHEMA_VERSION;
 use vigil_bus::{
     AlertPayload, AttitudePayload, ChannelComparison, DeviceIntegrity, Header, IntegrityPayload,
     OwnshipPayload, Target, Topic, TrafficPayload, UnitAttitude,
+    payload::integrity::HealthComparison,
 };
 
 #[test]
@@ -115,6 +116,28 @@ fn a_late_subscriber_gets_the_current_state_from_the_history() {
     assert_eq!(v["devices"].as_array().unwrap().len(), 3);
     assert_eq!(v["devices"][2]["name"], "watson");
     assert!(v["devices"][2]["last_message_age_s"].is_null());
+    // Issue 25 point 4 (v3): the health fields, unknown as the documented sentinels (health
+    // 0xFF, VN-200 status 0xFF, ages null) and every combination "not compared".
+    assert_eq!(
+        v["bahrs_navigation_health"],
+        serde_json::json!([255u8; 5].to_vec())
+    );
+    assert_eq!(
+        v["bahrs_inertial_health"],
+        serde_json::json!([255u8; 6].to_vec())
+    );
+    assert_eq!(
+        (v["vn200_ins_mode"].clone(), v["vn200_gnss_fix"].clone()),
+        (255.into(), 255.into())
+    );
+    assert!(v["vn200_status_age_s"].is_null() && v["bahrs_pulse_age_s"].is_null());
+    let checks = v["health_checks"].as_array().unwrap();
+    assert_eq!(checks.len(), 4);
+    assert!(
+        checks
+            .iter()
+            .all(|c| c["state"] == 2 && c["disagree_s"].is_null())
+    );
     drop(a);
     assert_eq!(sub.try_receive().unwrap().unwrap().header.seq, 6);
 }
@@ -164,7 +187,10 @@ fn payload_layouts_are_fixed() {
     // 8*104 = 888, + issue 18's u8 + 7 pad = 896, + issue 25's 2 u32 and 32 active alerts of
     // (u32 + 2 u8 + 2 pad + i64 + 160) = 176: 896 + 8 + 5632 = 6536.
     assert_eq!(size_of::<DeviceIntegrity>(), 104);
-    assert_eq!(size_of::<IntegrityPayload>(), 6536);
+    // Issue 25 point 4 (v3): 5 + 6 health u8 + 2 u8 + 1 pad + u16 = 16, 2 f64 = 16, and 4
+    // health comparisons of (2 u8 + 6 pad + f64) = 16: 6536 + 96 = 6632.
+    assert_eq!(size_of::<HealthComparison>(), 16);
+    assert_eq!(size_of::<IntegrityPayload>(), 6632);
     // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
     assert_eq!(size_of::<AlertPayload>(), 208);
     assert_eq!(align_of::<TrafficPayload>(), 8);
@@ -189,7 +215,7 @@ fn type_names_are_explicit_and_versioned() {
             "vigil.Attitude.v3",
             "vigil.Ownship.v2",
             "vigil.Traffic.v2",
-            "vigil.Integrity.v2",
+            "vigil.Integrity.v3",
             "vigil.Alert.v1"
         ]
     );

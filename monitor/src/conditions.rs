@@ -19,6 +19,10 @@ use vigil_bus::payload::integrity::{
     CLOCK_GPS_TIME, CLOCK_HOLDOVER, CLOCK_NOT_LOCKED, CLOCK_PPS_LOCKED, DEVICE_BAHRS, DEVICE_TTMRF,
     DEVICE_VN200, IntegrityPayload,
 };
+use vigil_bus::payload::integrity::{
+    HEALTH_DISAGREE, HEALTH_FIX_WITHOUT_PPS, HEALTH_GNSS_LOST_WITH_FIX, HEALTH_PPS_WITHOUT_FIX,
+    HEALTH_TRACKING_WITHOUT_FIX, VN200_STATUS_NONE,
+};
 use vigil_bus::payload::ownship::{
     OwnshipPayload, SOURCE_EXTERNAL, SOURCE_NONE, SOURCE_TTMRF_GNSS, SOURCE_VN200_INS,
 };
@@ -385,6 +389,51 @@ pub(crate) fn clock(p: &IntegrityPayload, params: &MonitorParams, out: &mut Acti
     };
     let id = Rule::ClockNotLocked.alert_id(0);
     push(out, params, Rule::ClockNotLocked, id, severity, reason);
+}
+
+// --- issue 25 point 4 ---
+/// Health cross-check rule: one alert per combination (`HEALTH_*`) whose state is
+/// `HEALTH_DISAGREE` (the raise delay is the "longer than a configured time"). The reason names
+/// the combination, its likely cause and the VN-200 status and pulse age behind it (kept within
+/// the 160-byte reason).
+pub(crate) fn health(p: &IntegrityPayload, params: &MonitorParams, out: &mut Active) {
+    let mode = match p.vn200_ins_mode {
+        0 => "NotTracking",
+        1 => "Aligning",
+        2 => "Tracking",
+        3 => "GnssLost",
+        VN200_STATUS_NONE => "unknown",
+        _ => "undefined",
+    };
+    let pulse = known(p.bahrs_pulse_age_s, |a| format!("{a:.1} s ago"));
+    for (i, c) in p.health_checks.iter().enumerate() {
+        if c.state != HEALTH_DISAGREE {
+            continue;
+        }
+        let what = match i {
+            HEALTH_PPS_WITHOUT_FIX => {
+                "BAHRS sync pulses without a VN-200 GNSS fix (miswired sync?)"
+            }
+            HEALTH_FIX_WITHOUT_PPS => "VN-200 GNSS fix without BAHRS sync pulses (sync wire lost?)",
+            HEALTH_TRACKING_WITHOUT_FIX => "VN-200 INS Tracking without a GNSS fix",
+            HEALTH_GNSS_LOST_WITH_FIX => "VN-200 INS GnssLost with a GNSS fix",
+            _ => "unknown health combination",
+        };
+        let reason = format!(
+            "health disagreement: {what} for {}; INS {mode}, status 0x{:04X}, last pulse {pulse}",
+            known(c.disagree_s, |s| format!("{s:.1} s")),
+            p.vn200_ins_status
+        );
+        let id = Rule::HealthDisagreement.alert_id(i as u32);
+        push(
+            out,
+            params,
+            Rule::HealthDisagreement,
+            id,
+            SEVERITY_CAUTION,
+            reason,
+        );
+    }
 }
 
 /// Clock disagreement rule (issue 18 point 4): one alert per `DEVICE_*` code whose bit is set

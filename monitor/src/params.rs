@@ -66,6 +66,13 @@ impl RuleTiming {
             // hovers at the limit from raising and clearing in turn.
             Rule::VerticalMiscompare => Self::new(0.0, 2.0),
             Rule::InertialMiscompare => Self::new(0.0, 2.0),
+            // Issue 25 point 4: "disagree for longer than a configured time" is the raise delay.
+            // 3 s: three 1 Hz sync pulses against a VN-200 without a fix (the fusion already
+            // skips pulses reported within 0.5 s of the loss, and waits `pulse_timeout_s` (2.5 s)
+            // before calling pulses missing, or `extended_outage_s` (60 s) for an INS mode
+            // against its fix bit); 2 s of agreement before it clears, so a pulse train at the
+            // edge of a fix does not raise and clear in turn.
+            Rule::HealthDisagreement => Self::new(3.0, 2.0),
             // Issue 18 point 4: the bit follows the latest checked time (a BAHRS pulse a second,
             // a VN-200 message every 5 ms); 1 s of it set before raising passes over a single
             // late host read, and 2 s without it (two agreeing BAHRS pulses) clear.
@@ -135,6 +142,7 @@ timing_field!(de_suspected_spoofing, Rule::SuspectedSpoofing);
 timing_field!(de_cross_check_unavailable, Rule::CrossCheckUnavailable);
 timing_field!(de_vertical_miscompare, Rule::VerticalMiscompare);
 timing_field!(de_inertial_miscompare, Rule::InertialMiscompare);
+timing_field!(de_health_disagreement, Rule::HealthDisagreement);
 timing_field!(de_clock_disagreement, Rule::ClockDisagreement);
 
 /// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`].
@@ -196,6 +204,9 @@ pub struct MonitorParams {
     /// Timing of [`Rule::InertialMiscompare`].
     #[serde(deserialize_with = "de_inertial_miscompare")]
     pub inertial_miscompare: RuleTiming,
+    /// Timing of [`Rule::HealthDisagreement`].
+    #[serde(deserialize_with = "de_health_disagreement")]
+    pub health_disagreement: RuleTiming,
     /// Timing of [`Rule::ClockDisagreement`].
     #[serde(deserialize_with = "de_clock_disagreement")]
     pub clock_disagreement: RuleTiming,
@@ -235,6 +246,7 @@ impl Default for MonitorParams {
             cross_check_unavailable: RuleTiming::default_for(Rule::CrossCheckUnavailable),
             vertical_miscompare: RuleTiming::default_for(Rule::VerticalMiscompare),
             inertial_miscompare: RuleTiming::default_for(Rule::InertialMiscompare),
+            health_disagreement: RuleTiming::default_for(Rule::HealthDisagreement),
             clock_disagreement: RuleTiming::default_for(Rule::ClockDisagreement),
             device_silent_s: 2.0,
             feed_silent_s: 2.0,
@@ -278,6 +290,7 @@ impl MonitorParams {
             Rule::CrossCheckUnavailable => &self.cross_check_unavailable,
             Rule::VerticalMiscompare => &self.vertical_miscompare,
             Rule::InertialMiscompare => &self.inertial_miscompare,
+            Rule::HealthDisagreement => &self.health_disagreement,
             Rule::ClockDisagreement => &self.clock_disagreement,
         }
     }
@@ -300,6 +313,7 @@ impl MonitorParams {
             Rule::CrossCheckUnavailable => &mut self.cross_check_unavailable,
             Rule::VerticalMiscompare => &mut self.vertical_miscompare,
             Rule::InertialMiscompare => &mut self.inertial_miscompare,
+            Rule::HealthDisagreement => &mut self.health_disagreement,
             Rule::ClockDisagreement => &mut self.clock_disagreement,
         }
     }
@@ -369,6 +383,9 @@ fn rule_doc(rule: Rule) -> &'static str {
         Rule::CrossCheckUnavailable => "An attitude unit is not cross-checked (and why)",
         Rule::VerticalMiscompare => "The BAHRS vertical channel disagrees with the VN-200",
         Rule::InertialMiscompare => "A BAHRS inertial signal disagrees with the VN-200 on one axis",
+        Rule::HealthDisagreement => {
+            "The BAHRS health or sync pulses contradict the VN-200 INS status"
+        }
         Rule::ClockDisagreement => "A device's own clock disagrees with the host clock",
     }
 }

@@ -908,6 +908,53 @@ fn vertical_miscompare_names_the_comparison_and_the_bahrs_as_suspect() {
     );
 }
 
+// --- issue 25 point 4 ---
+/// A disagreement of the health cross-check raises after the 3 s raise delay with the
+/// combination in the subject and the VN-200 status in the reason, clears 2 s after agreement
+/// returns; "not compared" (unknown) never raises.
+#[test]
+fn health_disagreement_raises_after_three_seconds_and_never_on_unknown() {
+    use vigil_bus::payload::integrity::{
+        HEALTH_AGREE, HEALTH_DISAGREE, HEALTH_NOT_COMPARED, HEALTH_PPS_WITHOUT_FIX,
+        HEALTH_WHY_VN200_STALE, HealthComparison,
+    };
+    let mut rig = Rig::new(MonitorParams::default());
+    // Unknown for 10 s: nothing.
+    rig.integ.health_checks = [HealthComparison {
+        state: HEALTH_NOT_COMPARED,
+        reason: HEALTH_WHY_VN200_STALE,
+        ..HealthComparison::default()
+    }; 4];
+    assert!(rig.run(10_000).is_empty());
+    // From 10.0 s: BAHRS pulses while the VN-200 (InsStatus 0x0043: GnssLost, no fix) has none.
+    rig.integ.health_checks = [HealthComparison {
+        state: HEALTH_AGREE,
+        ..HealthComparison::default()
+    }; 4];
+    rig.integ.health_checks[HEALTH_PPS_WITHOUT_FIX] = HealthComparison {
+        state: HEALTH_DISAGREE,
+        disagree_s: 0.5,
+        ..HealthComparison::default()
+    };
+    rig.integ.vn200_ins_mode = 3;
+    rig.integ.vn200_gnss_fix = 0;
+    rig.integ.vn200_ins_status = 0x0043;
+    rig.integ.bahrs_pulse_age_s = 0.3;
+    let id = Rule::HealthDisagreement.alert_id(HEALTH_PPS_WITHOUT_FIX as u32);
+    assert_eq!(id, 0x0E00_0000);
+    let (t, a) = only(&rig.run(5000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 13_000);
+    assert_eq!(
+        a.reason(),
+        "health disagreement: BAHRS sync pulses without a VN-200 GNSS fix (miswired sync?) for \
+         0.5 s; INS GnssLost, status 0x0043, last pulse 0.3 s ago"
+    );
+    // Agreement again from 15.0 s: cleared at 17.0 s.
+    rig.integ.health_checks[HEALTH_PPS_WITHOUT_FIX].state = HEALTH_AGREE;
+    let (t, _) = only(&rig.run(5000), id, STATE_CLEARED, SEVERITY_CAUTION);
+    assert_eq!(t, 17_000);
+}
+
 // --- issue 18 point 4 ---
 #[test]
 fn clock_disagreement_per_device_bit_after_one_second_clears_after_two() {

@@ -19,6 +19,7 @@
 //! | [`Rule::CrossCheckUnavailable`] | `0x0B` | unit (`UNIT_*`) |
 //! | [`Rule::VerticalMiscompare`] | `0x0C` | comparison: 0 down velocity, 1 height rate (`VERTICAL_*`) |
 //! | [`Rule::InertialMiscompare`] | `0x0D` | signal: 0..2 specific force x/y/z, 3..5 angular rate x/y/z (`INERTIAL_*`) |
+//! | [`Rule::HealthDisagreement`] | `0x0E` | combination (integrity `HEALTH_*` index): 0 BAHRS pulses without a VN-200 fix, 1 VN-200 fix without BAHRS pulses, 2 INS Tracking without a fix, 3 INS GnssLost with a fix |
 //! | [`Rule::ClockDisagreement`] | `0x0F` | device: `DEVICE_*` code (0 BAHRS, 1 VN-200, 3 TT-Multi-RF) |
 //! | [`Rule::TrafficAlert`] | `0x20 + t` | 24-bit target address |
 //! | [`Rule::SuspectedSpoofing`] | `0x30 + t` | 24-bit target address |
@@ -77,6 +78,12 @@ pub enum Rule {
     /// A BAHRS inertial signal (specific force or angular rate on one body axis) disagrees with
     /// the VN-200's while both are usable (comparison verdict FAIL after persistence).
     InertialMiscompare,
+    // --- issue 25 point 4 ---
+    /// The BAHRS health and sync pulses and the VN-200 INS status contradict each other
+    /// (integrity `health_checks[..].state == HEALTH_DISAGREE`; the combinations and the
+    /// documents behind them are in `vigil_fusion::attitude::health`). Code 0x0F is kept for
+    /// issue 18's `clock_disagreement`.
+    HealthDisagreement,
     // --- issue 18 point 4 ---
     /// A device's own clock disagrees with the host clock beyond their combined sigmas (the
     /// integrity payload's `clock_disagreement` bit of its `DEVICE_*` code): its own time is not
@@ -86,7 +93,7 @@ pub enum Rule {
 
 impl Rule {
     /// Every rule, in evaluation order.
-    pub const ALL: [Rule; 16] = [
+    pub const ALL: [Rule; 17] = [
         Rule::AttitudeMiscompare,
         Rule::UnitIsolated,
         Rule::UnitHealth,
@@ -102,6 +109,7 @@ impl Rule {
         Rule::CrossCheckUnavailable,
         Rule::VerticalMiscompare,
         Rule::InertialMiscompare,
+        Rule::HealthDisagreement,
         Rule::ClockDisagreement,
     ];
 
@@ -124,6 +132,7 @@ impl Rule {
             Rule::CrossCheckUnavailable => 0x0B,
             Rule::VerticalMiscompare => 0x0C,
             Rule::InertialMiscompare => 0x0D,
+            Rule::HealthDisagreement => 0x0E,
             Rule::ClockDisagreement => 0x0F,
         }
     }
@@ -146,6 +155,7 @@ impl Rule {
             Rule::CrossCheckUnavailable => "cross_check_unavailable",
             Rule::VerticalMiscompare => "vertical_miscompare",
             Rule::InertialMiscompare => "inertial_miscompare",
+            Rule::HealthDisagreement => "health_disagreement",
             Rule::ClockDisagreement => "clock_disagreement",
         }
     }
@@ -178,6 +188,7 @@ impl Rule {
             0x0B => Rule::CrossCheckUnavailable,
             0x0C => Rule::VerticalMiscompare,
             0x0D => Rule::InertialMiscompare,
+            0x0E => Rule::HealthDisagreement,
             0x0F => Rule::ClockDisagreement,
             0x20..=0x2F => Rule::TrafficAlert,
             0x30..=0x3F => Rule::SuspectedSpoofing,

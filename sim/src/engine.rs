@@ -402,4 +402,41 @@ mod tests {
             Vec::<&str>::new()
         );
     }
+
+    /// Issue 25 point 4: the BAHRS reports no pulse while the VN-200 has no fix (ICD Table
+    /// 3.22), unless its sync input is miswired to a pulse that does not follow that fix.
+    #[test]
+    fn bahrs_pulses_stop_without_a_vn200_fix_unless_the_sync_is_miswired() {
+        let pulses_in_outage = |miswired: bool| {
+            let mut s = builtin("nominal").unwrap();
+            s.faults.push(crate::scenario::Fault::GnssOutage {
+                from_s: 3.0,
+                to_s: Some(8.0),
+                device: Some("vn200".into()),
+            });
+            if miswired {
+                s.faults.push(crate::scenario::Fault::BahrsSyncMiswired {
+                    from_s: 0.0,
+                    to_s: None,
+                });
+            }
+            let mut sim = Simulator::new(&s, 1).unwrap();
+            let mut sink = MemorySink::default();
+            sim.run(10_000_000_000, &mut sink).unwrap();
+            let t0 = sim.world().start_gps_ns;
+            let secs = |r: &TruthRecord| (r.t_gps_ns - t0) as f64 / 1e9;
+            let pulses: Vec<f64> = sink
+                .truth
+                .iter()
+                .filter(|r| r.device == "bahrs" && r.kind == "sync_pulse_time")
+                .map(secs)
+                .collect();
+            assert!(pulses.iter().any(|&t| t < 3.0), "{pulses:?}");
+            assert!(pulses.iter().any(|&t| t >= 8.0), "{pulses:?}");
+            // Pulses at whole GPS seconds 3 .. 7 fall inside the outage.
+            pulses.iter().filter(|&&t| (3.0..8.0).contains(&t)).count()
+        };
+        assert_eq!(pulses_in_outage(false), 0);
+        assert_eq!(pulses_in_outage(true), 5);
+    }
 }

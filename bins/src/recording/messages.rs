@@ -10,6 +10,7 @@
 use schemars::JsonSchema;
 use serde::Serialize;
 use serde_json::Value;
+use vigil_bus::payload::integrity as integ;
 use vigil_bus::payload::read_text;
 use vigil_bus::{AlertPayload, IntegrityPayload};
 use vigil_fusion::attitude::record::{AttitudeRecord, PairRecord, UnitValues, VotedAxis};
@@ -351,6 +352,33 @@ pub struct Integrity {
     pub clock_sigma_s: Option<f64>,
     /// Devices.
     pub devices: Vec<IntegrityDevice>,
+    // --- issue 25 point 4 ---
+    /// BAHRS health (`HEALTH_*` of `vigil-bus`: 0 unavailable, 1 safe, 2 integrity risk, 3
+    /// undefined, 255 none yet) of pressure height, downward velocity, roll, pitch, heading.
+    pub bahrs_navigation_health: [u8; 5],
+    /// BAHRS health of specific force x/y/z and angular rate x/y/z.
+    pub bahrs_inertial_health: [u8; 6],
+    /// VN-200 InsStatus word (null when none was received).
+    pub vn200_ins_status: Option<u16>,
+    /// Time since the newest BAHRS sync pulse report, s (null when none came).
+    pub bahrs_pulse_age_s: Option<f64>,
+    /// The health cross-check per combination.
+    pub health_checks: Vec<HealthCheck>,
+}
+
+/// One combination of the health cross-check in an integrity report.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct HealthCheck {
+    /// Combination name (`pps_without_fix`, `fix_without_pps`, `tracking_without_fix`,
+    /// `gnss_lost_with_fix`).
+    pub combination: String,
+    /// `agree`, `disagree` or `not_compared`.
+    pub state: String,
+    /// Why not compared (`no_vn200_status`, `vn200_stale`, `bahrs_silent`, `never_pulsed`,
+    /// `no_clock`); null when compared.
+    pub reason: Option<String>,
+    /// How long the disagreement has lasted, s (null unless `disagree`).
+    pub disagree_s: Option<f64>,
 }
 
 impl Integrity {
@@ -376,6 +404,28 @@ impl Integrity {
                     checksum_failures: d.checksum_failures,
                     malformed: d.malformed,
                     reconnects: d.reconnects,
+                })
+                .collect(),
+            bahrs_navigation_health: p.bahrs_navigation_health,
+            bahrs_inertial_health: p.bahrs_inertial_health,
+            vn200_ins_status: (p.vn200_ins_mode != integ::VN200_STATUS_NONE)
+                .then_some(p.vn200_ins_status),
+            bahrs_pulse_age_s: fin(p.bahrs_pulse_age_s),
+            health_checks: p
+                .health_checks
+                .iter()
+                .enumerate()
+                .map(|(i, c)| HealthCheck {
+                    combination: integ::health_check_name(i).to_string(),
+                    state: match c.state {
+                        integ::HEALTH_AGREE => "agree",
+                        integ::HEALTH_DISAGREE => "disagree",
+                        _ => "not_compared",
+                    }
+                    .to_string(),
+                    reason: (c.state == integ::HEALTH_NOT_COMPARED)
+                        .then(|| integ::health_why_name(c.reason).to_string()),
+                    disagree_s: fin(c.disagree_s),
                 })
                 .collect(),
         }

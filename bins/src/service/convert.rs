@@ -30,6 +30,7 @@ use vigil_bus::payload::write_text;
 use vigil_drivers::DecodeStats;
 use vigil_fusion::attitude::coverage::{Coverage, CoverageRecord, NotComparedReason};
 use vigil_fusion::attitude::gates::{Gate, GateReason};
+use vigil_fusion::attitude::health::{HealthCheck, HealthVerdict, NotCompared};
 use vigil_fusion::attitude::isolation::{Isolation, PairVerdict, Unit};
 use vigil_fusion::attitude::record::{AttitudeRecord, AxisPair, PairRecord, UnitValues, VotedAxis};
 use vigil_fusion::ownship::{Ownship, OwnshipSolution, PositionSource};
@@ -590,6 +591,73 @@ pub fn integrity(
     }
     p.device_count = n as u32;
     p
+}
+
+// --- issue 25 point 4: the health cross-check ---
+/// Fills the integrity payload's health fields from the fusion's health cross-check at GPS time
+/// `now_ns` (`None`: no clock yet, so every combination is "not compared: no clock"): every BAHRS
+/// signal's health, the VN-200 status and the verdict per combination.
+pub fn health(p: &mut IntegrityPayload, check: &HealthCheck, now_ns: Option<i64>) {
+    if let Some(h) = check.navigation_health() {
+        p.bahrs_navigation_health = [
+            h.pressure_height(),
+            h.velocity_down(),
+            h.roll(),
+            h.pitch(),
+            h.heading(),
+        ]
+        .map(health_code);
+    }
+    if let Some(h) = check.inertial_health() {
+        // The attitude payload's `INERTIAL_*` order: specific force x/y/z, angular rate x/y/z.
+        p.bahrs_inertial_health = [0, 1, 2, 3, 4, 5].map(|i| {
+            health_code(if i < 3 {
+                h.specific_force(i)
+            } else {
+                h.angular_rate(i - 3)
+            })
+        });
+    }
+    let Some(now) = now_ns else {
+        return;
+    };
+    if let Some((status, age_s)) = check.vn200(now) {
+        p.vn200_ins_status = status.0;
+        p.vn200_ins_mode = (status.0 & 3) as u8;
+        p.vn200_gnss_fix = u8::from(status.gnss_fix());
+        p.vn200_status_age_s = age_s;
+    }
+    p.bahrs_pulse_age_s = check.pulse_age_s(now).unwrap_or(f64::NAN);
+    for (slot, v) in p.health_checks.iter_mut().zip(check.verdicts(now)) {
+        *slot = health_comparison(v, now);
+    }
+}
+
+fn health_comparison(v: HealthVerdict, now_ns: i64) -> integ::HealthComparison {
+    let (state, reason, disagree_s) = match v {
+        HealthVerdict::Agree => (integ::HEALTH_AGREE, integ::HEALTH_WHY_NONE, f64::NAN),
+        HealthVerdict::Disagree { since_ns } => (
+            integ::HEALTH_DISAGREE,
+            integ::HEALTH_WHY_NONE,
+            (now_ns - since_ns).max(0) as f64 / NS_PER_S,
+        ),
+        HealthVerdict::NotCompared(why) => (
+            integ::HEALTH_NOT_COMPARED,
+            match why {
+                NotCompared::NoVn200Status => integ::HEALTH_WHY_NO_VN200_STATUS,
+                NotCompared::Vn200Stale => integ::HEALTH_WHY_VN200_STALE,
+                NotCompared::BahrsSilent => integ::HEALTH_WHY_BAHRS_SILENT,
+                NotCompared::NeverPulsed => integ::HEALTH_WHY_NEVER_PULSED,
+            },
+            f64::NAN,
+        ),
+    };
+    integ::HealthComparison {
+        state,
+        reason,
+        disagree_s,
+        ..integ::HealthComparison::default()
+    }
 }
 
 #[cfg(test)]

@@ -504,3 +504,89 @@ fn clock_status_codes() {
     assert!(p.clock_offset_s.is_nan() && p.clock_sigma_s.is_nan());
     assert_eq!(p.leap_seconds_known, 0);
 }
+
+// --- issue 25 point 4 ---
+
+/// The integrity payload's health fields: each BAHRS signal's health in protocol order, the
+/// VN-200 status decoded by hand from the ICD's bit layout, and the verdicts with their codes.
+#[test]
+fn integrity_health_fields_from_the_health_check() {
+    use vigil_drivers::bahrs::InertialHealth;
+    use vigil_drivers::vn200::status::InsStatus;
+    use vigil_fusion::attitude::health::{HealthCheck, HealthParams};
+    const S: i64 = 1_000_000_000;
+    // Nothing known: every field says so.
+    let mut p = integrity(&[], &[], false, 0);
+    health(&mut p, &HealthCheck::new(HealthParams::default()), None);
+    assert_eq!(p.bahrs_navigation_health, [att::HEALTH_NONE; 5]);
+    assert_eq!(p.bahrs_inertial_health, [att::HEALTH_NONE; 6]);
+    assert_eq!(
+        (p.vn200_ins_mode, p.vn200_gnss_fix),
+        (integ::VN200_STATUS_NONE, integ::VN200_STATUS_NONE)
+    );
+    assert!(p.vn200_status_age_s.is_nan() && p.bahrs_pulse_age_s.is_nan());
+    for c in p.health_checks {
+        assert_eq!(
+            (c.state, c.reason),
+            (integ::HEALTH_NOT_COMPARED, integ::HEALTH_WHY_NO_CLOCK)
+        );
+    }
+    // Pressure height unavailable, velocity down integrity risk, the rest safe; angular rate z
+    // undefined. VN-200 0x0043: mode 3 (GnssLost), fix bit 2 clear, GnssErr bit 6 set.
+    let mut h = HealthCheck::new(HealthParams::default());
+    h.vn200_status(10 * S, InsStatus(0x0043));
+    h.bahrs_navigation(NavigationHealth::new(
+        Health::Unavailable,
+        Health::IntegrityRisk,
+        Health::Safe,
+        Health::Safe,
+        Health::Safe,
+    ));
+    h.bahrs_inertial(InertialHealth::new(
+        [Health::Safe; 3],
+        [Health::Safe, Health::Safe, Health::Undefined],
+    ));
+    h.bahrs_pulse();
+    let mut p = integrity(&[], &[], false, 0);
+    health(&mut p, &h, Some(10 * S + S / 2));
+    assert_eq!(
+        p.bahrs_navigation_health,
+        [
+            att::HEALTH_UNAVAILABLE,
+            att::HEALTH_INTEGRITY_RISK,
+            att::HEALTH_SAFE,
+            att::HEALTH_SAFE,
+            att::HEALTH_SAFE
+        ]
+    );
+    assert_eq!(
+        p.bahrs_inertial_health,
+        [1, 1, 1, 1, 1, att::HEALTH_UNDEFINED]
+    );
+    assert_eq!((p.vn200_ins_mode, p.vn200_gnss_fix), (3, 0));
+    assert_eq!(p.vn200_ins_status, 0x0043);
+    assert!((p.vn200_status_age_s - 0.5).abs() < 1e-9);
+    assert!((p.bahrs_pulse_age_s - 0.5).abs() < 1e-9);
+    // The pulse came with the loss itself (within one PPS period): agreement; the BAHRS did
+    // pulse, so "fix without pulses" is compared and agrees (no fix).
+    assert!(
+        p.health_checks
+            .iter()
+            .all(|c| c.state == integ::HEALTH_AGREE)
+    );
+    // The status 2 s old: not compared, stale.
+    health(&mut p, &h, Some(12 * S));
+    assert!(p.health_checks.iter().all(|c| {
+        (c.state, c.reason) == (integ::HEALTH_NOT_COMPARED, integ::HEALTH_WHY_VN200_STALE)
+    }));
+    // A pulse 2 s after the loss with no fix: disagreement, lasting 0.25 s at the report.
+    h.vn200_status(12 * S, InsStatus(0x0043));
+    h.bahrs_pulse();
+    health(&mut p, &h, Some(12 * S + S / 4));
+    let c = p.health_checks[integ::HEALTH_PPS_WITHOUT_FIX];
+    assert_eq!(
+        (c.state, c.reason),
+        (integ::HEALTH_DISAGREE, integ::HEALTH_WHY_NONE)
+    );
+    assert!((c.disagree_s - 0.25).abs() < 1e-9, "{c:?}");
+}

@@ -127,6 +127,23 @@ fn nominal_flight_is_covered_and_raises_no_alert_of_any_rule() {
         assert_eq!(p.check_coverage[..3], [att::COVERAGE_COMPARED; 3], "{p:?}");
         assert!(p.unit_compared_age_s.iter().all(|a| *a <= 0.5));
     }
+    // Issue 25 point 4: the health cross-check ran on every combination (agreement, not "not
+    // compared"), so its silence below means "checked and fine".
+    let reports: Vec<_> = out
+        .integrity
+        .iter()
+        .filter(|r| r.header.gps_time_ns - t_first > 5_000_000_000)
+        .collect();
+    assert!(reports.len() > 200, "{}", reports.len());
+    for r in reports {
+        for c in r.health_checks {
+            assert_eq!(
+                c.state,
+                vigil_bus::payload::integrity::HEALTH_AGREE,
+                "{r:?}"
+            );
+        }
+    }
     let mut per_rule: std::collections::BTreeMap<&str, Vec<String>> =
         Rule::ALL.iter().map(|r| (r.name(), Vec::new())).collect();
     for a in out.alerts.iter().filter(|a| a.state == STATE_RAISED) {

@@ -369,6 +369,8 @@ impl Service {
             .clock_disagreements()
             .iter()
             .fold(0, |bits, d| bits | 1 << convert::device_code_of(*d));
+        // Issue 25 point 4: every BAHRS signal's health and the health cross-check.
+        convert::health(&mut p, self.pipeline.health(), self.gps_time(t_host_ns));
         p
     }
 

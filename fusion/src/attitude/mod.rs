@@ -8,13 +8,15 @@
 //! table), [`samples`] (inputs), [`gates`] (validity, freshness, frozen), [`compare`] (both
 //! detectors per axis), [`vertical`] (vertical channel), [`vote`] (voted attitude), [`record`]
 //! (the emitted record), [`coverage`] (what was compared and why not) and [`checker`] (the
-//! stateful [`checker::AttitudeChecker`]).
+//! stateful [`checker::AttitudeChecker`]). [`health`]: the health cross-check of the BAHRS signal
+//! health and sync pulses against the VN-200 INS status (issue 25 point 4), with its rule table.
 
 pub mod angles;
 pub mod checker;
 pub mod compare;
 pub mod coverage;
 pub mod gates;
+pub mod health;
 pub mod inertial;
 pub mod isolation;
 pub mod params;

@@ -28,6 +28,7 @@
 //! | `vertical_*`               | m/s    | 0.01 .. 20     | see [`VerticalParams`] |
 //! | `inertial_*`               | m/s^2, rad/s | > 0      | see [`InertialParams`] |
 //! | `verdict_max_age_s`        | s      | 0.05 .. 10     | 0.5                |
+//! | `health.*`                 | s      | see [`HealthParams`] | 2.5, 1, 60   |
 //!
 //! Decisions:
 //! - The Watson string carries no uncertainty: its sigmas are configured (defaults from the class
@@ -37,6 +38,7 @@
 
 use serde::Serialize;
 
+use super::health::HealthParams;
 use super::persistence::PersistenceParams;
 use super::stats;
 
@@ -200,6 +202,9 @@ pub struct CheckParams {
     /// Watson period plus its transmission (about 0.16 s) or the staleness horizon (3 Watson
     /// periods, 0.25 s) behind the newest sample, so a nominal flow never reaches it.
     pub verdict_max_age_s: f64,
+    // --- issue 25 point 4 ---
+    /// Health cross-check (BAHRS health and sync pulses against the VN-200 INS status).
+    pub health: HealthParams,
 }
 
 impl Default for CheckParams {
@@ -238,6 +243,7 @@ impl Default for CheckParams {
             vertical: VerticalParams::default(),
             inertial: InertialParams::default(),
             verdict_max_age_s: 0.5,
+            health: HealthParams::default(),
         }
     }
 }
@@ -315,7 +321,7 @@ impl CheckParams {
                 3600.0,
             ),
         ];
-        for (name, value, min, max) in checks {
+        for (name, value, min, max) in checks.into_iter().chain(self.health.ranges()) {
             // `!(a <= b)` also rejects NaN.
             if !(value >= min && value <= max) {
                 return Err(ParamError {

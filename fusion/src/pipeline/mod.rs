@@ -33,6 +33,7 @@ use vigil_drivers::ttmrf::text::TextMessage;
 use vigil_drivers::vn200::Vn200Message;
 
 use crate::attitude::checker::AttitudeChecker;
+use crate::attitude::health::HealthCheck;
 use crate::attitude::isolation::Unit;
 use crate::attitude::params::{CheckParams, ParamError};
 use crate::attitude::record::AttitudeRecord;
@@ -169,6 +170,8 @@ pub struct Pipeline {
     /// The latest 0x01 on GPS time, for the inertial channel (issue 25 point 5).
     last_inertial_aligned: Option<BahrsInertial>,
     last_accuracy: Option<Accuracy>,
+    /// The health cross-check (issue 25 point 4).
+    health: HealthCheck,
     last_rmc: Option<(i64, Rmc)>,
     next_step_ns: Option<i64>,
     activity: Activity,
@@ -192,6 +195,7 @@ impl Pipeline {
             last_inertial: None,
             last_inertial_aligned: None,
             last_accuracy: None,
+            health: HealthCheck::new(cfg.check.health),
             last_rmc: None,
             next_step_ns: None,
             activity: Device::ALL.map(|d| (d, DeviceActivity::default())),
@@ -209,6 +213,12 @@ impl Pipeline {
         &self.activity
     }
 
+    /// The health cross-check (issue 25 point 4): its verdicts at a time, and the newest BAHRS
+    /// signal health and VN-200 status.
+    pub fn health(&self) -> &HealthCheck {
+        &self.health
+    }
+
     /// Traffic reports taken so far (all protocols).
     pub fn reports(&self) -> u64 {
         self.reports
@@ -223,6 +233,21 @@ impl Pipeline {
     pub fn handle(&mut self, s: &AlignedSample, out: &mut Vec<Fused>) {
         let act = &mut self.activity[device_slot(s.device)].1;
         act.samples += 1;
+        // The health cross-check's clock and BAHRS inputs (issue 25 point 4): a BAHRS that is
+        // not aligned still reports its health and its pulses.
+        if let Ok(t) = &s.aligned.time
+            && t.status != ClockStatus::Unlocked
+        {
+            self.health.observe_time(t.t_gps_ns);
+        }
+        if let Sample::Bahrs(m) = &s.aligned.message {
+            match m {
+                bahrs::Message::SyncPulseTime(_) => self.health.bahrs_pulse(),
+                bahrs::Message::Navigation(n) => self.health.bahrs_navigation(n.health),
+                bahrs::Message::Inertial(i) => self.health.bahrs_inertial(i.health),
+                _ => self.health.bahrs_message(),
+            }
+        }
         let time = match s.aligned.time {
             Ok(t) => t,
             Err(_) => {
@@ -349,6 +374,7 @@ impl Pipeline {
                 if let Vn200Message::Binary(out) = m.as_ref()
                     && let Some(v) = Vn200Sample::from_output(time, out)
                 {
+                    self.health.vn200_status(t, v.ins_status);
                     self.ownship.update_vn200(&v);
                     self.checker.push_vn200(v);
                     attitude = true;

@@ -8,7 +8,8 @@
 //!   counter at 0, and sends the versions again.
 //! - Synchronisation: the sync input is wired to the VN-200 PPS (on every whole GPS second when a
 //!   VN-200 with `pps = true` is present, has a 3D fix (VN-200 ICD: SyncOut GpsPps only with a
-//!   valid fix, so no pulses in a VN-200 GNSS outage) and no PPS loss is scheduled); 0x06 carries
+//!   valid fix, so no pulses in a VN-200 GNSS outage, unless a `bahrs_sync_miswired` fault says
+//!   the input follows another pulse) and no PPS loss is scheduled); 0x06 carries
 //!   the MCU time of the pulse (truncated to the us) and is ready `latency_us` after it. The
 //!   `sync` options model what the document leaves open (issue 18): the report sent late or
 //!   repeated, the wrong edge captured, a software capture's latency.
@@ -280,7 +281,10 @@ impl BahrsModel {
     /// A PPS second at `t`: captures it (unless lost) and queues its 0x06 report.
     fn pulse(&mut self, t: i64, world: &World, faults: &FaultSchedule) {
         let t_s = world.elapsed_s(t);
-        if t < self.outputs_from_gps_ns || faults.pps_lost(t_s) || faults.gnss_lost("vn200", t_s) {
+        // Without a VN-200 fix no GpsPps pulse comes, unless the input is miswired to a pulse
+        // that does not follow that fix (issue 25 point 4's fault).
+        let no_fix = faults.gnss_lost("vn200", t_s) && !faults.bahrs_sync_miswired(t_s);
+        if t < self.outputs_from_gps_ns || faults.pps_lost(t_s) || no_fix {
             return;
         }
         let sync = &self.cfg.sync;

@@ -182,6 +182,14 @@ impl FaultSchedule {
             .any(|f| matches!(f, Fault::PpsLoss { from_s, to_s } if active(t_s, *from_s, *to_s)))
     }
 
+    /// Whether the BAHRS sync input is miswired at `t_s` (its pulses do not follow the VN-200's
+    /// fix).
+    pub fn bahrs_sync_miswired(&self, t_s: f64) -> bool {
+        self.faults.iter().any(|f| {
+            matches!(f, Fault::BahrsSyncMiswired { from_s, to_s } if active(t_s, *from_s, *to_s))
+        })
+    }
+
     /// Whether `device`'s GNSS receiver has no fix at `t_s`.
     pub fn gnss_lost(&self, device: &str, t_s: f64) -> bool {
         self.faults.iter().any(|f| {

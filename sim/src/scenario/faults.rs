@@ -195,6 +195,17 @@ pub enum Fault {
         /// Probability per byte.
         rate: f64,
     },
+    // --- issue 25 point 4: a health disagreement ---
+    /// The BAHRS sync input is wired to a pulse that does not follow the VN-200's GNSS fix (e.g.
+    /// another receiver's PPS, or a VN-200 SyncOut not in GpsPps mode): pulses keep reaching
+    /// the BAHRS every GPS second in this window even while the VN-200 has no fix (the ICD's
+    /// SyncOut GpsPps would stop then, Table 3.22). A scheduled `pps_loss` still stops them.
+    BahrsSyncMiswired {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+    },
     // --- issue 25 point 7: a fault that makes `ins_not_tracking` reachable ---
     /// The VN-200's INS filter restarts at `at_s` (e.g. a `$VNRRS`-style filter reset, or the
     /// filter diverging and re-initialising). Modelled from the ICD (24-20006-R1, firmware 2.1
@@ -244,6 +255,7 @@ impl Fault {
             | Fault::BahrsGyroBias { from_s, to_s, .. }
             | Fault::MagneticDisturbance { from_s, to_s, .. }
             | Fault::PpsLoss { from_s, to_s }
+            | Fault::BahrsSyncMiswired { from_s, to_s }
             | Fault::GnssOutage { from_s, to_s, .. }
             | Fault::LinkLoss { from_s, to_s, .. }
             | Fault::BitErrors { from_s, to_s, .. }
