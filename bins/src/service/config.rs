@@ -520,7 +520,10 @@ cleanup_period_s = 1.0
 # ttmrf-text, ttmrf-hex, ttmrf-mavlink, ttmrf-gdl90 or ttmrf-asterix ("" infers it from the
 # device names bahrs, watson, vn200, ttmrf); read_interval_ms: read the port every this many ms
 # instead of as its bytes arrive, saving wake-ups (default 10 for bahrs-2.0 and ttmrf-*, 0
-# otherwise; not for vn200-icd; the wait enters the host-timed samples' sigma).
+# otherwise; not for vn200-icd; the wait enters the host-timed samples' sigma);
+# latency_timer_ms: the port's USB adapter latency timer (FTDI: 1..255, 16 by default on Linux;
+# 0: none, a native UART or USB CDC device; absent: read from the FTDI driver's sysfs file when
+# the port is one); it enters the host-timed samples' sigma.
 [[ports]]
 device = "bahrs"
 path = "/dev/ttyUSB0"

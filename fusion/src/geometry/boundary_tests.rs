@@ -211,3 +211,25 @@ fn warning_and_corrective_times_vertical() {
     let from_below = rel(500.0, 0.0, 0.0, 0.0, -(ZTHR_DWC + 10.0 * (25.0 + dt)), 10.0);
     assert_eq!(level(&from_below).0, 2);
 }
+
+/// Modified tau is defined only while closing (s.v < 0) and outside DMOD (r > DMOD): `None`
+/// for a perpendicular pass (s.v = 0, not closing), exactly at DMOD and inside it; outside and
+/// closing it is (DMOD^2 - r^2) / (s.v). Found by mutation testing (issue 23): these bounds
+/// were not pinned.
+#[test]
+fn tau_mod_is_undefined_unless_closing_from_outside_dmod() {
+    let dmod = 1000.0;
+    // Perpendicular: s.v = 0.
+    assert_eq!(rel(2000.0, 0.0, 0.0, 10.0, 0.0, 0.0).tau_mod_s(dmod), None);
+    // Exactly at DMOD and inside it, closing.
+    assert_eq!(rel(1000.0, 0.0, -10.0, 0.0, 0.0, 0.0).tau_mod_s(dmod), None);
+    assert_eq!(rel(500.0, 0.0, -10.0, 0.0, 0.0, 0.0).tau_mod_s(dmod), None);
+    assert_eq!(rel(30.0, 0.0, -10.0, 0.0, 0.0, 0.0).tau_mod_s(dmod), None);
+    // Outside, closing at 10 m/s from 1500 m: (1500^2 - 1000^2) / (1500 x 10) = 83.33 s.
+    let tau = rel(1500.0, 0.0, -10.0, 0.0, 0.0, 0.0)
+        .tau_mod_s(dmod)
+        .unwrap();
+    assert!((tau - 1_250_000.0 / 15_000.0).abs() < 1e-9, "{tau}");
+    // Diverging: undefined.
+    assert_eq!(rel(1500.0, 0.0, 10.0, 0.0, 0.0, 0.0).tau_mod_s(dmod), None);
+}
