@@ -225,6 +225,18 @@ impl AlignedReplay {
         self.ports.len() - 1
     }
 
+    /// The aligner's device kind of port `device` with wire `protocol` (the protocol's prefix,
+    /// or, without a protocol, the device name), if it is one of the four.
+    fn device_kind(device: &str, protocol: &str) -> Option<Device> {
+        let named =
+            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
+        ["bahrs", "watson", "vn200", "ttmrf"]
+            .into_iter()
+            .zip([Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf])
+            .find(|(k, _)| named(k))
+            .map(|(_, d)| d)
+    }
+
     /// Port `device` (wire `protocol`) is read every `interval_ns` (0: as its bytes arrive): the
     /// aligner adds the wait to its host-timed samples ([`Aligner::set_read_interval`]). The
     /// VN-200's is not modelled (`vigil run` reads it on arrival). Returns the device kind the
@@ -235,17 +247,7 @@ impl AlignedReplay {
         protocol: &str,
         interval_ns: u64,
     ) -> Option<Device> {
-        let named =
-            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
-        let kind = if named("bahrs") {
-            Device::Bahrs
-        } else if named("watson") {
-            Device::Watson
-        } else if named("ttmrf") {
-            Device::Ttmrf
-        } else {
-            return None;
-        };
+        let kind = Self::device_kind(device, protocol).filter(|k| *k != Device::Vn200)?;
         self.aligner.set_read_interval(kind, interval_ns);
         Some(kind)
     }
@@ -259,13 +261,7 @@ impl AlignedReplay {
         protocol: &str,
         timer_ns: u64,
     ) -> Option<Device> {
-        let named =
-            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
-        let kind = ["bahrs", "watson", "vn200", "ttmrf"]
-            .into_iter()
-            .zip([Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf])
-            .find(|(k, _)| named(k))?
-            .1;
+        let kind = Self::device_kind(device, protocol)?;
         self.aligner.set_latency_timer(kind, timer_ns);
         Some(kind)
     }
@@ -274,13 +270,7 @@ impl AlignedReplay {
     /// point 2): the aligner computes that port's transmission times with it. 0 keeps the
     /// built-in rate. Returns the device kind it was applied to, if any.
     pub fn set_baud(&mut self, device: &str, protocol: &str, baud: u32) -> Option<Device> {
-        let named =
-            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
-        let kind = ["bahrs", "watson", "vn200", "ttmrf"]
-            .into_iter()
-            .zip([Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf])
-            .find(|(k, _)| named(k))?
-            .1;
+        let kind = Self::device_kind(device, protocol)?;
         self.aligner.set_baud(kind, baud);
         Some(kind)
     }

@@ -287,15 +287,15 @@ fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
         let path = std::path::absolute(path).context("the --record path")?;
         text += &record_section(&path, args.record_channels);
     }
-    if let Some(addr) = &args.mavlink_out {
-        addr.parse::<std::net::SocketAddr>()
-            .with_context(|| format!("--mavlink-out {addr:?}: expected IP:PORT"))?;
-        text += &format!("\n[outputs.mavlink]\naddress = \"{addr}\"\n");
-    }
-    if let Some(addr) = &args.gdl90_out {
-        addr.parse::<std::net::SocketAddr>()
-            .with_context(|| format!("--gdl90-out {addr:?}: expected IP:PORT"))?;
-        text += &format!("\n[outputs.gdl90]\naddress = \"{addr}\"\n");
+    for (flag, section, addr) in [
+        ("--mavlink-out", "mavlink", &args.mavlink_out),
+        ("--gdl90-out", "gdl90", &args.gdl90_out),
+    ] {
+        if let Some(addr) = addr {
+            addr.parse::<std::net::SocketAddr>()
+                .with_context(|| format!("{flag} {addr:?}: expected IP:PORT"))?;
+            text += &format!("\n[outputs.{section}]\naddress = \"{addr}\"\n");
+        }
     }
     std::fs::write(&config, text)?;
     let mut run = spawn(

@@ -23,8 +23,6 @@
 //! - Heartbeat: GPS position valid when an ownship position is known; UTC OK while the leap
 //!   second table vouches for the date; timestamp = UTC seconds since midnight.
 
-use std::net::{SocketAddr, UdpSocket};
-
 use vigil_drivers::ttmrf::gdl90::geo_altitude::{GeoAltitude, Vfom};
 use vigil_drivers::ttmrf::gdl90::heartbeat::Heartbeat;
 use vigil_drivers::ttmrf::gdl90::report::{
@@ -39,6 +37,7 @@ use vigil_fusion::traffic::{AltitudeKind, Target};
 
 use super::Outputs;
 use super::config::Gdl90Section;
+use super::udp_out::UdpSink;
 
 const FT_PER_M: f64 = 1.0 / 0.3048;
 const KT_PER_MPS: f64 = 3600.0 / 1852.0;
@@ -231,35 +230,16 @@ pub fn ownship_report(o: &Ownship) -> TargetReport {
 /// The GDL90 output on UDP: an [`Outputs`] sink that takes only traffic pictures.
 pub struct Gdl90Udp {
     encoder: Gdl90Traffic,
-    socket: UdpSocket,
-    to: SocketAddr,
-    /// Datagrams the socket refused (logged once; never blocks the service).
-    pub send_failures: u64,
+    sink: UdpSink,
 }
 
 impl Gdl90Udp {
-    /// Opens a non-blocking UDP socket towards the section's address (broadcast allowed: EFBs
-    /// usually listen on the broadcast address, port 4000).
+    /// Opens the output towards the section's address (EFBs usually listen on the broadcast
+    /// address, port 4000).
     pub fn open(section: &Gdl90Section) -> std::io::Result<Self> {
-        let to: SocketAddr = section
-            .address
-            .parse()
-            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))?;
-        let bind: SocketAddr = if to.is_ipv4() {
-            "0.0.0.0:0".parse().expect("literal")
-        } else {
-            "[::]:0".parse().expect("literal")
-        };
-        let socket = UdpSocket::bind(bind)?;
-        socket.set_nonblocking(true)?;
-        if to.is_ipv4() {
-            socket.set_broadcast(true)?;
-        }
         Ok(Self {
             encoder: Gdl90Traffic::default(),
-            socket,
-            to,
-            send_failures: 0,
+            sink: UdpSink::open("GDL90", &section.address)?,
         })
     }
 }
@@ -268,17 +248,7 @@ impl Outputs for Gdl90Udp {
     fn publish<T: vigil_bus::Payload>(&mut self, _: &T) {}
 
     fn traffic_picture(&mut self, pic: &TrafficPicture, own: Option<&Ownship>) {
-        for frame in self.encoder.picture(pic, own) {
-            if let Err(e) = self.socket.send_to(&frame, self.to) {
-                self.send_failures += 1;
-                if self.send_failures == 1 {
-                    tracing::warn!(
-                        "GDL90 output to {}: {e} (further failures counted)",
-                        self.to
-                    );
-                }
-            }
-        }
+        self.sink.send_all(&self.encoder.picture(pic, own));
     }
 }
 

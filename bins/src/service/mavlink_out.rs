@@ -20,8 +20,6 @@
 //! Unknown stays unknown: a field without its validity flag carries 0.
 
 use std::collections::HashMap;
-use std::net::{SocketAddr, UdpSocket};
-
 use vigil_drivers::ttmrf::mavlink::adsb_vehicle::{
     FLAG_BARO_VALID, FLAG_VALID_ALTITUDE, FLAG_VALID_CALLSIGN, FLAG_VALID_COORDS,
     FLAG_VALID_HEADING, FLAG_VALID_VELOCITY, FLAG_VERTICAL_VELOCITY_VALID,
@@ -34,6 +32,7 @@ use vigil_fusion::traffic::{AltitudeKind, Target};
 
 use super::Outputs;
 use super::config::MavlinkSection;
+use super::udp_out::UdpSink;
 
 /// Shortest interval between two messages about one target, and between heartbeats, ns.
 const MIN_INTERVAL_NS: i64 = 1_000_000_000;
@@ -169,34 +168,15 @@ pub fn vehicle(t: &Target) -> AdsbVehicle {
 /// The MAVLink output on UDP: an [`Outputs`] sink that takes only traffic pictures.
 pub struct MavlinkUdp {
     encoder: MavlinkTraffic,
-    socket: UdpSocket,
-    to: SocketAddr,
-    /// Datagrams the socket refused (counted and logged once; never blocks the service).
-    pub send_failures: u64,
+    sink: UdpSink,
 }
 
 impl MavlinkUdp {
-    /// Opens a non-blocking UDP socket towards the section's address.
+    /// Opens the output towards the section's address.
     pub fn open(section: &MavlinkSection) -> std::io::Result<Self> {
-        let to: SocketAddr = section
-            .address
-            .parse()
-            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))?;
-        let bind: SocketAddr = if to.is_ipv4() {
-            "0.0.0.0:0".parse().expect("literal")
-        } else {
-            "[::]:0".parse().expect("literal")
-        };
-        let socket = UdpSocket::bind(bind)?;
-        socket.set_nonblocking(true)?;
-        if to.ip().is_multicast() || to.ip() == std::net::Ipv4Addr::BROADCAST {
-            socket.set_broadcast(true)?;
-        }
         Ok(Self {
             encoder: MavlinkTraffic::new(section.system_id, section.component_id),
-            socket,
-            to,
-            send_failures: 0,
+            sink: UdpSink::open("MAVLink", &section.address)?,
         })
     }
 }
@@ -209,17 +189,7 @@ impl Outputs for MavlinkUdp {
         pic: &TrafficPicture,
         _own: Option<&vigil_fusion::ownship::Ownship>,
     ) {
-        for frame in self.encoder.picture(pic) {
-            if let Err(e) = self.socket.send_to(&frame, self.to) {
-                self.send_failures += 1;
-                if self.send_failures == 1 {
-                    tracing::warn!(
-                        "MAVLink output to {}: {e} (further failures counted)",
-                        self.to
-                    );
-                }
-            }
-        }
+        self.sink.send_all(&self.encoder.picture(pic));
     }
 }
 

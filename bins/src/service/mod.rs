@@ -21,6 +21,7 @@ pub mod mavlink_out;
 pub mod reader;
 pub mod realtime;
 pub mod setup;
+pub mod udp_out;
 
 use anyhow::{Result, anyhow};
 use vigil_bus::payload::integrity as integ;
