@@ -235,6 +235,7 @@ impl Aligner {
     /// The host clock model to map host time `h` with: the VN-200's while it is locked; else
     /// whichever of it and the TT-Multi-RF's gives the smaller sigma (a coasting VN-200 model
     /// is often still the better one).
+    #[inline]
     fn pick<'a>(vn: &'a HostClock, tt: &'a HostClock, h: i64) -> &'a HostClock {
         if matches!(vn.status(h), ClockStatus::Locked | ClockStatus::Locking) {
             return vn;
@@ -308,6 +309,8 @@ impl Aligner {
         self.next_index[device.slot()] += 1;
         self.last_host_ns = self.last_host_ns.max(rx.host_ns);
         let mut out = Vec::new();
+        // The BAHRS's expiry below, done already with the same host clock (see the branch).
+        let mut bahrs_expired = false;
         match sample {
             Sample::Bahrs(m) => {
                 if let Some(t) = bahrs_ticks(&m) {
@@ -318,6 +321,14 @@ impl Aligner {
                     .bahrs
                     .handle((index, m), rx.host_ns, host, &self.vn_pps);
                 out.extend(done.into_iter().map(bahrs_out));
+                // A BAHRS sample changes no host clock, and in order (the usual case) it is the
+                // newest host time: the expiry after the match would pick the same clock again
+                // (choosing it was 3 % of this function's instructions).
+                if rx.host_ns == self.last_host_ns {
+                    let now = self.last_host_ns;
+                    out.extend(self.bahrs.expire(now, host).into_iter().map(bahrs_out));
+                    bahrs_expired = true;
+                }
             }
             Sample::Vn200(m) => {
                 let time = match &*m {
@@ -403,8 +414,10 @@ impl Aligner {
             }
         }
         let now = self.last_host_ns;
-        let host = Self::pick(&self.host, &self.tt_host, now);
-        out.extend(self.bahrs.expire(now, host).into_iter().map(bahrs_out));
+        if !bahrs_expired {
+            let host = Self::pick(&self.host, &self.tt_host, now);
+            out.extend(self.bahrs.expire(now, host).into_iter().map(bahrs_out));
+        }
         self.expire_held(now, &mut out);
         out
     }

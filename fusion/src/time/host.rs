@@ -246,6 +246,7 @@ impl HostClock {
     }
 
     /// State of the model at host time `now_ns`.
+    #[inline]
     pub fn status(&self, now_ns: i64) -> ClockStatus {
         let Some(last) = self.last_host_ns else {
             return ClockStatus::Unlocked;

@@ -53,24 +53,24 @@ impl<T> SeqMatcher<T> {
 
     /// Offers a data message. Returns it paired at once if its time message is already waiting.
     /// If the hold is full, the oldest waiting data message is returned unmatched to make room
-    /// (never dropped).
-    pub fn push_data(&mut self, seq: u8, host_ns: i64, data: T) -> Vec<Paired<T>> {
-        let mut out = Vec::new();
+    /// (never dropped). At most one message comes back either way (an `Option`, so the common
+    /// case allocates nothing).
+    pub fn push_data(&mut self, seq: u8, host_ns: i64, data: T) -> Option<Paired<T>> {
         if let Some(i) = self.times.iter().position(|t| t.0 == seq) {
             let (_, _, ticks) = self.times.remove(i).unwrap_or((seq, host_ns, 0));
-            out.push(Paired {
+            return Some(Paired {
                 data,
                 seq,
                 host_ns,
                 device_ticks: Some(ticks),
             });
-            return out;
         }
+        let mut out = None;
         if self.data.len() == self.capacity
             && let Some((s, h, d)) = self.data.pop_front()
         {
             self.unmatched_data += 1;
-            out.push(Paired {
+            out = Some(Paired {
                 data: d,
                 seq: s,
                 host_ns: h,
@@ -165,7 +165,7 @@ mod tests {
     #[test]
     fn time_after_data_pairs() {
         let mut m = SeqMatcher::new(500 * MS, 64);
-        assert!(m.push_data(7, 0, "a").is_empty());
+        assert!(m.push_data(7, 0, "a").is_none());
         let p = m.push_time(7, MS, 123).unwrap();
         assert_eq!((p.data, p.seq, p.device_ticks), ("a", 7, Some(123)));
         assert_eq!(m.waiting(), 0);
@@ -188,12 +188,12 @@ mod tests {
         let out = m.push_data(9, MS, "x");
         assert_eq!(
             out,
-            vec![Paired {
+            Some(Paired {
                 data: "x",
                 seq: 9,
                 host_ns: MS,
                 device_ticks: Some(99)
-            }]
+            })
         );
     }
 
