@@ -361,3 +361,125 @@ fn quadratic_le_zero(a: f64, b: f64, c: f64) -> Option<Interval> {
     let (r1, r2) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
     Some((r1.min(r2), r1.max(r2)))
 }
+
+/// The closed-form helpers against hand-solved cases (issue 23: mutation testing found their
+/// degenerate branches untested).
+#[cfg(test)]
+mod helper_tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_le_zero_by_hand() {
+        // (t - 1)(t - 3) = t^2 - 4t + 3 <= 0 on [1, 3]; 2t^2 - 2 <= 0 on [-1, 1].
+        assert_eq!(quadratic_le_zero(1.0, -4.0, 3.0), Some((1.0, 3.0)));
+        assert_eq!(quadratic_le_zero(2.0, 0.0, -2.0), Some((-1.0, 1.0)));
+        // (t - 1)^2 <= 0 only at t = 1 (a tangent pass exactly at the threshold).
+        assert_eq!(quadratic_le_zero(1.0, -2.0, 1.0), Some((1.0, 1.0)));
+        // t^2 + 1 <= 0 never.
+        assert_eq!(quadratic_le_zero(1.0, 0.0, 1.0), None);
+        // Linear: 2t - 4 <= 0 for t <= 2; -2t + 4 <= 0 for t >= 2; constant c <= 0 always or never.
+        assert_eq!(
+            quadratic_le_zero(0.0, 2.0, -4.0),
+            Some((f64::NEG_INFINITY, 2.0))
+        );
+        assert_eq!(
+            quadratic_le_zero(0.0, -2.0, 4.0),
+            Some((2.0, f64::INFINITY))
+        );
+        assert_eq!(
+            quadratic_le_zero(0.0, 0.0, -1.0),
+            Some((f64::NEG_INFINITY, f64::INFINITY))
+        );
+        assert_eq!(quadratic_le_zero(0.0, 0.0, 1.0), None);
+    }
+
+    #[test]
+    fn half_lines_by_hand() {
+        // 2t <= 6: t <= 3; -2t <= 6: t >= -3; 0 <= c: always, 0 <= -1: never.
+        assert_eq!(half_line(2.0, 6.0), Some((f64::NEG_INFINITY, 3.0)));
+        assert_eq!(half_line(-2.0, 6.0), Some((-3.0, f64::INFINITY)));
+        assert_eq!(
+            half_line(0.0, 1.0),
+            Some((f64::NEG_INFINITY, f64::INFINITY))
+        );
+        assert_eq!(half_line(0.0, -1.0), None);
+    }
+
+    /// The unknown-altitude band (issue 24): separation 300 +- 50 m, closing at 10 +- 0 m/s,
+    /// against ZTHR 100 m: the band [250 - 10t, 350 - 10t] meets [-100, 100] from t = 15 s
+    /// (250 - 10t <= 100) to t = 45 s (350 - 10t >= -100). With a rate spread of 5 m/s the
+    /// band is [250 - 15t, 350 - 5t]: from t = 10 s to t = 90 s.
+    #[test]
+    fn the_vertical_band_by_hand() {
+        let close = |a: Option<Interval>, b: (f64, f64)| {
+            let a = a.unwrap();
+            assert!(
+                (a.0 - b.0).abs() < 1e-9 && (a.1 - b.1).abs() < 1e-9,
+                "{a:?} vs {b:?}"
+            );
+        };
+        close(within((300.0, 50.0), (-10.0, 0.0), 100.0), (15.0, 45.0));
+        close(within((300.0, 50.0), (-10.0, 5.0), 100.0), (10.0, 90.0));
+        // Known values: |300 - 10t| <= 100 from 20 s to 40 s.
+        close(within((300.0, 0.0), (-10.0, 0.0), 100.0), (20.0, 40.0));
+        // Diverging with a band already beyond ZTHR: never.
+        assert_eq!(within((300.0, 50.0), (10.0, 0.0), 100.0), None);
+    }
+
+    /// The vertical test of the volume now with a band: held when some separation in dz +-
+    /// spread is within ZTHR (exactly at the edge included).
+    #[test]
+    fn violates_with_a_band() {
+        let th = Thresholds {
+            dthr_m: 1000.0,
+            zthr_m: 100.0,
+            tthr_s: 35.0,
+        };
+        let r = |dz: f64, spread: f64| Relative {
+            s: Vector2::new(10.0, 0.0),
+            v: Vector2::zeros(),
+            dz_m: dz,
+            dz_spread_m: spread,
+            vz_mps: 0.0,
+            vz_spread_mps: 0.0,
+        };
+        assert!(r(150.0, 50.0).violates(&th), "150 - 50 = 100: at the edge");
+        assert!(!r(150.0, 49.0).violates(&th));
+        assert!(r(-150.0, 60.0).violates(&th));
+        assert!(!r(-150.0, 0.0).violates(&th));
+    }
+
+    #[test]
+    fn time_to_violation_and_range_rate_by_hand() {
+        // Head-on from 5000 m at 100 m/s, co-altitude: the tau clause is met first, when
+        // tau_mod = TTHR at r* (3884.61 m): entered after (5000 - r*) / 100 = 11.154 s.
+        let s = Relative {
+            s: Vector2::new(5000.0, 0.0),
+            v: Vector2::new(-100.0, 0.0),
+            dz_m: 0.0,
+            dz_spread_m: 0.0,
+            vz_mps: 0.0,
+            vz_spread_mps: 0.0,
+        };
+        let d = 0.66 * 1852.0;
+        let r_star = (3500.0 + (3500.0f64 * 3500.0 + 4.0 * d * d).sqrt()) / 2.0;
+        let t = s.time_to_violation_s(&Thresholds::DWC, 180.0).unwrap();
+        assert!((t - (5000.0 - r_star) / 100.0).abs() < 1e-6, "{t}");
+        assert_eq!(s.time_to_violation_s(&Thresholds::DWC, 5.0), None);
+        // On top of the ownship (r = 0), moving apart at 5 m/s: range rate -|v| by convention.
+        let on_top = Relative {
+            s: Vector2::zeros(),
+            v: Vector2::new(3.0, 4.0),
+            ..s
+        };
+        assert_eq!(on_top.geometry().range_rate_mps, Some(-5.0));
+        // Elsewhere s.v / r: 3 m/s closing along the line of sight.
+        let g = Relative {
+            s: Vector2::new(0.0, 100.0),
+            v: Vector2::new(4.0, -3.0),
+            ..s
+        }
+        .geometry();
+        assert_eq!(g.range_rate_mps, Some(-3.0));
+    }
+}
