@@ -17,7 +17,7 @@ fn a_demo_sends_heartbeats_ownship_and_the_head_on_intruder() {
         .unwrap();
     let port = socket.local_addr().unwrap().port();
     let mut demo = Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args(["demo", "--duration", "10", "--seed", "1"])
+        .args(["demo", "--duration", "15", "--seed", "1"])
         .args(["--gdl90-out", &format!("127.0.0.1:{port}")])
         .stdout(Stdio::null())
         .spawn()
@@ -54,8 +54,9 @@ fn a_demo_sends_heartbeats_ownship_and_the_head_on_intruder() {
         }
     }
     assert_eq!(dec.stats().checksum_failures, 0);
-    // About one second each of the 10 s, less the start (clock lock, first picture).
-    assert!((5..=12).contains(&heartbeats), "{heartbeats} heartbeats");
+    // About one a second of the 15 s, less the start (clock lock, first picture); a loaded CI
+    // machine may start later, hence the margin.
+    assert!((5..=17).contains(&heartbeats), "{heartbeats} heartbeats");
     assert!(ownship >= 5, "{ownship} ownship reports");
     assert!(
         headon >= 5 && headon <= heartbeats,
