@@ -375,6 +375,8 @@ mod helper_tests {
         assert_eq!(quadratic_le_zero(2.0, 0.0, -2.0), Some((-1.0, 1.0)));
         // (t - 1)^2 <= 0 only at t = 1 (a tangent pass exactly at the threshold).
         assert_eq!(quadratic_le_zero(1.0, -2.0, 1.0), Some((1.0, 1.0)));
+        // t^2 - 2t <= 0 on [0, 2]: a root at 0, where the stable form's q must not vanish.
+        assert_eq!(quadratic_le_zero(1.0, -2.0, 0.0), Some((0.0, 2.0)));
         // t^2 + 1 <= 0 never.
         assert_eq!(quadratic_le_zero(1.0, 0.0, 1.0), None);
         // Linear: 2t - 4 <= 0 for t <= 2; -2t + 4 <= 0 for t >= 2; constant c <= 0 always or never.
