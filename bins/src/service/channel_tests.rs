@@ -244,3 +244,115 @@ fn builtin_bahrs_channel_scenarios_raise_their_alerts() {
         assert!(first.0 > 20.0 && first.0 < 28.0, "{name}: {}", first.0);
     }
 }
+
+/// The reasons of the active `vertical_miscompare` alerts in every integrity payload (the
+/// active set, whose reason follows the condition while the alert is raised).
+fn active_vertical_reasons(out: &Collected) -> Vec<String> {
+    out.integrity
+        .iter()
+        .flat_map(|p| p.active_alerts[..p.active_alert_count as usize].iter())
+        .filter(|a| Rule::of_alert(a.alert_id) == Some(Rule::VerticalMiscompare))
+        .map(|a| vigil_bus::payload::read_text(&a.reason).to_string())
+        .collect()
+}
+
+/// Issue 25 point 6, the TT-Multi-RF GNSS altitude as the third opinion. Pressure port blocked
+/// from 10 s to 40 s of the nominal flight (climbing 2 m/s): the third opinion (20 s window,
+/// TT altitude 1-sigma 4 m in the simulator) isolates the BAHRS once the BAHRS-TT rate
+/// difference, growing 0.1 m/s each second, passes 4.42 x 0.29 = 1.26 m/s (about 13 s, then two
+/// epochs): the payloads say BAHRS, never the VN-200, and the active alert's reason says
+/// "BAHRS isolated". Before the fault nothing is isolated.
+#[test]
+fn blocked_pressure_port_is_isolated_to_the_bahrs_by_the_tt_gnss_altitude() {
+    let mut sc = builtin("nominal").unwrap();
+    sc.faults.push(Fault::PressurePortBlocked {
+        from_s: 10.0,
+        to_s: Some(40.0),
+    });
+    let out = run(&sc, 50);
+    let t0 = out.attitude[0].header.gps_time_ns;
+    let secs = |p: &att::AttitudePayload| (p.header.gps_time_ns - t0) as f64 / 1e9;
+    let first = out
+        .attitude
+        .iter()
+        .find(|p| p.vertical_isolated_unit != att::UNIT_NONE)
+        .expect("isolated");
+    eprintln!(
+        "third opinion isolates unit {} at {:.2} s",
+        first.vertical_isolated_unit,
+        secs(first)
+    );
+    assert_eq!(first.vertical_isolated_unit, att::UNIT_BAHRS);
+    assert!(secs(first) > 20.0 && secs(first) < 30.0, "{}", secs(first));
+    for p in &out.attitude {
+        assert_ne!(p.vertical_isolated_unit, att::UNIT_VN200, "{}", secs(p));
+        if secs(p) < 10.0 {
+            assert_eq!(p.vertical_isolated_unit, att::UNIT_NONE);
+        }
+        // Compared with the TT GNSS after the first window (the TT stream is present).
+        if secs(p) > 25.0 {
+            assert_eq!(
+                p.vertical_tt_coverage,
+                att::COVERAGE_COMPARED,
+                "{}",
+                secs(p)
+            );
+            assert!(
+                (p.vertical_tt_rate_mps - 2.0).abs() < 1.5,
+                "{}",
+                p.vertical_tt_rate_mps
+            );
+        }
+    }
+    let reasons = active_vertical_reasons(&out);
+    assert!(
+        reasons
+            .iter()
+            .any(|r| r.contains("BAHRS isolated (TT GNSS agrees with VN-200)")),
+        "{reasons:?}"
+    );
+    assert!(reasons.iter().all(|r| !r.contains("VN-200 isolated")));
+}
+
+/// Without the TT-Multi-RF's GNSS section the third opinion is "not compared, absent" on every
+/// payload, nothing is isolated by it, and the alert keeps the premise-based attribution with
+/// the reason stated.
+#[test]
+fn without_tt_gnss_the_vertical_alert_keeps_the_premise_and_says_why() {
+    let mut sc = builtin("nominal").unwrap();
+    sc.devices.ttmrf.as_mut().unwrap().gnss = false;
+    sc.faults.push(Fault::PressurePortBlocked {
+        from_s: 10.0,
+        to_s: Some(25.0),
+    });
+    let out = run(&sc, 30);
+    // Before the first cross-check the prompt output says "no check"; from then on "absent".
+    let first = out
+        .attitude
+        .iter()
+        .position(|p| p.vertical_tt_coverage == att::COVERAGE_ABSENT)
+        .expect("absent");
+    assert!(
+        out.attitude[..first]
+            .iter()
+            .all(|p| p.vertical_tt_coverage == att::COVERAGE_NO_CHECK)
+    );
+    for p in &out.attitude {
+        if p.header.gps_time_ns >= out.attitude[first].header.gps_time_ns {
+            assert_eq!(p.vertical_tt_coverage, att::COVERAGE_ABSENT);
+        }
+        assert_eq!(p.vertical_isolated_unit, att::UNIT_NONE);
+        assert!(p.vertical_tt_rate_mps.is_nan());
+    }
+    let (_, xs) = transitions(&out, Rule::VerticalMiscompare);
+    let raised: Vec<_> = xs.iter().filter(|(_, a)| a.state == STATE_RAISED).collect();
+    assert!(!raised.is_empty());
+    for (_, a) in raised {
+        assert!(
+            a.reason()
+                .contains("BAHRS suspected (VN-200 GNSS-aided; TT GNSS absent)"),
+            "{}",
+            a.reason()
+        );
+    }
+}
