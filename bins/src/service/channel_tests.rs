@@ -356,3 +356,43 @@ fn without_tt_gnss_the_vertical_alert_keeps_the_premise_and_says_why() {
         );
     }
 }
+
+/// The nominal flight (climb, turns; TT GNSS altitude with 4 m noise every second): the third
+/// opinion is compared once its 20 s window has filled, neither of its comparisons fails, and
+/// it isolates nothing. (No vertical alert of any kind on the 10-minute nominal flight is
+/// asserted by `coverage_tests::nominal_flight_is_covered_and_raises_no_alert_of_any_rule`.)
+#[test]
+fn nominal_flight_third_opinion_compares_and_isolates_nothing() {
+    let sc = builtin("nominal").unwrap();
+    let out = run(&sc, 180);
+    let t0 = out.attitude[0].header.gps_time_ns;
+    let late: Vec<_> = out
+        .attitude
+        .iter()
+        .filter(|p| p.header.gps_time_ns - t0 > 25 * S)
+        .collect();
+    let compared = late
+        .iter()
+        .filter(|p| p.vertical_tt_coverage == att::COVERAGE_COMPARED)
+        .count();
+    let max_ratio = late
+        .iter()
+        .flat_map(|p| p.vertical_tt.iter().map(|c| c.stat_ratio))
+        .filter(|r| r.is_finite())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "nominal third opinion: compared on {compared} of {} payloads after 25 s, max ratio {max_ratio:.2}",
+        late.len()
+    );
+    assert!(
+        compared * 10 >= late.len() * 9,
+        "{compared} of {}",
+        late.len()
+    );
+    for p in &out.attitude {
+        assert_eq!(p.vertical_isolated_unit, att::UNIT_NONE);
+        for c in &p.vertical_tt {
+            assert_ne!(c.verdict, att::VERDICT_FAIL);
+        }
+    }
+}
