@@ -396,3 +396,44 @@ fn nominal_flight_third_opinion_compares_and_isolates_nothing() {
         }
     }
 }
+
+/// Issue 25 point 6: the simulator's VN-200 vertical drifts from 10 s to 45 s (its altitude and
+/// down velocity say a climb 3 m/s faster than the truth, INS still Tracking with a fix): the
+/// down-velocity comparison fails (3 m/s, about 6 sigma), and the third opinion (the TT GNSS
+/// agrees with the BAHRS) isolates the VN-200 once the VN-200-TT rate difference, growing
+/// 3 / 20 = 0.15 m/s each second, passes 4.42 x 0.28 = 1.25 m/s (8.3 s, then two epochs);
+/// never the BAHRS; the active alert's reason says "VN-200 isolated".
+#[test]
+fn drifting_vn200_vertical_is_isolated_to_the_vn200_by_the_tt_gnss_altitude() {
+    let mut sc = builtin("nominal").unwrap();
+    sc.faults.push(Fault::Vn200VerticalDrift {
+        from_s: 10.0,
+        to_s: Some(45.0),
+        rate_mps: 3.0,
+    });
+    let out = run(&sc, 50);
+    let t0 = out.attitude[0].header.gps_time_ns;
+    let secs = |p: &att::AttitudePayload| (p.header.gps_time_ns - t0) as f64 / 1e9;
+    let first = out
+        .attitude
+        .iter()
+        .find(|p| p.vertical_isolated_unit != att::UNIT_NONE)
+        .expect("isolated");
+    eprintln!(
+        "third opinion isolates unit {} at {:.2} s",
+        first.vertical_isolated_unit,
+        secs(first)
+    );
+    assert_eq!(first.vertical_isolated_unit, att::UNIT_VN200);
+    assert!(secs(first) > 18.0 && secs(first) < 25.0, "{}", secs(first));
+    for p in &out.attitude {
+        assert_ne!(p.vertical_isolated_unit, att::UNIT_BAHRS, "{}", secs(p));
+    }
+    let reasons = active_vertical_reasons(&out);
+    assert!(
+        reasons
+            .iter()
+            .any(|r| r.contains("VN-200 isolated (TT GNSS agrees with BAHRS)")),
+        "{reasons:?}"
+    );
+}
