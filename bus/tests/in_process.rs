@@ -176,7 +176,8 @@ fn payload_layouts_are_fixed() {
     // Issue 25 points 5 and 6 (v3): ChannelComparison 5 f64 + 2 u8 + 6 pad = 48; 2 vertical +
     // 6 inertial = 384, then 2 + 6 health u8 = 8: 352 + 384 + 8 = 744.
     assert_eq!(size_of::<ChannelComparison>(), 48);
-    assert_eq!(size_of::<AttitudePayload>(), 744);
+    // Issue 25 point 6 (v4): f64 + 2 ChannelComparison + 2 u8 + 6 pad = 8 + 96 + 8: 856.
+    assert_eq!(size_of::<AttitudePayload>(), 856);
     // Ownship: 32 + 12 f64 + 3 u8 + 5 pad = 136.
     assert_eq!(size_of::<OwnshipPayload>(), 136);
     // Target: u32 + 4 u8 + 8 callsign + 14 f64 + u64 flags = 136; Traffic: 32 + 2 u32 +
@@ -212,7 +213,7 @@ fn type_names_are_explicit_and_versioned() {
     assert_eq!(
         names,
         [
-            "vigil.Attitude.v3",
+            "vigil.Attitude.v4",
             "vigil.Ownship.v2",
             "vigil.Traffic.v2",
             "vigil.Integrity.v3",

@@ -8,7 +8,7 @@ use vigil_bus::payload::alerts::{SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_W
 use vigil_bus::payload::attitude::{
     AXIS_HEADING, AXIS_PITCH, AXIS_ROLL, AttitudePayload, FAULT_HEALTH, FAULT_INVALID,
     ISOLATION_DETECTED_NOT_ISOLATED, ISOLATION_ISOLATED, UNIT_BAHRS, UNIT_COUNT, UNIT_VN200,
-    UnitAttitude, VERDICT_FAIL,
+    UnitAttitude, VERDICT_FAIL, VERDICT_PASS, VERTICAL_TT_BAHRS, VERTICAL_TT_VN200,
 };
 use vigil_bus::payload::attitude::{COVERAGE_COMPARED, coverage_name};
 use vigil_bus::payload::attitude::{
@@ -267,11 +267,42 @@ fn channel_values(c: &ChannelComparison, scale: f64, unit: &str, digits: usize) 
     )
 }
 
-/// Vertical channel rule: one alert per comparison (`VERTICAL_*`) whose verdict is FAIL. The
+/// Vertical channel rule: one alert per comparison (`VERTICAL_*`) whose verdict is FAIL.
+///
+/// Issue 25 point 6: where the TT-Multi-RF GNSS altitude rate (the third opinion) singles out
+/// the unit that disagrees with both others, the reason names it ("BAHRS isolated" / "VN-200
+/// isolated"). Otherwise the reason keeps the premise-based attribution, "BAHRS suspected": the
 /// VN-200's vertical is compared only while its INS tracks with a GNSS fix (GNSS-observed
-/// velocity and height), so the reason attributes the disagreement to the BAHRS' baro-inertial
-/// channel; this is an attribution, not a vote (no third opinion is compared).
+/// velocity and height). It then says why the third opinion did not decide: "TT GNSS" followed
+/// by its coverage name when not compared (`absent`, `invalid` no fix, `stale`, `no_check`
+/// window filling, `no_partner`), or "undecided" when compared without singling out a unit.
+/// (Kept short: the reason field holds 160 bytes.) The third opinion needs about 20 s of
+/// window, so an alert raised by the down velocity within seconds usually starts as "suspected"
+/// and its reason in the active set becomes "isolated" once the third opinion has declared.
 pub(crate) fn vertical(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
+    let suspect = if p.vertical_tt_coverage != COVERAGE_COMPARED {
+        format!(
+            "BAHRS suspected (VN-200 GNSS-aided; TT GNSS {})",
+            coverage_name(p.vertical_tt_coverage)
+        )
+    } else {
+        // The isolated unit is taken only when the two third-opinion verdicts carry it out (a
+        // payload left at its derived default has unit 0, the BAHRS, with no comparison).
+        let tt = |i: usize| p.vertical_tt[i].verdict;
+        match (
+            p.vertical_isolated_unit,
+            tt(VERTICAL_TT_BAHRS),
+            tt(VERTICAL_TT_VN200),
+        ) {
+            (UNIT_BAHRS, VERDICT_FAIL, VERDICT_PASS) => {
+                "BAHRS isolated (TT GNSS agrees with VN-200)".to_string()
+            }
+            (UNIT_VN200, VERDICT_PASS, VERDICT_FAIL) => {
+                "VN-200 isolated (TT GNSS agrees with BAHRS)".to_string()
+            }
+            _ => "BAHRS suspected (VN-200 GNSS-aided; TT GNSS undecided)".to_string(),
+        }
+    };
     for (i, c) in p.vertical.iter().enumerate() {
         if c.verdict != VERDICT_FAIL {
             continue;
@@ -281,7 +312,7 @@ pub(crate) fn vertical(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
             .copied()
             .unwrap_or("unknown comparison");
         let reason = format!(
-            "vertical {name} miscompare, BAHRS suspected (VN-200 GNSS-aided): {}",
+            "vertical {name} miscompare, {suspect}: {}",
             channel_values(c, 1.0, "m/s", 2)
         );
         let id = Rule::VerticalMiscompare.alert_id(i as u32);

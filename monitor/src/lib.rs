@@ -48,7 +48,7 @@
 //! | `traffic_alert` (per target) | `alert_level`: preventive -> advisory, corrective -> caution, warning (or unknown code) -> warning | by level | 0 | 0 |
 //! | `suspected_spoofing` (per target) | `plausibility_flags & spoofing_flags != 0` | caution | 0 | 5 |
 //! | `cross_check_unavailable` (per unit) | the unit's `unit_coverage` is not `COVERAGE_COMPARED` (reason: `not_aligned`, `not_wired`, `stale`, `absent`, `invalid`, `no_partner`, `no_check`) | caution | 2 | 1 |
-//! | `vertical_miscompare` (per comparison) | `vertical[VERTICAL_*].verdict == VERDICT_FAIL` (BAHRS down velocity or pressure-height rate against the GNSS-aided VN-200; the reason attributes it to the BAHRS) | caution | 0 | 2 |
+//! | `vertical_miscompare` (per comparison) | `vertical[VERTICAL_*].verdict == VERDICT_FAIL` (BAHRS down velocity or pressure-height rate against the GNSS-aided VN-200; the reason names the unit `vertical_isolated_unit` isolates by the TT-Multi-RF GNSS third opinion, else attributes it to the BAHRS and says why the TT GNSS did not decide) | caution | 0 | 2 |
 //! | `inertial_miscompare` (per signal) | `inertial[INERTIAL_*].verdict == VERDICT_FAIL` (a BAHRS specific force or angular rate axis against the VN-200, both usable) | caution | 0 | 2 |
 //! | `health_disagreement` (per combination) | integrity `health_checks[HEALTH_*].state == HEALTH_DISAGREE` (BAHRS pulses without a VN-200 fix, a fix without pulses, an INS mode against its fix bit; not compared is never a disagreement) | caution | 3 | 2 |
 //! | `clock_disagreement` (per device) | integrity `clock_disagreement & (1 << DEVICE_*) != 0` (the device's own time against the host clock; the reason names the clock and what was done with its samples) | caution | 1 | 2 |

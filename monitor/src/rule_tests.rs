@@ -887,7 +887,9 @@ fn inertial_miscompare_names_the_axis_and_health_and_clears_after_two_seconds() 
 
 #[test]
 fn vertical_miscompare_names_the_comparison_and_the_bahrs_as_suspect() {
-    use vigil_bus::payload::attitude::{ChannelComparison, VERTICAL_VELOCITY_DOWN};
+    use vigil_bus::payload::attitude::{
+        COVERAGE_ABSENT, ChannelComparison, VERTICAL_VELOCITY_DOWN,
+    };
     let mut rig = Rig::new(MonitorParams::default());
     rig.att.vertical[VERTICAL_VELOCITY_DOWN] = ChannelComparison {
         bahrs: 0.0,
@@ -900,12 +902,77 @@ fn vertical_miscompare_names_the_comparison_and_the_bahrs_as_suspect() {
     };
     let id = Rule::VerticalMiscompare.alert_id(0);
     assert_eq!(id, 0x0C00_0000);
+    // Without a third opinion (TT GNSS absent): the premise-based attribution, with why.
+    rig.att.vertical_tt_coverage = COVERAGE_ABSENT;
+    rig.att.vertical_isolated_unit = UNIT_NONE;
     let (_, a) = only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
     assert_eq!(
         a.reason(),
-        "vertical down velocity miscompare, BAHRS suspected (VN-200 GNSS-aided): BAHRS 0.00, \
-         VN-200 -2.00 m/s, difference 2.00 (sigma 0.50)"
+        "vertical down velocity miscompare, BAHRS suspected (VN-200 GNSS-aided; TT GNSS absent): \
+         BAHRS 0.00, VN-200 -2.00 m/s, difference 2.00 (sigma 0.50)"
     );
+}
+
+/// Issue 25 point 6: with the third opinion compared, the reason names the unit it isolates
+/// (only when the two third-opinion verdicts carry it: BAHRS-TT fail and VN-200-TT pass, or the
+/// reverse), else says it is undecided.
+#[test]
+fn vertical_miscompare_names_the_unit_the_tt_gnss_isolates() {
+    use vigil_bus::payload::attitude::{
+        ChannelComparison, VERTICAL_HEIGHT_RATE, VERTICAL_TT_BAHRS, VERTICAL_TT_VN200,
+    };
+    let fail = ChannelComparison {
+        verdict: VERDICT_FAIL,
+        coverage: COVERAGE_COMPARED,
+        ..ChannelComparison::default()
+    };
+    let pass = ChannelComparison {
+        verdict: VERDICT_PASS,
+        ..fail
+    };
+    let id = Rule::VerticalMiscompare.alert_id(VERTICAL_HEIGHT_RATE as u32);
+    let cases = [
+        (
+            UNIT_BAHRS,
+            fail,
+            pass,
+            "BAHRS isolated (TT GNSS agrees with VN-200)",
+        ),
+        (
+            UNIT_VN200,
+            pass,
+            fail,
+            "VN-200 isolated (TT GNSS agrees with BAHRS)",
+        ),
+        (
+            UNIT_NONE,
+            fail,
+            fail,
+            "BAHRS suspected (VN-200 GNSS-aided; TT GNSS undecided)",
+        ),
+        // A unit the verdicts do not carry is not believed.
+        (
+            UNIT_BAHRS,
+            pass,
+            pass,
+            "BAHRS suspected (VN-200 GNSS-aided; TT GNSS undecided)",
+        ),
+    ];
+    for (unit, b, v, expect) in cases {
+        let mut rig = Rig::new(MonitorParams::default());
+        rig.att.vertical[VERTICAL_HEIGHT_RATE] = fail;
+        rig.att.vertical_tt_coverage = COVERAGE_COMPARED;
+        rig.att.vertical_isolated_unit = unit;
+        rig.att.vertical_tt[VERTICAL_TT_BAHRS] = b;
+        rig.att.vertical_tt[VERTICAL_TT_VN200] = v;
+        let (_, a) = only(&rig.run(1000), id, STATE_RAISED, SEVERITY_CAUTION);
+        assert!(
+            a.reason()
+                .starts_with(&format!("vertical height rate miscompare, {expect}: ")),
+            "{}",
+            a.reason()
+        );
+    }
 }
 
 // --- issue 25 point 4 ---

@@ -244,3 +244,196 @@ fn builtin_bahrs_channel_scenarios_raise_their_alerts() {
         assert!(first.0 > 20.0 && first.0 < 28.0, "{name}: {}", first.0);
     }
 }
+
+/// The reasons of the active `vertical_miscompare` alerts in every integrity payload (the
+/// active set, whose reason follows the condition while the alert is raised).
+fn active_vertical_reasons(out: &Collected) -> Vec<String> {
+    out.integrity
+        .iter()
+        .flat_map(|p| p.active_alerts[..p.active_alert_count as usize].iter())
+        .filter(|a| Rule::of_alert(a.alert_id) == Some(Rule::VerticalMiscompare))
+        .map(|a| vigil_bus::payload::read_text(&a.reason).to_string())
+        .collect()
+}
+
+/// Issue 25 point 6, the TT-Multi-RF GNSS altitude as the third opinion. Pressure port blocked
+/// from 10 s to 40 s of the nominal flight (climbing 2 m/s): the third opinion (20 s window,
+/// TT altitude 1-sigma 4 m in the simulator) isolates the BAHRS once the BAHRS-TT rate
+/// difference, growing 0.1 m/s each second, passes 4.42 x 0.29 = 1.26 m/s (about 13 s, then two
+/// epochs): the payloads say BAHRS, never the VN-200, and the active alert's reason says
+/// "BAHRS isolated". Before the fault nothing is isolated.
+#[test]
+fn blocked_pressure_port_is_isolated_to_the_bahrs_by_the_tt_gnss_altitude() {
+    let mut sc = builtin("nominal").unwrap();
+    sc.faults.push(Fault::PressurePortBlocked {
+        from_s: 10.0,
+        to_s: Some(40.0),
+    });
+    let out = run(&sc, 50);
+    let t0 = out.attitude[0].header.gps_time_ns;
+    let secs = |p: &att::AttitudePayload| (p.header.gps_time_ns - t0) as f64 / 1e9;
+    let first = out
+        .attitude
+        .iter()
+        .find(|p| p.vertical_isolated_unit != att::UNIT_NONE)
+        .expect("isolated");
+    eprintln!(
+        "third opinion isolates unit {} at {:.2} s",
+        first.vertical_isolated_unit,
+        secs(first)
+    );
+    assert_eq!(first.vertical_isolated_unit, att::UNIT_BAHRS);
+    assert!(secs(first) > 20.0 && secs(first) < 30.0, "{}", secs(first));
+    for p in &out.attitude {
+        assert_ne!(p.vertical_isolated_unit, att::UNIT_VN200, "{}", secs(p));
+        if secs(p) < 10.0 {
+            assert_eq!(p.vertical_isolated_unit, att::UNIT_NONE);
+        }
+        // Compared with the TT GNSS after the first window (the TT stream is present).
+        if secs(p) > 25.0 {
+            assert_eq!(
+                p.vertical_tt_coverage,
+                att::COVERAGE_COMPARED,
+                "{}",
+                secs(p)
+            );
+            assert!(
+                (p.vertical_tt_rate_mps - 2.0).abs() < 1.5,
+                "{}",
+                p.vertical_tt_rate_mps
+            );
+        }
+    }
+    let reasons = active_vertical_reasons(&out);
+    assert!(
+        reasons
+            .iter()
+            .any(|r| r.contains("BAHRS isolated (TT GNSS agrees with VN-200)")),
+        "{reasons:?}"
+    );
+    assert!(reasons.iter().all(|r| !r.contains("VN-200 isolated")));
+}
+
+/// Without the TT-Multi-RF's GNSS section the third opinion is "not compared, absent" on every
+/// payload, nothing is isolated by it, and the alert keeps the premise-based attribution with
+/// the reason stated.
+#[test]
+fn without_tt_gnss_the_vertical_alert_keeps_the_premise_and_says_why() {
+    let mut sc = builtin("nominal").unwrap();
+    sc.devices.ttmrf.as_mut().unwrap().gnss = false;
+    sc.faults.push(Fault::PressurePortBlocked {
+        from_s: 10.0,
+        to_s: Some(25.0),
+    });
+    let out = run(&sc, 30);
+    // Before the first cross-check the prompt output says "no check"; from then on "absent".
+    let first = out
+        .attitude
+        .iter()
+        .position(|p| p.vertical_tt_coverage == att::COVERAGE_ABSENT)
+        .expect("absent");
+    assert!(
+        out.attitude[..first]
+            .iter()
+            .all(|p| p.vertical_tt_coverage == att::COVERAGE_NO_CHECK)
+    );
+    for p in &out.attitude {
+        if p.header.gps_time_ns >= out.attitude[first].header.gps_time_ns {
+            assert_eq!(p.vertical_tt_coverage, att::COVERAGE_ABSENT);
+        }
+        assert_eq!(p.vertical_isolated_unit, att::UNIT_NONE);
+        assert!(p.vertical_tt_rate_mps.is_nan());
+    }
+    let (_, xs) = transitions(&out, Rule::VerticalMiscompare);
+    let raised: Vec<_> = xs.iter().filter(|(_, a)| a.state == STATE_RAISED).collect();
+    assert!(!raised.is_empty());
+    for (_, a) in raised {
+        assert!(
+            a.reason()
+                .contains("BAHRS suspected (VN-200 GNSS-aided; TT GNSS absent)"),
+            "{}",
+            a.reason()
+        );
+    }
+}
+
+/// The nominal flight (climb, turns; TT GNSS altitude with 4 m noise every second): the third
+/// opinion is compared once its 20 s window has filled, neither of its comparisons fails, and
+/// it isolates nothing. (No vertical alert of any kind on the 10-minute nominal flight is
+/// asserted by `coverage_tests::nominal_flight_is_covered_and_raises_no_alert_of_any_rule`.)
+#[test]
+fn nominal_flight_third_opinion_compares_and_isolates_nothing() {
+    let sc = builtin("nominal").unwrap();
+    let out = run(&sc, 180);
+    let t0 = out.attitude[0].header.gps_time_ns;
+    let late: Vec<_> = out
+        .attitude
+        .iter()
+        .filter(|p| p.header.gps_time_ns - t0 > 25 * S)
+        .collect();
+    let compared = late
+        .iter()
+        .filter(|p| p.vertical_tt_coverage == att::COVERAGE_COMPARED)
+        .count();
+    let max_ratio = late
+        .iter()
+        .flat_map(|p| p.vertical_tt.iter().map(|c| c.stat_ratio))
+        .filter(|r| r.is_finite())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "nominal third opinion: compared on {compared} of {} payloads after 25 s, max ratio {max_ratio:.2}",
+        late.len()
+    );
+    assert!(
+        compared * 10 >= late.len() * 9,
+        "{compared} of {}",
+        late.len()
+    );
+    for p in &out.attitude {
+        assert_eq!(p.vertical_isolated_unit, att::UNIT_NONE);
+        for c in &p.vertical_tt {
+            assert_ne!(c.verdict, att::VERDICT_FAIL);
+        }
+    }
+}
+
+/// Issue 25 point 6: the simulator's VN-200 vertical drifts from 10 s to 45 s (its altitude and
+/// down velocity say a climb 3 m/s faster than the truth, INS still Tracking with a fix): the
+/// down-velocity comparison fails (3 m/s, about 6 sigma), and the third opinion (the TT GNSS
+/// agrees with the BAHRS) isolates the VN-200 once the VN-200-TT rate difference, growing
+/// 3 / 20 = 0.15 m/s each second, passes 4.42 x 0.28 = 1.25 m/s (8.3 s, then two epochs);
+/// never the BAHRS; the active alert's reason says "VN-200 isolated".
+#[test]
+fn drifting_vn200_vertical_is_isolated_to_the_vn200_by_the_tt_gnss_altitude() {
+    let mut sc = builtin("nominal").unwrap();
+    sc.faults.push(Fault::Vn200VerticalDrift {
+        from_s: 10.0,
+        to_s: Some(45.0),
+        rate_mps: 3.0,
+    });
+    let out = run(&sc, 50);
+    let t0 = out.attitude[0].header.gps_time_ns;
+    let secs = |p: &att::AttitudePayload| (p.header.gps_time_ns - t0) as f64 / 1e9;
+    let first = out
+        .attitude
+        .iter()
+        .find(|p| p.vertical_isolated_unit != att::UNIT_NONE)
+        .expect("isolated");
+    eprintln!(
+        "third opinion isolates unit {} at {:.2} s",
+        first.vertical_isolated_unit,
+        secs(first)
+    );
+    assert_eq!(first.vertical_isolated_unit, att::UNIT_VN200);
+    assert!(secs(first) > 18.0 && secs(first) < 25.0, "{}", secs(first));
+    for p in &out.attitude {
+        assert_ne!(p.vertical_isolated_unit, att::UNIT_BAHRS, "{}", secs(p));
+    }
+    let reasons = active_vertical_reasons(&out);
+    assert!(
+        reasons
+            .iter()
+            .any(|r| r.contains("VN-200 isolated (TT GNSS agrees with BAHRS)")),
+        "{reasons:?}"
+    );
+}

@@ -236,6 +236,7 @@ fn set_channels(p: &mut AttitudePayload, r: &AttitudeRecord) {
         .vertical
         .bahrs_health
         .map_or([att::HEALTH_NONE; 2], |h| h.map(health_code));
+    set_third_opinion(p, &r.vertical.third);
     let inert = |c: &SignalComparison| att::ChannelComparison {
         bahrs: opt(c.bahrs),
         vn200: opt(c.vn200),
@@ -253,6 +254,38 @@ fn set_channels(p: &mut AttitudePayload, r: &AttitudeRecord) {
         .map_or([att::HEALTH_NONE; att::INERTIAL_COUNT], |h| {
             h.map(health_code)
         });
+}
+
+/// Issue 25 point 6: the TT-Multi-RF GNSS third opinion on the height rate (unknown values
+/// NaN, `UNIT_NONE` when nothing is isolated).
+fn set_third_opinion(p: &mut AttitudePayload, t: &vigil_fusion::attitude::vertical::ThirdOpinion) {
+    use vigil_fusion::attitude::vertical::{TtNotCompared as W, VerticalComparison};
+    let cmp = |c: &VerticalComparison| att::ChannelComparison {
+        bahrs: opt(c.bahrs_mps),
+        vn200: opt(c.vn200_mps),
+        diff: opt(c.diff_mps),
+        sigma: opt(c.sigma_mps),
+        stat_ratio: opt(c.stat_ratio),
+        verdict: verdict(c.verdict),
+        coverage: if t.not_compared.is_some() {
+            att::COVERAGE_NO_CHECK
+        } else {
+            gate_coverage(c.gate)
+        },
+        ..att::ChannelComparison::default()
+    };
+    p.vertical_tt_rate_mps = opt(t.tt_rate_mps);
+    p.vertical_tt[att::VERTICAL_TT_BAHRS] = cmp(&t.bahrs_vs_tt);
+    p.vertical_tt[att::VERTICAL_TT_VN200] = cmp(&t.vn200_vs_tt);
+    p.vertical_tt_coverage = match t.not_compared {
+        None => att::COVERAGE_COMPARED,
+        Some(W::Absent) => att::COVERAGE_ABSENT,
+        Some(W::NoFix) => att::COVERAGE_INVALID,
+        Some(W::Stale) => att::COVERAGE_STALE,
+        Some(W::WindowFilling) => att::COVERAGE_NO_CHECK,
+        Some(W::NoPartner) => att::COVERAGE_NO_PARTNER,
+    };
+    p.vertical_isolated_unit = t.isolated.map_or(UNIT_NONE, |u| unit_index(u) as u8);
 }
 
 // --- issue 25: coverage ---

@@ -11,7 +11,7 @@
 //! | `/vigil/traffic`        | JSON     | `vigil.Traffic.v1`               | at most 1 Hz          |
 //! | `/vigil/traffic/geojson`| protobuf | `foxglove.GeoJSON` (Map)         | with the traffic      |
 //! | `/vigil/alerts`         | JSON     | `vigil.Alert.v1`                 | every transition      |
-//! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v3`              | at most 10 Hz         |
+//! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v4`              | at most 10 Hz         |
 //! | `/vigil/integrity`      | JSON     | `vigil.Integrity.v3`             | as published (1 Hz)   |
 //!
 //! The JSON messages are the bus payloads' own serde form (the same as `vigil listen`: NaN is
@@ -159,7 +159,7 @@ impl Channels {
             attitude: json_channel(
                 ctx,
                 TOPIC_ATTITUDE,
-                "vigil.Attitude.v3",
+                "vigil.Attitude.v4",
                 &AttitudePayload::default(),
             )?,
             integrity: json_channel(

@@ -338,7 +338,7 @@ fn foxglove_server_advertises_the_channels_and_delivers_ownship() {
         (TOPIC_OWNSHIP, "vigil.Ownship.v2", "lat_deg"),
         (TOPIC_TRAFFIC, "vigil.Traffic.v2", "targets"),
         (TOPIC_ALERTS, "vigil.Alert.v1", "reason"),
-        (TOPIC_ATTITUDE, "vigil.Attitude.v3", "roll_rad"),
+        (TOPIC_ATTITUDE, "vigil.Attitude.v4", "roll_rad"),
     ] {
         let c = &channels[topic];
         assert_eq!(c["encoding"], "json", "{topic}");

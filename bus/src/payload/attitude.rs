@@ -117,6 +117,12 @@ pub const VERTICAL_VELOCITY_DOWN: usize = 0;
 /// Vertical comparison: BAHRS pressure-height rate against the VN-200 altitude rate (both
 /// differenced over the same window), m/s, up positive.
 pub const VERTICAL_HEIGHT_RATE: usize = 1;
+/// Number of third-opinion comparisons in [`AttitudePayload::vertical_tt`].
+pub const VERTICAL_TT_COUNT: usize = 2;
+/// Third opinion: BAHRS pressure-height rate against the TT-Multi-RF GNSS altitude rate, m/s.
+pub const VERTICAL_TT_BAHRS: usize = 0;
+/// Third opinion: VN-200 altitude rate against the TT-Multi-RF GNSS altitude rate, m/s.
+pub const VERTICAL_TT_VN200: usize = 1;
 /// Number of inertial comparisons in [`AttitudePayload::inertial`].
 pub const INERTIAL_COUNT: usize = 6;
 /// Inertial comparison: specific force along body x, m/s^2 (`+ 1`, `+ 2`: y, z).
@@ -215,7 +221,7 @@ pub struct UnitAttitude {
 /// prompt time more than 1 s behind the newest is a clock reset, and followed).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.Attitude.v3")]
+#[type_name("vigil.Attitude.v4")]
 pub struct AttitudePayload {
     /// Common header; `gps_time_ns` is the time of the voted solution.
     pub header: Header,
@@ -268,6 +274,26 @@ pub struct AttitudePayload {
     /// BAHRS health (`HEALTH_*`) of its specific force x/y/z and angular rate x/y/z (0x01), in
     /// `INERTIAL_*` order; `HEALTH_NONE` before the first message.
     pub bahrs_inertial_health: [u8; INERTIAL_COUNT],
+    // --- issue 25 point 6 (layout v4): the TT-Multi-RF GNSS altitude as a third opinion ---
+    /// TT-Multi-RF GNSS altitude rate over the third opinion's window (about 20 s), m/s up; NaN
+    /// when not compared.
+    pub vertical_tt_rate_mps: f64,
+    /// BAHRS pressure-height rate and VN-200 altitude rate over the same window, each against
+    /// the TT rate (`VERTICAL_TT_*`): `bahrs` is the unit's rate, `vn200` the TT rate.
+    pub vertical_tt: [ChannelComparison; VERTICAL_TT_COUNT],
+    /// `COVERAGE_*` code of the third opinion: `COVERAGE_COMPARED`, or why not
+    /// (`COVERAGE_ABSENT` no TT GNSS, `COVERAGE_INVALID` no fix, `COVERAGE_STALE`,
+    /// `COVERAGE_NO_CHECK` window still filling, `COVERAGE_NO_PARTNER` neither unit's height
+    /// usable at both ends).
+    pub vertical_tt_coverage: u8,
+    /// Unit (`UNIT_BAHRS`, `UNIT_VN200`) a vertical miscompare is isolated to by the third
+    /// opinion (the one disagreeing with both others), or [`UNIT_NONE`]: no miscompare, no third
+    /// opinion (the attribution to the BAHRS then rests on the premise that the VN-200 vertical
+    /// is GNSS-observed), or no single unit disagreeing with both.
+    pub vertical_isolated_unit: u8,
+    /// Explicit padding; always 0.
+    #[serde(skip)]
+    pub reserved_vertical_tt: [u8; 6],
 }
 
 impl_payload!(AttitudePayload, Topic::Attitude);

@@ -198,6 +198,12 @@ impl AttitudeChecker {
         self.pending.push_back((s, f));
     }
 
+    /// Adds a TT-Multi-RF GNSS epoch (issue 25 point 6, the third vertical opinion): its GPS
+    /// time, ns, and its altitude above the ellipsoid, m (`None` without a fix).
+    pub fn push_tt_gnss(&mut self, t_gps_ns: i64, alt_m: Option<f64>) {
+        self.vertical.push_tt_gnss(t_gps_ns, alt_m);
+    }
+
     /// Adds a VN-200 sample.
     pub fn push_vn200(&mut self, s: Vn200Sample) {
         self.note_aligned(Unit::Vn200);

@@ -25,7 +25,7 @@ use super::*;
 use crate::attitude::angles::wrap_2pi;
 use crate::attitude::compare::euler_rates;
 use crate::attitude::inertial::InertialRecord;
-use crate::attitude::vertical::{VerticalComparison, VerticalRecord};
+use crate::attitude::vertical::{ThirdOpinion, TtNotCompared, VerticalComparison, VerticalRecord};
 
 /// A prompt time this far (or further) behind the newest one starts a new timeline, ns.
 const NEW_TIMELINE_NS: i64 = 1_000_000_000;
@@ -108,6 +108,8 @@ impl Verdicts {
                 velocity_down: vertical,
                 height_rate: vertical,
                 bahrs_health: None,
+                // Before the first check the window has not begun to fill.
+                third: ThirdOpinion::absent(TtNotCompared::WindowFilling),
             },
             inertial: InertialRecord::none(Some(GateReason::NoData)),
         }

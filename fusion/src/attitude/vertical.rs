@@ -6,6 +6,12 @@
 //! about `rate_window_s` earlier), so timing cancels. Each comparison has the statistical detector
 //! (`|z| / k`, `k` from the false-alarm probability) and the same persistence as the attitude axes.
 //! Decision: there is no certified fixed limit for these, so only the statistical detector runs.
+//!
+//! Issue 25 point 6, the third opinion ([`ThirdOpinion`]): the TT-Multi-RF GNSS altitude,
+//! differenced over [`TT_RATE_WINDOW_S`], against the BAHRS pressure-height rate and the VN-200
+//! altitude rate over the same two epochs. With a BAHRS-VN-200 miscompare, the unit that
+//! disagrees with both others is isolated ([`isolate_vertical`]); without the TT GNSS (absent,
+//! no fix, stale, window filling) the record says why, and nothing is isolated by it.
 
 use std::collections::VecDeque;
 
@@ -14,8 +20,9 @@ use vigil_drivers::bahrs::Health;
 
 use super::gates::{Gate, GateReason};
 use super::isolation::PairVerdict;
+use super::isolation::Unit;
 use super::params::CheckParams;
-use super::persistence::Persistence;
+use super::persistence::{Persistence, PersistenceParams};
 use super::samples::BahrsSample;
 
 /// The VN-200's vertical state interpolated to the BAHRS sample time.
@@ -62,6 +69,8 @@ pub struct VerticalRecord {
     /// BAHRS health of the pressure height and the downward velocity of the sample (issue 25
     /// point 6: published with the comparisons); `None` before the first sample.
     pub bahrs_health: Option<[Health; 2]>,
+    /// Issue 25 point 6: the TT-Multi-RF GNSS altitude as a third opinion on the height rate.
+    pub third: ThirdOpinion,
 }
 
 /// State of the vertical channel.
@@ -70,6 +79,14 @@ pub struct VerticalChannel {
     history: VecDeque<(i64, f64, f64)>,
     velocity: Persistence,
     rate: Persistence,
+    /// TT-Multi-RF GNSS epochs: GPS ns, altitude m (`None` without a fix).
+    tt: VecDeque<(i64, Option<f64>)>,
+    /// BAHRS pressure height and VN-200 altitude (each when usable) at BAHRS times, m.
+    long: VecDeque<Heights>,
+    tt_bahrs: Persistence,
+    tt_vn: Persistence,
+    /// The third opinion computed at the newest TT epoch (its GPS ns).
+    last_third: Option<(i64, ThirdOpinion)>,
 }
 
 fn health_gate(h: Health) -> Gate {
@@ -184,11 +201,175 @@ impl VerticalChannel {
                 not_compared(None, None, gate_h)
             }
         };
+        let hb = health_gate(b.health.pressure_height())
+            .is_none()
+            .then_some(b.pressure_height_m);
+        let hv = vn.alt_m.filter(|_| vn.gate.is_none());
+        self.record_heights(b.t_gps_ns, hb, hv);
+        let fail =
+            velocity_down.verdict == PairVerdict::Fail || height_rate.verdict == PairVerdict::Fail;
+        let third = self.third_opinion(b.t_gps_ns, vn.pos_u_m, k, p, fail);
         VerticalRecord {
             velocity_down,
             height_rate,
             bahrs_health: Some([b.health.pressure_height(), b.health.velocity_down()]),
+            third,
         }
+    }
+}
+
+impl VerticalChannel {
+    /// Adds one TT-Multi-RF GNSS epoch: its GPS time, ns, and its altitude above the ellipsoid,
+    /// m (`None` without a fix). Epochs not after the newest are ignored.
+    pub fn push_tt_gnss(&mut self, t_gps_ns: i64, alt_m: Option<f64>) {
+        if self.tt.back().is_some_and(|e| e.0 >= t_gps_ns) {
+            return;
+        }
+        self.tt
+            .push_back((t_gps_ns, alt_m.filter(|a| a.is_finite())));
+        while self.tt.len() > TT_HISTORY {
+            self.tt.pop_front();
+        }
+    }
+
+    /// Records the heights of the BAHRS sample at `t` for the third opinion's window.
+    fn record_heights(&mut self, t: i64, bahrs_m: Option<f64>, vn200_m: Option<f64>) {
+        if self.long.back().is_some_and(|e| e.0 >= t) {
+            return;
+        }
+        self.long.push_back((t, bahrs_m, vn200_m));
+        let keep_ns = ((1.2 * TT_RATE_WINDOW_S + TT_STALE_S + 1.0) * 1e9) as i64;
+        while self
+            .long
+            .front()
+            .is_some_and(|e| t.saturating_sub(e.0) > keep_ns)
+            || self.long.len() > 8192
+        {
+            self.long.pop_front();
+        }
+    }
+
+    fn tt_not_compared(&mut self, why: TtNotCompared) -> ThirdOpinion {
+        self.tt_bahrs.reset();
+        self.tt_vn.reset();
+        self.last_third = None;
+        ThirdOpinion::absent(why)
+    }
+
+    /// The third opinion at the comparison time `t`: computed once per TT-Multi-RF epoch (its
+    /// persistence runs at the epoch rate, 1 Hz, since the TT rate changes only then), its
+    /// isolation re-evaluated with the BAHRS-VN-200 verdict of every sample.
+    fn third_opinion(
+        &mut self,
+        t: i64,
+        vn_pos_u_m: Option<f64>,
+        k: f64,
+        p: &CheckParams,
+        bahrs_vn200_fail: bool,
+    ) -> ThirdOpinion {
+        let Some(i1) = self.tt.iter().rposition(|e| e.0 <= t) else {
+            return self.tt_not_compared(TtNotCompared::Absent);
+        };
+        let (t1, a1) = self.tt[i1];
+        if t.saturating_sub(t1) as f64 * 1e-9 > TT_STALE_S {
+            return self.tt_not_compared(TtNotCompared::Stale);
+        }
+        let Some(a1) = a1 else {
+            return self.tt_not_compared(TtNotCompared::NoFix);
+        };
+        if let Some((te, mut r)) = self.last_third
+            && te == t1
+        {
+            r.isolated = isolate_vertical(
+                bahrs_vn200_fail,
+                r.bahrs_vs_tt.verdict,
+                r.vn200_vs_tt.verdict,
+            );
+            return r;
+        }
+        // The start: the epoch about one window earlier, every epoch since with a fix (an epoch
+        // without a fix breaks the window; it fills again).
+        let target = t1 - (TT_RATE_WINDOW_S * 1e9) as i64;
+        let mut start = None;
+        for j in (0..i1).rev() {
+            let (tj, aj) = self.tt[j];
+            let Some(aj) = aj else { break };
+            if tj <= target + 500_000_000 {
+                start = Some((tj, aj));
+                break;
+            }
+        }
+        let Some((t0, a0)) = start.filter(|(t0, _)| {
+            let span = (t1 - t0) as f64 * 1e-9;
+            (0.8 * TT_RATE_WINDOW_S..=1.2 * TT_RATE_WINDOW_S).contains(&span)
+        }) else {
+            return self.tt_not_compared(TtNotCompared::WindowFilling);
+        };
+        let span = (t1 - t0) as f64 * 1e-9;
+        let dt_s = self
+            .last_third
+            .map_or(1.0, |(te, _)| (t1 - te) as f64 * 1e-9);
+        let vp = &p.vertical;
+        let tt_rate = (a1 - a0) / span;
+        let sigma_tt = std::f64::consts::SQRT_2 * TT_ALT_SIGMA_M / span;
+        // The BAHRS and VN-200 rate sigmas are stated for `rate_window_s`; white height noise
+        // scales them by window / span. The VN-200's own PosU bounds its from below, as in the
+        // 1 s comparison.
+        let scale = vp.rate_window_s / span;
+        let sigma_b = vp.pressure_rate_sigma_mps * scale;
+        let sigma_v = vn_pos_u_m.map_or(vp.vn200_alt_rate_sigma_mps * scale, |u| {
+            (vp.vn200_alt_rate_sigma_mps * scale).max(std::f64::consts::SQRT_2 * u / span)
+        });
+        // Two epochs (2 s at 1 Hz) over the limit declare; two under it clear.
+        let pp = PersistenceParams {
+            declare_after_s: 2.0,
+            ..p.persistence
+        };
+        let rate_of = |pick: fn(&Heights) -> Option<f64>| {
+            Some((height_at(&self.long, t1, pick)? - height_at(&self.long, t0, pick)?) / span)
+        };
+        let rb = rate_of(|e| e.1);
+        let rv = rate_of(|e| e.2);
+        if rb.is_none() && rv.is_none() {
+            return self.tt_not_compared(TtNotCompared::NoPartner);
+        }
+        let compare = |per: &mut Persistence, r: Option<f64>, s: f64| match r {
+            Some(r) => {
+                let sigma = (s * s + sigma_tt * sigma_tt).sqrt();
+                let d = r - tt_rate;
+                let ratio = (d / sigma).abs() / k;
+                let fault = per.update(ratio, d / sigma, dt_s, &pp);
+                VerticalComparison {
+                    bahrs_mps: Some(r),
+                    vn200_mps: Some(tt_rate),
+                    diff_mps: Some(d),
+                    sigma_mps: Some(sigma),
+                    stat_ratio: Some(ratio),
+                    verdict: if fault {
+                        PairVerdict::Fail
+                    } else {
+                        PairVerdict::Pass
+                    },
+                    gate: None,
+                }
+            }
+            None => {
+                per.reset();
+                not_compared(None, Some(tt_rate), Some(GateReason::NoData))
+            }
+        };
+        let bahrs_vs_tt = compare(&mut self.tt_bahrs, rb, sigma_b);
+        let vn200_vs_tt = compare(&mut self.tt_vn, rv, sigma_v);
+        let r = ThirdOpinion {
+            tt_rate_mps: Some(tt_rate),
+            span_s: Some(span),
+            bahrs_vs_tt,
+            vn200_vs_tt,
+            not_compared: None,
+            isolated: isolate_vertical(bahrs_vn200_fail, bahrs_vs_tt.verdict, vn200_vs_tt.verdict),
+        };
+        self.last_third = Some((t1, r));
+        r
     }
 }
 
@@ -202,6 +383,117 @@ fn not_compared(bahrs: Option<f64>, vn: Option<f64>, gate: Gate) -> VerticalComp
         verdict: PairVerdict::NotCompared,
         gate,
     }
+}
+
+// --- issue 25 point 6: the TT-Multi-RF GNSS altitude as a third opinion on the height rate ---
+
+/// Window over which the TT-Multi-RF GNSS altitude (and, over the same ends, the BAHRS pressure
+/// height and the VN-200 altitude) is differenced, s.
+///
+/// Decision: the GGA / JSON altitude of a stand-alone receiver has a vertical 1-sigma of about
+/// 4 m ([`TT_ALT_SIGMA_M`]); differenced over `W` seconds its rate has a 1-sigma of
+/// `sqrt(2) x 4 / W` m/s when the two ends' errors are independent (the simulator draws them
+/// independently every second; a real receiver's errors are correlated over seconds, so the
+/// figure is conservative). At 20 s that is 0.28 m/s, small enough to tell a 2 m/s climb from a
+/// frozen pressure height (k = 4.4 sigma is 1.25 m/s); at the 1 s of the BAHRS / VN-200
+/// comparison it would be 5.7 m/s, useless.
+pub const TT_RATE_WINDOW_S: f64 = 20.0;
+/// Vertical 1-sigma of one TT-Multi-RF GNSS altitude, m. Neither GGA (HDOP only) nor the
+/// module's JSON without `acc` states it; 4 m is the usual stand-alone GPS figure (the GPS SPS
+/// performance standard's vertical 95 % bound of about 8 m over 1.96) and the simulator's value.
+pub const TT_ALT_SIGMA_M: f64 = 4.0;
+/// A TT-Multi-RF GNSS epoch older than this at the comparison time is stale, s (the GNSS section
+/// and GGA come once per second: two epochs missed).
+pub const TT_STALE_S: f64 = 2.5;
+/// Heights at one BAHRS sample time: GPS ns, BAHRS pressure height m and VN-200 altitude m,
+/// each when usable.
+type Heights = (i64, Option<f64>, Option<f64>);
+/// TT-Multi-RF epochs kept (1 Hz: about a minute, three windows).
+const TT_HISTORY: usize = 64;
+
+/// Why the TT-Multi-RF GNSS third opinion was not compared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TtNotCompared {
+    /// No TT-Multi-RF GNSS epoch has been received (no module, GNSS section off).
+    Absent,
+    /// The newest epoch has no fix.
+    NoFix,
+    /// The newest epoch is older than [`TT_STALE_S`].
+    Stale,
+    /// Fixes do not yet span the window (start, or after a gap in the fixes).
+    WindowFilling,
+    /// Neither the BAHRS pressure height nor the VN-200 altitude is usable at both window ends.
+    NoPartner,
+}
+
+/// The TT-Multi-RF GNSS altitude rate against the BAHRS pressure-height rate and the VN-200
+/// altitude rate over the same window, and the isolation it allows.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ThirdOpinion {
+    /// TT-Multi-RF GNSS altitude rate over the window, m/s up.
+    pub tt_rate_mps: Option<f64>,
+    /// Span of the window actually used, s.
+    pub span_s: Option<f64>,
+    /// BAHRS pressure-height rate against the TT rate (`bahrs_mps` BAHRS, `vn200_mps` the TT
+    /// rate), m/s up.
+    pub bahrs_vs_tt: VerticalComparison,
+    /// VN-200 altitude rate against the TT rate (`bahrs_mps` the VN-200, `vn200_mps` the TT
+    /// rate), m/s up.
+    pub vn200_vs_tt: VerticalComparison,
+    /// Why the third opinion was not compared; `None` when it was.
+    pub not_compared: Option<TtNotCompared>,
+    /// The unit a BAHRS-VN-200 vertical miscompare is isolated to by the third opinion: the one
+    /// that disagrees with both others. `None` without a miscompare, without the third opinion
+    /// (the premise-based attribution to the BAHRS then stands, stated by the monitor), or when
+    /// the vote does not single one out.
+    pub isolated: Option<Unit>,
+}
+
+impl ThirdOpinion {
+    /// Not compared, for the reason `why`.
+    pub fn absent(why: TtNotCompared) -> Self {
+        Self {
+            tt_rate_mps: None,
+            span_s: None,
+            bahrs_vs_tt: not_compared(None, None, None),
+            vn200_vs_tt: not_compared(None, None, None),
+            not_compared: Some(why),
+            isolated: None,
+        }
+    }
+}
+
+/// The isolation rule of the third opinion: with a BAHRS-VN-200 miscompare, the unit that
+/// disagrees with both others; otherwise none.
+pub fn isolate_vertical(
+    bahrs_vn200_fail: bool,
+    bahrs_tt: PairVerdict,
+    vn_tt: PairVerdict,
+) -> Option<Unit> {
+    use PairVerdict::{Fail, Pass};
+    match (bahrs_vn200_fail, bahrs_tt, vn_tt) {
+        (true, Fail, Pass) => Some(Unit::Bahrs),
+        (true, Pass, Fail) => Some(Unit::Vn200),
+        _ => None,
+    }
+}
+
+/// Linear interpolation of a height in the BAHRS-time history at `t` (bracketed by usable
+/// samples at most 0.2 s apart); `pick` selects the BAHRS or the VN-200 height.
+fn height_at(hist: &VecDeque<Heights>, t: i64, pick: fn(&Heights) -> Option<f64>) -> Option<f64> {
+    let i = hist.partition_point(|e| e.0 < t);
+    let after = hist.get(i)?;
+    let (ta, ha) = (after.0, pick(after)?);
+    if ta == t {
+        return Some(ha);
+    }
+    let before = hist.get(i.checked_sub(1)?)?;
+    let (tb, hb) = (before.0, pick(before)?);
+    if ta - tb > 200_000_000 {
+        return None;
+    }
+    Some(hb + (ha - hb) * (t - tb) as f64 / (ta - tb) as f64)
 }
 
 #[cfg(test)]
@@ -297,5 +589,163 @@ mod tests {
         let r = ch.update(&b(0.02, 0.0, 0.0), &v, 0.02, 4.42, &p);
         assert_eq!(r.velocity_down.verdict, PairVerdict::NotCompared);
         assert_eq!(r.height_rate.gate, Some(GateReason::InsModeNoAttitude));
+    }
+    /// Runs 50 Hz BAHRS samples and 1 Hz TT epochs (exact altitudes, no noise) from `from_s`
+    /// to `to_s`; `bahrs(t)` gives (pressure height, down velocity), `vn(t)` (altitude, down
+    /// velocity), `tt(t)` the TT altitude (None: no epoch). Returns the records at whole seconds.
+    fn fly(
+        ch: &mut VerticalChannel,
+        range: (f64, f64),
+        bahrs: &dyn Fn(f64) -> (f64, f64),
+        vnf: &dyn Fn(f64) -> (f64, f64),
+        tt: &dyn Fn(f64) -> Option<Option<f64>>,
+    ) -> Vec<(f64, VerticalRecord)> {
+        let p = CheckParams::default();
+        let k = p.axis_threshold();
+        let mut out = Vec::new();
+        let n0 = (range.0 * 50.0).round() as i64;
+        let n1 = (range.1 * 50.0).round() as i64;
+        for i in n0..n1 {
+            let t = i as f64 * 0.02;
+            if i % 50 == 0
+                && let Some(a) = tt(t)
+            {
+                ch.push_tt_gnss((t * 1e9).round() as i64, a);
+            }
+            let (h, vd) = bahrs(t);
+            let (alt, vvd) = vnf(t);
+            let r = ch.update(&b(t, h, vd), &vn(alt, vvd), 0.02, k, &p);
+            if i % 50 == 0 {
+                out.push((t, r));
+            }
+        }
+        out
+    }
+
+    /// The hand-derived sigma of the third opinion's BAHRS-TT difference over 20 s:
+    /// sqrt((0.7 x 1 / 20)^2 + (sqrt 2 x 4 / 20)^2) = sqrt(0.035^2 + 0.28284^2) = 0.28500 m/s.
+    const SIGMA_BT: f64 = 0.285_00;
+
+    /// Climbing at 2 m/s; the BAHRS pressure port blocks at 30 s (height frozen, down velocity
+    /// 0): the BAHRS-VN-200 comparison fails within seconds, and the third opinion isolates the
+    /// BAHRS when the BAHRS-TT rate difference, growing 2 m/s / 20 s = 0.1 m/s each second,
+    /// exceeds k sigma (k = 4.42 at the default false-alarm probability: 1.26 m/s, 12.6 s) and
+    /// has persisted for two epochs. The VN-200-TT comparison passes throughout.
+    #[test]
+    fn third_opinion_isolates_a_frozen_pressure_height_to_the_bahrs() {
+        let mut ch = VerticalChannel::default();
+        let h = |t: f64| 100.0 + 2.0 * t.min(30.0);
+        let rs = fly(
+            &mut ch,
+            (0.0, 60.0),
+            &|t| (h(t), if t < 30.0 { -2.0 } else { 0.0 }),
+            &|t| (500.0 + 2.0 * t, -2.0),
+            &|t| Some(Some(520.0 + 2.0 * t)),
+        );
+        // Before 20 s the window is filling; then compared, agreeing, nothing isolated.
+        let r5 = rs.iter().find(|(t, _)| *t == 5.0).unwrap().1;
+        assert_eq!(r5.third.not_compared, Some(TtNotCompared::WindowFilling));
+        let r25 = rs.iter().find(|(t, _)| *t == 25.0).unwrap().1;
+        assert_eq!(r25.third.not_compared, None);
+        assert!((r25.third.tt_rate_mps.unwrap() - 2.0).abs() < 1e-9);
+        assert!((r25.third.bahrs_vs_tt.sigma_mps.unwrap() - SIGMA_BT).abs() < 1e-5);
+        assert_eq!(r25.third.bahrs_vs_tt.verdict, PairVerdict::Pass);
+        assert_eq!(r25.third.isolated, None);
+        let k = CheckParams::default().axis_threshold();
+        let crossing_s = k * SIGMA_BT / 0.1;
+        let first = rs
+            .iter()
+            .find(|(_, r)| r.third.isolated.is_some())
+            .expect("isolated");
+        assert_eq!(first.1.third.isolated, Some(Unit::Bahrs));
+        let after = first.0 - 30.0;
+        // Crossing, then the filter (alpha 2/3 per epoch) and two epochs of persistence.
+        assert!(
+            after > crossing_s && after < crossing_s + 4.0,
+            "{after} vs {crossing_s}"
+        );
+        for (_, r) in &rs {
+            assert_ne!(r.third.vn200_vs_tt.verdict, PairVerdict::Fail);
+            assert_ne!(r.third.isolated, Some(Unit::Vn200));
+        }
+    }
+
+    /// The VN-200 altitude and down velocity climb at 5 m/s from 30 s while the BAHRS and the
+    /// TT GNSS climb at 2: the VN-200 disagrees with both and is isolated; the BAHRS-TT
+    /// comparison passes.
+    #[test]
+    fn third_opinion_isolates_a_wrong_vn200_vertical_to_the_vn200() {
+        let mut ch = VerticalChannel::default();
+        let alt = |t: f64| 500.0 + 2.0 * t + 3.0 * (t - 30.0).max(0.0);
+        let rs = fly(
+            &mut ch,
+            (0.0, 60.0),
+            &|t| (100.0 + 2.0 * t, -2.0),
+            &|t| (alt(t), if t < 30.0 { -2.0 } else { -5.0 }),
+            &|t| Some(Some(520.0 + 2.0 * t)),
+        );
+        let isolated: Vec<_> = rs
+            .iter()
+            .filter_map(|(t, r)| r.third.isolated.map(|u| (*t, u)))
+            .collect();
+        assert!(!isolated.is_empty());
+        assert!(
+            isolated.iter().all(|(t, u)| *u == Unit::Vn200 && *t > 30.0),
+            "{isolated:?}"
+        );
+        for (_, r) in &rs {
+            assert_ne!(r.third.bahrs_vs_tt.verdict, PairVerdict::Fail);
+        }
+    }
+
+    /// Without TT GNSS epochs the third opinion says "absent"; an epoch without a fix says "no
+    /// fix"; epochs that stop say "stale" after 2.5 s; and none of these isolates a unit, even
+    /// with the BAHRS-VN-200 comparison failing (the premise-based attribution stands).
+    #[test]
+    fn third_opinion_not_compared_says_why() {
+        let frozen = |t: f64| (100.0 + 2.0 * t.min(5.0), if t < 5.0 { -2.0 } else { 0.0 });
+        let climb = |t: f64| (500.0 + 2.0 * t, -2.0);
+        let mut ch = VerticalChannel::default();
+        let rs = fly(&mut ch, (0.0, 15.0), &frozen, &climb, &|_| None);
+        let last = rs.last().unwrap().1;
+        assert_eq!(last.velocity_down.verdict, PairVerdict::Fail);
+        assert_eq!(last.third.not_compared, Some(TtNotCompared::Absent));
+        assert_eq!(last.third.isolated, None);
+        assert_eq!(last.third.tt_rate_mps, None);
+        let mut ch = VerticalChannel::default();
+        let rs = fly(&mut ch, (0.0, 30.0), &climb, &climb, &|t| {
+            Some(Some(520.0 + 2.0 * t))
+        });
+        assert_eq!(rs.last().unwrap().1.third.not_compared, None);
+        let rs = fly(&mut ch, (30.0, 32.0), &climb, &climb, &|_| Some(None));
+        assert_eq!(
+            rs.last().unwrap().1.third.not_compared,
+            Some(TtNotCompared::NoFix)
+        );
+        // Fixes again: the no-fix epochs broke the window, which fills again for 20 s.
+        let rs = fly(&mut ch, (32.0, 40.0), &climb, &climb, &|t| {
+            Some(Some(520.0 + 2.0 * t))
+        });
+        assert_eq!(
+            rs.last().unwrap().1.third.not_compared,
+            Some(TtNotCompared::WindowFilling)
+        );
+        let rs = fly(&mut ch, (40.0, 62.0), &climb, &climb, &|t| {
+            Some(Some(520.0 + 2.0 * t))
+        });
+        assert_eq!(rs.last().unwrap().1.third.not_compared, None);
+        // No more epochs: the newest (61 s) is stale after 63.5 s.
+        let rs = fly(&mut ch, (62.0, 64.0), &climb, &climb, &|_| None);
+        let at = |x: f64| {
+            rs.iter()
+                .find(|(t, _)| *t == x)
+                .unwrap()
+                .1
+                .third
+                .not_compared
+        };
+        assert_eq!(at(63.0), None);
+        let rs = fly(&mut ch, (64.0, 65.0), &climb, &climb, &|_| None);
+        assert_eq!(rs[0].1.third.not_compared, Some(TtNotCompared::Stale));
     }
 }

@@ -387,8 +387,15 @@ impl Pipeline {
             Sample::TtText(m) => {
                 match m.as_ref() {
                     TextMessage::Json(j) => {
-                        if let Some(f) = j.gnss.as_ref().and_then(|g| GnssFix::from_json(t, g)) {
-                            self.ownship.update_gnss(f);
+                        if let Some(g) = j.gnss.as_ref() {
+                            let f = GnssFix::from_json(t, g);
+                            // Issue 25 point 6: the altitude as the third vertical opinion (an
+                            // epoch without a fix is recorded as such, so it breaks the window).
+                            self.checker
+                                .push_tt_gnss(t, f.as_ref().and_then(|f| f.alt_wgs84_m));
+                            if let Some(f) = f {
+                                self.ownship.update_gnss(f);
+                            }
                         }
                     }
                     TextMessage::Nmea(n) => self.take_nmea(t, n),
@@ -439,7 +446,12 @@ impl Pipeline {
                     .as_ref()
                     .filter(|(tr, _)| (t - tr).abs() < 1_000_000_000)
                     .map(|(_, r)| r);
-                if let Some(f) = GnssFix::from_nmea(t, g, rmc, self.cfg.ownship.uere_m) {
+                let f = GnssFix::from_nmea(t, g, rmc, self.cfg.ownship.uere_m);
+                // Issue 25 point 6: the altitude as the third vertical opinion (quality 0 is
+                // recorded as an epoch without a fix).
+                self.checker
+                    .push_tt_gnss(t, f.as_ref().and_then(|f| f.alt_wgs84_m));
+                if let Some(f) = f {
                     self.ownship.update_gnss(f);
                 }
             }

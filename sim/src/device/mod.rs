@@ -121,6 +121,19 @@ impl FaultSchedule {
         })
     }
 
+    /// The VN-200 vertical drift at `t_s` (issue 25 point 6): added height, m, and added climb
+    /// rate, m/s (up positive); zero without the fault.
+    pub fn vn200_vertical_drift(&self, t_s: f64) -> (f64, f64) {
+        self.faults.iter().fold((0.0, 0.0), |(h, r), f| match f {
+            Fault::Vn200VerticalDrift {
+                from_s,
+                to_s,
+                rate_mps,
+            } if active(t_s, *from_s, *to_s) => (h + rate_mps * (t_s - from_s), r + rate_mps),
+            _ => (h, r),
+        })
+    }
+
     /// BAHRS gyro bias per body axis at `t_s`, rad/s.
     pub fn bahrs_gyro_bias_radps(&self, t_s: f64) -> [f64; 3] {
         let mut dps = [0.0; 3];

@@ -231,7 +231,9 @@ impl Vn200Model {
         // origin's latitude): the noise is a few metres, so the origin's radii are exact enough.
         let lat = o.lat_deg + (dn / world.frame.radius_north_m).to_degrees();
         let lon = o.lon_deg + (de / world.frame.radius_east_m).to_degrees();
-        let vel = o.vel_ned_mps.map(|v| (v + n.gauss(vel_u)) as f32);
+        let mut vel = o.vel_ned_mps.map(|v| (v + n.gauss(vel_u)) as f32);
+        let (drift_h, drift_rate) = faults.vn200_vertical_drift(world.elapsed_s(t));
+        vel[2] -= drift_rate as f32;
         Sample {
             t_gps_ns: t,
             truth: o,
@@ -242,7 +244,7 @@ impl Vn200Model {
             ],
             quat: q.map(|v| v as f32),
             rates: o.angular_rate_body_radps.map(|v| v as f32),
-            lla: [lat, lon, o.height_m - dd],
+            lla: [lat, lon, o.height_m - dd + drift_h],
             vel,
             accel: o.specific_force_body_mps2.map(|v| v as f32),
             // Mode (bits 0-1): Tracking, GnssLost in an outage, or what an INS reset forces;

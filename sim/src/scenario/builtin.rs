@@ -93,6 +93,25 @@ mod tests {
         assert!(e.contains("to_s"), "{e}");
     }
 
+    /// Issue 25 point 6: the VN-200 vertical drift is declared in scenario TOML too.
+    #[test]
+    fn issue_25_vn200_vertical_drift_parses_from_toml() {
+        let t = format!(
+            "{}\n[[faults]]\nkind = \"vn200_vertical_drift\"\nfrom_s = 10.0\nto_s = 45.0\n\
+             rate_mps = 3.0\n",
+            text("nominal").unwrap()
+        );
+        let s = Scenario::from_toml(&t).unwrap();
+        assert_eq!(
+            s.faults,
+            [super::super::Fault::Vn200VerticalDrift {
+                from_s: 10.0,
+                to_s: Some(45.0),
+                rate_mps: 3.0
+            }]
+        );
+    }
+
     #[test]
     fn bad_key_is_named() {
         let t = text("headon")

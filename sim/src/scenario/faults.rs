@@ -103,6 +103,17 @@ pub enum Fault {
         /// End, s.
         to_s: Option<f64>,
     },
+    /// Issue 25 point 6: the VN-200's vertical channel drifts: its altitude gains
+    /// `rate_mps x (t - from_s)` and its NED down velocity reads `rate_mps` less (a climb
+    /// `rate_mps` faster than the truth), while its INS status still says Tracking with a fix.
+    Vn200VerticalDrift {
+        /// Start, s.
+        from_s: f64,
+        /// End, s.
+        to_s: Option<f64>,
+        /// Added climb rate, m/s (up positive).
+        rate_mps: f64,
+    },
     /// Issue 25: a BAHRS gyro bias on one body axis, `bias_dps + rate_dps_per_s x (t - from_s)`
     /// deg/s added to the angular rate of 0x01, while its health still says "safe".
     BahrsGyroBias {
@@ -252,6 +263,7 @@ impl Fault {
             Fault::BahrsAttitudeBias { from_s, to_s, .. }
             | Fault::BahrsHealth { from_s, to_s, .. }
             | Fault::PressurePortBlocked { from_s, to_s }
+            | Fault::Vn200VerticalDrift { from_s, to_s, .. }
             | Fault::BahrsGyroBias { from_s, to_s, .. }
             | Fault::MagneticDisturbance { from_s, to_s, .. }
             | Fault::PpsLoss { from_s, to_s }
