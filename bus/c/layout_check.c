@@ -68,7 +68,7 @@ VIGIL_ASSERT(sizeof(((vigil_ChannelComparison *)0)->coverage) == 1, "size of vig
 VIGIL_ASSERT(offsetof(vigil_ChannelComparison, reserved) == 42, "offset of vigil_ChannelComparison.reserved");
 VIGIL_ASSERT(sizeof(((vigil_ChannelComparison *)0)->reserved) == 6, "size of vigil_ChannelComparison.reserved");
 
-VIGIL_ASSERT(sizeof(vigil_AttitudePayload) == 744, "size of vigil_AttitudePayload");
+VIGIL_ASSERT(sizeof(vigil_AttitudePayload) == 856, "size of vigil_AttitudePayload");
 VIGIL_ASSERT(VIGIL_ALIGNOF(vigil_AttitudePayload) == 8, "alignment of vigil_AttitudePayload");
 VIGIL_ASSERT(offsetof(vigil_AttitudePayload, header) == 0, "offset of vigil_AttitudePayload.header");
 VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->header) == 32, "size of vigil_AttitudePayload.header");
@@ -114,6 +114,16 @@ VIGIL_ASSERT(offsetof(vigil_AttitudePayload, bahrs_vertical_health) == 736, "off
 VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->bahrs_vertical_health) == 2, "size of vigil_AttitudePayload.bahrs_vertical_health");
 VIGIL_ASSERT(offsetof(vigil_AttitudePayload, bahrs_inertial_health) == 738, "offset of vigil_AttitudePayload.bahrs_inertial_health");
 VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->bahrs_inertial_health) == 6, "size of vigil_AttitudePayload.bahrs_inertial_health");
+VIGIL_ASSERT(offsetof(vigil_AttitudePayload, vertical_tt_rate_mps) == 744, "offset of vigil_AttitudePayload.vertical_tt_rate_mps");
+VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->vertical_tt_rate_mps) == 8, "size of vigil_AttitudePayload.vertical_tt_rate_mps");
+VIGIL_ASSERT(offsetof(vigil_AttitudePayload, vertical_tt) == 752, "offset of vigil_AttitudePayload.vertical_tt");
+VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->vertical_tt) == 96, "size of vigil_AttitudePayload.vertical_tt");
+VIGIL_ASSERT(offsetof(vigil_AttitudePayload, vertical_tt_coverage) == 848, "offset of vigil_AttitudePayload.vertical_tt_coverage");
+VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->vertical_tt_coverage) == 1, "size of vigil_AttitudePayload.vertical_tt_coverage");
+VIGIL_ASSERT(offsetof(vigil_AttitudePayload, vertical_isolated_unit) == 849, "offset of vigil_AttitudePayload.vertical_isolated_unit");
+VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->vertical_isolated_unit) == 1, "size of vigil_AttitudePayload.vertical_isolated_unit");
+VIGIL_ASSERT(offsetof(vigil_AttitudePayload, reserved_vertical_tt) == 850, "offset of vigil_AttitudePayload.reserved_vertical_tt");
+VIGIL_ASSERT(sizeof(((vigil_AttitudePayload *)0)->reserved_vertical_tt) == 6, "size of vigil_AttitudePayload.reserved_vertical_tt");
 
 VIGIL_ASSERT(sizeof(vigil_OwnshipPayload) == 136, "size of vigil_OwnshipPayload");
 VIGIL_ASSERT(VIGIL_ALIGNOF(vigil_OwnshipPayload) == 8, "alignment of vigil_OwnshipPayload");

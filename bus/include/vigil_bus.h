@@ -263,6 +263,21 @@
 #define vigil_VERTICAL_HEIGHT_RATE 1
 
 /**
+ * Number of third-opinion comparisons in [`AttitudePayload::vertical_tt`].
+ */
+#define vigil_VERTICAL_TT_COUNT 2
+
+/**
+ * Third opinion: BAHRS pressure-height rate against the TT-Multi-RF GNSS altitude rate, m/s.
+ */
+#define vigil_VERTICAL_TT_BAHRS 0
+
+/**
+ * Third opinion: VN-200 altitude rate against the TT-Multi-RF GNSS altitude rate, m/s.
+ */
+#define vigil_VERTICAL_TT_VN200 1
+
+/**
  * Number of inertial comparisons in [`AttitudePayload::inertial`].
  */
 #define vigil_INERTIAL_COUNT 6
@@ -880,6 +895,34 @@ typedef struct vigil_AttitudePayload {
    * `INERTIAL_*` order; `HEALTH_NONE` before the first message.
    */
   uint8_t bahrs_inertial_health[vigil_INERTIAL_COUNT];
+  /**
+   * TT-Multi-RF GNSS altitude rate over the third opinion's window (about 20 s), m/s up; NaN
+   * when not compared.
+   */
+  double vertical_tt_rate_mps;
+  /**
+   * BAHRS pressure-height rate and VN-200 altitude rate over the same window, each against
+   * the TT rate (`VERTICAL_TT_*`): `bahrs` is the unit's rate, `vn200` the TT rate.
+   */
+  struct vigil_ChannelComparison vertical_tt[vigil_VERTICAL_TT_COUNT];
+  /**
+   * `COVERAGE_*` code of the third opinion: `COVERAGE_COMPARED`, or why not
+   * (`COVERAGE_ABSENT` no TT GNSS, `COVERAGE_INVALID` no fix, `COVERAGE_STALE`,
+   * `COVERAGE_NO_CHECK` window still filling, `COVERAGE_NO_PARTNER` neither unit's height
+   * usable at both ends).
+   */
+  uint8_t vertical_tt_coverage;
+  /**
+   * Unit (`UNIT_BAHRS`, `UNIT_VN200`) a vertical miscompare is isolated to by the third
+   * opinion (the one disagreeing with both others), or [`UNIT_NONE`]: no miscompare, no third
+   * opinion (the attribution to the BAHRS then rests on the premise that the VN-200 vertical
+   * is GNSS-observed), or no single unit disagreeing with both.
+   */
+  uint8_t vertical_isolated_unit;
+  /**
+   * Explicit padding; always 0.
+   */
+  uint8_t reserved_vertical_tt[6];
 } vigil_AttitudePayload;
 
 /**

@@ -114,7 +114,12 @@ fn layouts() -> Vec<Layout> {
             vertical,
             inertial,
             bahrs_vertical_health,
-            bahrs_inertial_health
+            bahrs_inertial_health,
+            vertical_tt_rate_mps,
+            vertical_tt,
+            vertical_tt_coverage,
+            vertical_isolated_unit,
+            reserved_vertical_tt
         }),
         layout!(OwnshipPayload {
             header,

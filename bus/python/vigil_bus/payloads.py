@@ -64,7 +64,7 @@ class ChannelComparison(ctypes.Structure):
 
 
 class AttitudePayload(ctypes.Structure):
-    """iceoryx2 type name `vigil.Attitude.v3`."""
+    """iceoryx2 type name `vigil.Attitude.v4`."""
 
     _fields_ = [
         ("header", Header),
@@ -89,11 +89,16 @@ class AttitudePayload(ctypes.Structure):
         ("inertial", (ChannelComparison) * 6),
         ("bahrs_vertical_health", (ctypes.c_uint8) * 2),
         ("bahrs_inertial_health", (ctypes.c_uint8) * 6),
+        ("vertical_tt_rate_mps", ctypes.c_double),
+        ("vertical_tt", (ChannelComparison) * 2),
+        ("vertical_tt_coverage", ctypes.c_uint8),
+        ("vertical_isolated_unit", ctypes.c_uint8),
+        ("reserved_vertical_tt", (ctypes.c_uint8) * 6),
     ]
 
     @staticmethod
     def type_name() -> str:
-        return "vigil.Attitude.v3"
+        return "vigil.Attitude.v4"
 
 
 class OwnshipPayload(ctypes.Structure):
@@ -284,7 +289,7 @@ LAYOUT = {
     "Header": (32, 8, {"schema_version": (0, 4), "reserved": (4, 4), "seq": (8, 8), "gps_time_ns": (16, 8), "send_mono_ns": (24, 8)}),
     "UnitAttitude": (64, 8, {"t_gps_ns": (0, 8), "roll_rad": (8, 8), "pitch_rad": (16, 8), "heading_rad": (24, 8), "sigma_roll_rad": (32, 8), "sigma_pitch_rad": (40, 8), "sigma_heading_rad": (48, 8), "valid": (56, 1), "fault_flags": (57, 1), "reserved": (58, 6)}),
     "ChannelComparison": (48, 8, {"bahrs": (0, 8), "vn200": (8, 8), "diff": (16, 8), "sigma": (24, 8), "stat_ratio": (32, 8), "verdict": (40, 1), "coverage": (41, 1), "reserved": (42, 6)}),
-    "AttitudePayload": (744, 8, {"header": (0, 32), "roll_rad": (32, 8), "pitch_rad": (40, 8), "heading_rad": (48, 8), "sigma_roll_rad": (56, 8), "sigma_pitch_rad": (64, 8), "sigma_heading_rad": (72, 8), "units": (80, 192), "pair_verdicts": (272, 9), "isolation": (281, 1), "isolated_unit": (282, 1), "valid": (283, 1), "reserved": (284, 4), "unit_coverage": (288, 3), "check_coverage": (291, 4), "reserved_coverage": (295, 1), "unit_compared_age_s": (296, 24), "check_compared_age_s": (320, 32), "vertical": (352, 96), "inertial": (448, 288), "bahrs_vertical_health": (736, 2), "bahrs_inertial_health": (738, 6)}),
+    "AttitudePayload": (856, 8, {"header": (0, 32), "roll_rad": (32, 8), "pitch_rad": (40, 8), "heading_rad": (48, 8), "sigma_roll_rad": (56, 8), "sigma_pitch_rad": (64, 8), "sigma_heading_rad": (72, 8), "units": (80, 192), "pair_verdicts": (272, 9), "isolation": (281, 1), "isolated_unit": (282, 1), "valid": (283, 1), "reserved": (284, 4), "unit_coverage": (288, 3), "check_coverage": (291, 4), "reserved_coverage": (295, 1), "unit_compared_age_s": (296, 24), "check_compared_age_s": (320, 32), "vertical": (352, 96), "inertial": (448, 288), "bahrs_vertical_health": (736, 2), "bahrs_inertial_health": (738, 6), "vertical_tt_rate_mps": (744, 8), "vertical_tt": (752, 96), "vertical_tt_coverage": (848, 1), "vertical_isolated_unit": (849, 1), "reserved_vertical_tt": (850, 6)}),
     "OwnshipPayload": (136, 8, {"header": (0, 32), "lat_deg": (32, 8), "lon_deg": (40, 8), "alt_pressure_m": (48, 8), "alt_geometric_m": (56, 8), "vel_north_mps": (64, 8), "vel_east_mps": (72, 8), "vel_up_mps": (80, 8), "ground_speed_mps": (88, 8), "track_deg": (96, 8), "sigma_horizontal_m": (104, 8), "sigma_vertical_m": (112, 8), "sigma_velocity_mps": (120, 8), "source": (128, 1), "valid": (129, 1), "flags": (130, 1), "reserved": (131, 5)}),
     "Target": (136, 8, {"address": (0, 4), "address_type": (4, 1), "alert_level": (5, 1), "altitude_kind": (6, 1), "plausibility_flags": (7, 1), "callsign": (8, 8), "rel_north_m": (16, 8), "rel_east_m": (24, 8), "rel_vel_north_mps": (32, 8), "rel_vel_east_mps": (40, 8), "rel_vel_up_mps": (48, 8), "horizontal_distance_m": (56, 8), "vertical_separation_m": (64, 8), "bearing_deg": (72, 8), "range_rate_mps": (80, 8), "tcpa_s": (88, 8), "hmd_m": (96, 8), "tau_mod_s": (104, 8), "time_to_lowc_s": (112, 8), "age_s": (120, 8), "flags": (128, 8)}),
     "TrafficPayload": (139304, 8, {"header": (0, 32), "count": (32, 4), "dropped": (36, 4), "targets": (40, 139264)}),
