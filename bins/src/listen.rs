@@ -199,9 +199,16 @@ const NO_PUBLISHER_AFTER: Duration = Duration::from_secs(2);
 /// prefixes under which vigil services do exist on this host (as `--prefix` options to copy).
 fn no_publisher_hint(bus: &Bus, topic: Topic) -> String {
     let service = topic.service_name(bus.prefix());
-    let others: Vec<String> = bus
-        .prefixes_in_use()
-        .unwrap_or_default()
+    let prefixes = match bus.prefixes_in_use() {
+        Ok(p) => p,
+        Err(e) => {
+            return format!(
+                "vigil listen: nothing publishes on {service}; still waiting (the services on \
+                 this host could not be listed: {e})"
+            );
+        }
+    };
+    let others: Vec<String> = prefixes
         .into_iter()
         .filter(|p| p != bus.prefix())
         .map(|p| {
