@@ -290,7 +290,10 @@ fn decode_port_reads_a_cooked_terminal_in_raw_mode() {
     )
     .unwrap();
     assert_eq!(summary["checksum_failures"], 0, "{summary}");
-    assert_eq!(summary["bytes_skipped"], 0, "{summary}");
+    // The port is opened while the simulator is already sending: only the partial frame it
+    // joins in the middle of may be skipped (the longest BAHRS frame is well under 64 bytes).
+    let skipped = summary["bytes_skipped"].as_u64().unwrap();
+    assert!(skipped < 64, "{summary}");
     let seqs: Vec<u64> = String::from_utf8_lossy(&out.stdout)
         .lines()
         .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
