@@ -31,7 +31,7 @@ fn traffic(alerting: usize) -> Box<TrafficPayload> {
                 ALERT_NONE
             },
             horizontal_distance_m: 1000.0 + f64::from(i) * 100.0,
-            vertical_separation_m: 100.0,
+            rel_down_m: -100.0,
             time_to_lowc_s: 30.0,
             ..Target::EMPTY
         })

@@ -27,7 +27,7 @@ use serde::Serialize;
 use serde_json::{Map, Value};
 use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
-    Topic, TrafficPayload,
+    Subscriber, Topic, TopicSubscriber, TrafficSubscriber,
 };
 
 /// Arguments of `vigil listen`.
@@ -114,22 +114,25 @@ pub fn run(args: &ListenArgs) -> Result<()> {
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     match args.topic {
-        Topic::Attitude => listen::<AttitudePayload>(&mut bus, args, &mut out),
-        Topic::Ownship => listen::<OwnshipPayload>(&mut bus, args, &mut out),
-        Topic::Traffic => listen::<TrafficPayload>(&mut bus, args, &mut out),
-        Topic::Integrity => listen::<IntegrityPayload>(&mut bus, args, &mut out),
-        Topic::Alerts => listen::<AlertPayload>(&mut bus, args, &mut out),
+        Topic::Attitude => listen::<Subscriber<AttitudePayload>>(&mut bus, args, &mut out),
+        Topic::Ownship => listen::<Subscriber<OwnshipPayload>>(&mut bus, args, &mut out),
+        Topic::Traffic => listen::<TrafficSubscriber>(&mut bus, args, &mut out),
+        Topic::Integrity => listen::<Subscriber<IntegrityPayload>>(&mut bus, args, &mut out),
+        Topic::Alerts => listen::<Subscriber<AlertPayload>>(&mut bus, args, &mut out),
     }
 }
 
-fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) -> Result<()> {
-    let mut sub = bus
-        .subscriber::<T>()
-        .with_context(|| format!("subscribing to {}", args.topic))?;
+fn listen<S: TopicSubscriber>(
+    bus: &mut Bus,
+    args: &ListenArgs,
+    out: &mut impl Write,
+) -> Result<()> {
+    let topic = <S::Payload as Payload>::TOPIC;
+    let mut sub = S::open(bus).with_context(|| format!("subscribing to {}", args.topic))?;
     // On stderr, so a script (or test) can wait for it before starting the publisher.
     eprintln!(
         "vigil listen: subscribed to {}",
-        T::TOPIC.service_name(bus.prefix())
+        topic.service_name(bus.prefix())
     );
     let deadline = args
         .duration
@@ -139,7 +142,7 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
     // When nothing has arrived and nothing publishes after this long, say so once (a wrong
     // prefix is the usual cause) instead of waiting in silence.
     let mut silence_check = Some(Instant::now() + NO_PUBLISHER_AFTER);
-    if T::TOPIC == Topic::Alerts && !args.latency {
+    if topic == Topic::Alerts && !args.latency {
         // Subscribed to the transitions first: none is lost between the set and them.
         seen = print_active(bus, out)?;
         if args.count.is_some_and(|c| seen >= c) {
@@ -148,15 +151,15 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
         }
     }
     'outer: loop {
-        while let Some(r) = sub.try_receive()? {
+        while let Some(r) = sub.receive_copy()? {
             seen += 1;
             if args.latency {
                 latencies.push(r.latency_ns());
             } else {
                 let mut line = Map::new();
-                line.insert("topic".into(), Value::from(T::TOPIC.as_str()));
+                line.insert("topic".into(), Value::from(topic.as_str()));
                 line.insert("missed_before".into(), Value::from(r.missed_before));
-                if let Value::Object(fields) = serde_json::to_value(r.payload())? {
+                if let Value::Object(fields) = serde_json::to_value(&r.payload)? {
                     line.extend(fields);
                 }
                 serde_json::to_writer(&mut *out, &line)?;
@@ -174,7 +177,7 @@ fn listen<T: Payload>(bus: &mut Bus, args: &ListenArgs, out: &mut impl Write) ->
         if silence_check.is_some_and(|t| Instant::now() >= t) {
             silence_check = None;
             if seen == 0 && sub.publishers() == 0 {
-                eprintln!("{}", no_publisher_hint(bus, T::TOPIC));
+                eprintln!("{}", no_publisher_hint(bus, topic));
             }
         }
         bus.cleanup_if_due();

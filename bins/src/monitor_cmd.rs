@@ -37,7 +37,7 @@ use vigil_bus::payload::alerts::{
 };
 use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
-    Publisher, Subscriber, Topic, TrafficPayload,
+    Publisher, Topic, TopicSubscriber,
 };
 use vigil_monitor::{Monitor, MonitorParams};
 
@@ -138,17 +138,16 @@ impl Runner {
 
     /// Takes every waiting sample of `sub`, feeding each to the monitor and evaluating after it.
     /// Returns the number taken.
-    fn drain<T: Payload>(
+    fn drain<S: TopicSubscriber>(
         &mut self,
-        sub: &mut Subscriber<T>,
-        feed: impl Fn(&mut Monitor, &T),
+        sub: &mut S,
+        feed: impl Fn(&mut Monitor, &S::Payload),
     ) -> Result<usize> {
         let mut n = 0;
-        while let Some(r) = sub.try_receive()? {
+        while let Some(r) = sub.receive_copy()? {
             self.clock
-                .observe(r.payload().header().gps_time_ns, r.receive_mono_ns);
-            feed(&mut self.monitor, r.payload());
-            drop(r);
+                .observe(r.payload.header().gps_time_ns, r.receive_mono_ns);
+            feed(&mut self.monitor, &r.payload);
             self.poll();
             n += 1;
         }
@@ -229,9 +228,7 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
     let mut ownship = bus
         .subscriber::<OwnshipPayload>()
         .context("subscribing to ownship")?;
-    let mut traffic = bus
-        .subscriber::<TrafficPayload>()
-        .context("subscribing to traffic")?;
+    let mut traffic = bus.traffic_subscriber().context("subscribing to traffic")?;
     let mut integrity = bus
         .subscriber::<IntegrityPayload>()
         .context("subscribing to integrity")?;

@@ -66,7 +66,7 @@ impl Outputs for Stream {
         } else if let Some(p) = any.downcast_ref::<OwnshipPayload>() {
             Published::Ownship(*p)
         } else if let Some(p) = any.downcast_ref::<TrafficPayload>() {
-            Published::Traffic(Box::new(*p))
+            Published::Traffic(Box::new(p.clone()))
         } else if let Some(p) = any.downcast_ref::<IntegrityPayload>() {
             Published::Integrity(Box::new(*p))
         } else if let Some(p) = any.downcast_ref::<AlertPayload>() {

@@ -6,7 +6,9 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use vigil_bus::payload::alerts::SEVERITY_CAUTION;
-use vigil_bus::{AlertPayload, AttitudePayload, Bus, BusConfig, Payload, Publisher};
+use vigil_bus::{
+    AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, Publisher, Target, TrafficPayload,
+};
 
 fn bus(prefix: &str) -> Bus {
     Bus::new(&BusConfig {
@@ -19,12 +21,20 @@ fn bus(prefix: &str) -> Bus {
 
 /// Runs `vigil listen ARGS` while publishing `make(i)` every `period` until it exits; returns
 /// its stdout lines.
-fn listen_while_publishing<T: Payload>(
+fn listen_while_publishing<T: FixedPayload>(
     args: &[&str],
     publ: &mut Publisher<T>,
     period: Duration,
     make: impl Fn(u64) -> T,
 ) -> Vec<String> {
+    listen_while(args, period, |i| {
+        publ.publish(&make(i)).unwrap();
+    })
+}
+
+/// Runs `vigil listen ARGS` while calling `send(i)` every `period` until it exits; returns its
+/// stdout lines.
+fn listen_while(args: &[&str], period: Duration, mut send: impl FnMut(u64)) -> Vec<String> {
     let mut child = Command::new(env!("CARGO_BIN_EXE_vigil"))
         .arg("listen")
         .args(args)
@@ -41,7 +51,7 @@ fn listen_while_publishing<T: Payload>(
             start.elapsed() < Duration::from_secs(20),
             "listen did not finish"
         );
-        publ.publish(&make(i)).unwrap();
+        send(i);
         i += 1;
         std::thread::sleep(period);
     };
@@ -85,6 +95,52 @@ fn listen_prints_alerts_as_json_lines() {
         assert_eq!(v["alert_id"].as_u64().unwrap(), 100 + seq - 1);
         assert_eq!(v["reason"], format!("gnss lost #{}", seq - 1));
         assert_eq!(v["header"]["schema_version"], vigil_bus::SCHEMA_VERSION);
+    }
+}
+
+/// Issue 26: traffic (schema 3) is a slice service; `vigil listen traffic` prints each picture
+/// with as many targets as were published, and the new absolute state.
+#[test]
+fn listen_prints_traffic_pictures_of_their_own_length() {
+    let prefix = format!("vigil-test-{}-listen-traffic", std::process::id());
+    let b = bus(&prefix);
+    let mut publ = b.traffic_publisher().unwrap();
+    let lines = listen_while(
+        &["traffic", "--prefix", &prefix, "--count", "3"],
+        Duration::from_millis(20),
+        |i| {
+            // Picture i holds i % 3 + 1 targets, the first 150 m below the ownship.
+            let n = (i % 3 + 1) as usize;
+            let targets: Vec<Target> = (0..n)
+                .map(|k| Target {
+                    address: 0xC0FFE0 + k as u32,
+                    lat_deg: 47.5,
+                    lon_deg: -8.25,
+                    rel_down_m: 150.0,
+                    ..Target::EMPTY
+                })
+                .collect();
+            let mut p = TrafficPayload::default();
+            p.set_targets(&targets);
+            publ.publish(&p).unwrap();
+        },
+    );
+    assert_eq!(lines.len(), 3, "{lines:?}");
+    for line in &lines {
+        let v: serde_json::Value = serde_json::from_str(line).unwrap();
+        assert_eq!(v["topic"], "traffic");
+        let seq = v["header"]["seq"].as_u64().unwrap();
+        // Published picture number seq - 1 held (seq - 1) % 3 + 1 targets.
+        let n = ((seq - 1) % 3 + 1) as usize;
+        let targets = v["targets"].as_array().unwrap();
+        assert_eq!(targets.len(), n, "{line}");
+        assert_eq!(v["count"], n);
+        assert_eq!(targets[0]["lat_deg"], 47.5);
+        assert_eq!(targets[0]["lon_deg"], -8.25);
+        assert_eq!(targets[0]["rel_down_m"], 150.0);
+        // Unknowns print as null, never as a number.
+        assert!(targets[0]["alt_pressure_m"].is_null());
+        assert_eq!(v["header"]["schema_version"], 3);
     }
 }
 

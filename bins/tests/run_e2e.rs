@@ -36,7 +36,7 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
         ..BusConfig::default()
     })
     .unwrap();
-    let mut traffic = bus.subscriber::<TrafficPayload>().unwrap();
+    let mut traffic = bus.traffic_subscriber().unwrap();
     let mut ownship = bus.subscriber::<OwnshipPayload>().unwrap();
     let mut attitude = bus.subscriber::<AttitudePayload>().unwrap();
     let mut integrity = bus.subscriber::<IntegrityPayload>().unwrap();
@@ -58,12 +58,12 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
     while (full_picture.is_none() || pictures.len() < 3) && Instant::now() < deadline {
         traffic.wait(Duration::from_millis(50)).unwrap();
         while let Some(t) = traffic.try_receive().unwrap() {
-            if t.count == 5 {
-                full_picture = Some(*t.payload());
+            if t.targets().len() == 5 {
+                full_picture = Some(t.to_payload());
             }
-            if t.count > 0 {
+            if !t.targets().is_empty() {
                 pictures.push((
-                    t.header.gps_time_ns,
+                    t.header().gps_time_ns,
                     t.targets()
                         .iter()
                         .map(|x| (x.address, x.horizontal_distance_m))
@@ -270,7 +270,7 @@ fn run_configures_the_vn200_and_ttmrf_when_asked_and_keeps_decoding() {
         ..BusConfig::default()
     })
     .unwrap();
-    let mut traffic = bus.subscriber::<TrafficPayload>().unwrap();
+    let mut traffic = bus.traffic_subscriber().unwrap();
     let mut run = Guard(common::spawn_run(&config, Stdio::piped()));
     let stderr = run.0.stderr.take().unwrap();
     let (tx, rx) = std::sync::mpsc::channel::<String>();
@@ -310,9 +310,9 @@ fn run_configures_the_vn200_and_ttmrf_when_asked_and_keeps_decoding() {
     let mut seen = 0;
     while seen == 0 && Instant::now() < deadline {
         if let Some(t) = traffic.receive_timeout(Duration::from_millis(200)).unwrap()
-            && t.count > 0
+            && !t.targets().is_empty()
         {
-            seen = t.count;
+            seen = t.targets().len();
         }
     }
     assert!(seen > 0, "no traffic after the set-up");

@@ -15,7 +15,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use vigil_bus::payload::traffic::ALERT_WARNING;
-use vigil_bus::{Bus, BusConfig, TrafficPayload};
+use vigil_bus::{Bus, BusConfig};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -32,7 +32,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         lossless_wait_s: Some(5.0),
         ..BusConfig::default()
     })?;
-    let mut traffic = bus.subscriber::<TrafficPayload>()?;
+    let mut traffic = bus.traffic_subscriber()?;
 
     // 2. Replay the recording onto the bus, as fast as this subscriber keeps up.
     let mut replay = Command::new(&vigil)
@@ -49,7 +49,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         while let Some(t) = traffic.try_receive()? {
             let first = t.targets().first().copied();
             pictures.push((
-                t.header.seq,
+                t.header().seq,
                 first.map_or(0, |x| x.address),
                 first.map_or(f64::NAN, |x| x.horizontal_distance_m),
                 first.map_or(0, |x| x.alert_level),

@@ -8,7 +8,7 @@
 use std::time::{Duration, Instant};
 
 use vigil_bus::payload::alerts::{SEVERITY_CAUTION, SEVERITY_WARNING, STATE_RAISED};
-use vigil_bus::{AlertPayload, Bus, BusConfig, TrafficPayload};
+use vigil_bus::{AlertPayload, Bus, BusConfig};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -21,7 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         handle_signals: true,
         ..BusConfig::default()
     })?;
-    let mut traffic = bus.subscriber::<TrafficPayload>()?;
+    let mut traffic = bus.traffic_subscriber()?;
     let mut alerts = bus.subscriber::<AlertPayload>()?;
 
     let end = Instant::now() + Duration::from_secs_f64(seconds);
@@ -35,9 +35,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let most_urgent = t.targets().first();
             println!(
                 "traffic seq {} ({} missed so far): {} targets, most urgent {:?}",
-                t.header.seq,
+                t.header().seq,
                 traffic.missed(),
-                t.count,
+                t.targets().len(),
                 most_urgent.map(|x| (
                     format!("{:06X}", x.address),
                     x.alert_level,

@@ -8,6 +8,8 @@
  * by bus/c/layout_check.c, generated from the Rust layout by the same test and compiled as C11
  * and C++17). Services: "[PREFIX/]vigil/{attitude,ownship,traffic,integrity,alerts}", each with
  * ".../event" for wake-up; the iceoryx2 type name of each payload is in its comment below.
+ * Traffic (schema 3) is a slice service: payload `vigil_Target[count]` (iceoryx2 type name
+ * "vigil.Target.v3"), user header `vigil_TrafficHeader` ("vigil.TrafficHeader.v1").
  * Unknown floats are NaN; units are in the field names. See the repository's README.
  */
 
@@ -22,7 +24,7 @@
  * each `type_name`, so iceoryx2 refuses to connect a publisher and a subscriber built from
  * different layouts instead of letting one misread the other's bytes.
  */
-#define vigil_SCHEMA_VERSION 2
+#define vigil_SCHEMA_VERSION 3
 
 /**
  * Length of the reason field, bytes.
@@ -514,8 +516,9 @@
 #define vigil_FLAG_GEOID_UNKNOWN (1 << 2)
 
 /**
- * Capacity of [`TrafficPayload::targets`]. More targets than this are not published (the lowest
- * priority ones are dropped and counted in [`TrafficPayload::dropped`]).
+ * Most targets in one picture (the documented maximum of the slice). More targets than this are
+ * not published (the lowest priority ones are dropped and counted in
+ * [`TrafficPayload::dropped`]).
  */
 #define vigil_MAX_TARGETS 1024
 
@@ -634,7 +637,7 @@
 
 /**
  * Fail-safe flag: the intruder's altitude is unknown; it is taken as co-altitude and its alert
- * level is at most corrective (2); `vertical_separation_m` and `rel_vel_up_mps` are NaN.
+ * level is at most corrective (2); `rel_down_m` and `rel_vel_down_mps` are NaN.
  */
 #define vigil_FLAG_ALTITUDE_UNKNOWN (1 << 1)
 
@@ -666,6 +669,32 @@
  * applicability); the position is less certain.
  */
 #define vigil_FLAG_TIME_FROM_RECEIPT (1 << 8)
+
+/**
+ * Source bit of [`Target::sources`]: ADS-B heard on 1090 MHz from the aircraft itself.
+ */
+#define vigil_SOURCE_ADSB (1 << 0)
+
+/**
+ * Source bit: UAT (978 MHz) heard from the aircraft itself.
+ */
+#define vigil_SOURCE_UAT (1 << 1)
+
+/**
+ * Source bit: FLARM.
+ */
+#define vigil_SOURCE_FLARM (1 << 2)
+
+/**
+ * Source bit: relayed by a ground station (TIS-B or ADS-R) rather than heard from the aircraft.
+ */
+#define vigil_SOURCE_TISB (1 << 3)
+
+/**
+ * Value of a `u8` category field ([`Target::nic`], [`Target::nac_p`], [`Target::nac_v`],
+ * [`Target::emitter_category`]) that no source reported (distinct from a reported 0).
+ */
+#define vigil_NOT_REPORTED 255
 
 /**
  * Smallest subscriber buffer of the lossless mode, samples (see [`BusConfig::lossless_wait_s`]).
@@ -1000,7 +1029,7 @@ typedef struct vigil_OwnshipPayload {
 } vigil_OwnshipPayload;
 
 /**
- * One target and its geometry relative to the ownship.
+ * One target: its reported state, and its geometry relative to the ownship.
  */
 typedef struct vigil_Target {
   /**
@@ -1028,6 +1057,65 @@ typedef struct vigil_Target {
    */
   uint8_t callsign[vigil_CALLSIGN_LEN];
   /**
+   * Latitude at the picture's time (extrapolated from the newest fix), deg WGS-84.
+   */
+  double lat_deg;
+  /**
+   * Longitude at the picture's time, deg WGS-84.
+   */
+  double lon_deg;
+  /**
+   * Pressure altitude (1013.25 hPa datum), m; NaN when not reported.
+   */
+  double alt_pressure_m;
+  /**
+   * Geometric altitude (above the WGS-84 ellipsoid unless the source gave MSL), m; NaN when not
+   * reported.
+   */
+  double alt_geometric_m;
+  /**
+   * Track over ground, deg true, [0, 360); NaN when not reported.
+   */
+  double track_deg;
+  /**
+   * Ground speed, m/s; NaN when not reported.
+   */
+  double ground_speed_mps;
+  /**
+   * Vertical rate, m/s, positive up; NaN when not reported.
+   */
+  double vertical_rate_mps;
+  /**
+   * 1-sigma horizontal position uncertainty at the picture's time (from the source's accuracy,
+   * grown with the fix's age), m.
+   */
+  double position_sigma_m;
+  /**
+   * Navigation integrity category 0..11, or [`NOT_REPORTED`].
+   */
+  uint8_t nic;
+  /**
+   * Navigation accuracy category for position 0..11, or [`NOT_REPORTED`].
+   */
+  uint8_t nac_p;
+  /**
+   * Navigation accuracy category for velocity 0..4, or [`NOT_REPORTED`].
+   */
+  uint8_t nac_v;
+  /**
+   * Emitter category (DO-260B / GDL90 set, 0 = "no information" as reported), or
+   * [`NOT_REPORTED`].
+   */
+  uint8_t emitter_category;
+  /**
+   * `SOURCE_*` bits: the links and relays that reported the target.
+   */
+  uint8_t sources;
+  /**
+   * Explicit padding; always 0.
+   */
+  uint8_t reserved[3];
+  /**
    * Relative position north, m.
    */
   double rel_north_m;
@@ -1035,6 +1123,11 @@ typedef struct vigil_Target {
    * Relative position east, m.
    */
   double rel_east_m;
+  /**
+   * Relative position down (positive: intruder below the ownship), m, between the altitudes
+   * `altitude_kind` names; NaN when unknown.
+   */
+  double rel_down_m;
   /**
    * Relative velocity north, m/s.
    */
@@ -1044,17 +1137,14 @@ typedef struct vigil_Target {
    */
   double rel_vel_east_mps;
   /**
-   * Rate of the vertical separation, m/s; NaN when the altitude is unknown.
+   * Relative velocity down (rate of `rel_down_m`), m/s; NaN when either vertical rate or the
+   * altitude is unknown.
    */
-  double rel_vel_up_mps;
+  double rel_vel_down_mps;
   /**
    * Horizontal distance, m.
    */
   double horizontal_distance_m;
-  /**
-   * Vertical separation (intruder above ownship positive), m; NaN when unknown.
-   */
-  double vertical_separation_m;
   /**
    * Bearing of the intruder from the ownship, deg true, in [0, 360).
    */
@@ -1093,26 +1183,24 @@ typedef struct vigil_Target {
 } vigil_Target;
 
 /**
- * The traffic picture: `targets[..count]` are valid, sorted by priority.
+ * The iceoryx2 user header of a traffic sample: the common header and the counts. The targets
+ * follow as the sample's slice payload, `count` of them.
  */
-typedef struct vigil_TrafficPayload {
+typedef struct vigil_TrafficHeader {
   /**
    * Common header; `gps_time_ns` is the time the geometry was computed for.
    */
   struct vigil_Header header;
   /**
-   * Number of valid entries in `targets` (at most [`MAX_TARGETS`]).
+   * Number of targets in the sample's slice (equal to the slice's length; a reader takes the
+   * smaller of the two, so a bad count never reads past the slice).
    */
   uint32_t count;
   /**
-   * Targets tracked but not published because the array was full.
+   * Targets tracked but not published because the picture was beyond [`MAX_TARGETS`].
    */
   uint32_t dropped;
-  /**
-   * The targets, most urgent first; entries from `count` on are unspecified.
-   */
-  struct vigil_Target targets[vigil_MAX_TARGETS];
-} vigil_TrafficPayload;
+} vigil_TrafficHeader;
 
 /**
  * One alert raised or latched now (the state an [`super::alerts::AlertPayload`] transition

@@ -7,7 +7,8 @@
 //!
 //! - [`names`]: every service name, `[PREFIX/]vigil/{attitude,ownship,traffic,integrity,alerts}`,
 //!   each with an event service `.../event` for wake-up.
-//! - [`payload`]: every payload, `#[repr(C)]`, fixed size, with a schema version and a sequence
+//! - [`payload`]: every payload, `#[repr(C)]` (fixed size; traffic a header and a slice of
+//!   targets sized by their count), with a schema version and a sequence
 //!   number.
 //! - [`policy`]: what a full subscriber buffer does, per topic (a slow or dead subscriber never
 //!   blocks the publisher).
@@ -25,8 +26,9 @@ pub use payload::alerts::AlertPayload;
 pub use payload::attitude::{AttitudePayload, ChannelComparison, UnitAttitude};
 pub use payload::integrity::{DeviceIntegrity, IntegrityPayload};
 pub use payload::ownship::OwnshipPayload;
-pub use payload::traffic::{MAX_TARGETS, Target, TrafficPayload};
-pub use payload::{Header, Payload, SCHEMA_VERSION};
+pub use payload::traffic::{MAX_TARGETS, Target, TrafficHeader, TrafficPayload};
+pub use payload::{FixedPayload, Header, Payload, SCHEMA_VERSION};
 pub use port::{
-    Bus, BusConfig, BusError, CleanupReport, LOSSLESS_BUFFER, Publisher, Received, Subscriber,
+    Bus, BusConfig, BusError, CleanupReport, Delivered, LOSSLESS_BUFFER, Publisher, Received,
+    ReceivedTraffic, Subscriber, TopicSubscriber, TrafficPublisher, TrafficSubscriber,
 };

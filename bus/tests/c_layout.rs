@@ -20,7 +20,7 @@ use vigil_bus::payload::attitude::ChannelComparison;
 use vigil_bus::payload::integrity::{ActiveAlert, HealthComparison};
 use vigil_bus::{
     AlertPayload, AttitudePayload, DeviceIntegrity, Header, IntegrityPayload, OwnshipPayload,
-    Target, TrafficPayload, UnitAttitude,
+    Target, TrafficHeader, UnitAttitude,
 };
 
 /// One struct's layout as Rust lays it out.
@@ -147,13 +147,27 @@ fn layouts() -> Vec<Layout> {
             altitude_kind,
             plausibility_flags,
             callsign,
+            lat_deg,
+            lon_deg,
+            alt_pressure_m,
+            alt_geometric_m,
+            track_deg,
+            ground_speed_mps,
+            vertical_rate_mps,
+            position_sigma_m,
+            nic,
+            nac_p,
+            nac_v,
+            emitter_category,
+            sources,
+            reserved,
             rel_north_m,
             rel_east_m,
+            rel_down_m,
             rel_vel_north_mps,
             rel_vel_east_mps,
-            rel_vel_up_mps,
+            rel_vel_down_mps,
             horizontal_distance_m,
-            vertical_separation_m,
             bearing_deg,
             range_rate_mps,
             tcpa_s,
@@ -163,11 +177,10 @@ fn layouts() -> Vec<Layout> {
             age_s,
             flags
         }),
-        layout!(TrafficPayload {
+        layout!(TrafficHeader {
             header,
             count,
-            dropped,
-            targets
+            dropped
         }),
         layout!(ActiveAlert {
             alert_id,
@@ -239,7 +252,8 @@ fn bus_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// `pub struct NAME { pub field: ... }` field names of every payload source file.
+/// `pub struct NAME { pub field: ... }` field names of every `#[repr(C)]` struct of the payload
+/// source files (the wire types; `TrafficPayload`, the picture owned in a process, is not one).
 fn source_fields() -> BTreeMap<String, Vec<String>> {
     let mut out = BTreeMap::new();
     let dir = bus_dir().join("src/payload");
@@ -251,9 +265,14 @@ fn source_fields() -> BTreeMap<String, Vec<String>> {
     for f in files {
         let text = std::fs::read_to_string(&f).unwrap();
         let mut current: Option<(String, Vec<String>)> = None;
+        let mut repr_c = false;
         for line in text.lines() {
-            if let Some(rest) = line.strip_prefix("pub struct ") {
-                if let Some(name) = rest.strip_suffix(" {") {
+            if line == "#[repr(C)]" {
+                repr_c = true;
+            } else if let Some(rest) = line.strip_prefix("pub struct ") {
+                if let Some(name) = rest.strip_suffix(" {")
+                    && std::mem::take(&mut repr_c)
+                {
                     current = Some((name.to_string(), Vec::new()));
                 }
             } else if line == "}" {

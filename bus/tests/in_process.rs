@@ -11,7 +11,7 @@ use iceoryx2::prelude::ZeroCopySend;
 use vigil_bus::payload::SCHEMA_VERSION;
 use vigil_bus::{
     AlertPayload, AttitudePayload, ChannelComparison, DeviceIntegrity, Header, IntegrityPayload,
-    OwnshipPayload, Target, Topic, TrafficPayload, UnitAttitude,
+    OwnshipPayload, Target, Topic, TrafficHeader, UnitAttitude,
     payload::integrity::HealthComparison,
 };
 
@@ -143,25 +143,45 @@ fn a_late_subscriber_gets_the_current_state_from_the_history() {
 }
 
 #[test]
-fn traffic_is_written_in_place_and_read_whole() {
+fn traffic_travels_as_a_slice_of_its_count() {
     let b = bus(&unique_prefix("traffic"), "traffic");
-    let mut publ = b.publisher::<TrafficPayload>().unwrap();
-    let mut sub = b.subscriber::<TrafficPayload>().unwrap();
+    let mut publ = b.traffic_publisher().unwrap();
+    let mut sub = b.traffic_subscriber().unwrap();
+    // A full picture (the capacity) arrives whole.
     let t = traffic();
-    publ.publish_with(|p| p.set_targets(t.targets())).unwrap();
+    publ.publish(&t).unwrap();
     let r = sub.try_receive().unwrap().unwrap();
-    assert_eq!(r.count as usize, vigil_bus::MAX_TARGETS);
+    assert_eq!(r.wire_header().count as usize, vigil_bus::MAX_TARGETS);
+    assert_eq!(r.targets().len(), vigil_bus::MAX_TARGETS);
     assert_eq!(format!("{:?}", r.targets()), format!("{:?}", t.targets()));
-    // JSON: only the valid targets, NaN as null, callsign as text.
-    let v = serde_json::to_value(r.payload()).unwrap();
+    assert_eq!(r.header().gps_time_ns, 7);
+    // JSON: the targets, NaN as null, callsign as text.
+    let v = serde_json::to_value(r.to_payload()).unwrap();
     assert_eq!(
         v["targets"].as_array().unwrap().len(),
         vigil_bus::MAX_TARGETS
     );
+    assert_eq!(v["count"], vigil_bus::MAX_TARGETS);
     assert_eq!(v["targets"][1]["callsign"], "T00001");
     assert!(v["targets"][1]["tau_mod_s"].is_null());
     assert_eq!(v["targets"][2]["tau_mod_s"], 22.0);
     assert_eq!(v["header"]["seq"], 1);
+    drop(r);
+    // A 10-target picture is a slice of 10: the iceoryx2 sample holds exactly the 10 targets.
+    let mut ten = traffic();
+    ten.set_targets(&t.targets()[..10]);
+    publ.publish(&ten).unwrap();
+    let r = sub.try_receive().unwrap().unwrap();
+    assert_eq!(r.targets().len(), 10);
+    assert_eq!(r.wire_header().count, 10);
+    assert_eq!(r.targets()[9].address, t.targets()[9].address);
+    assert_eq!(r.header().seq, 2);
+    drop(r);
+    // An empty picture is a slice of 0 and still carries its header.
+    publ.publish(&vigil_bus::TrafficPayload::default()).unwrap();
+    let r = sub.try_receive().unwrap().unwrap();
+    assert!(r.targets().is_empty());
+    assert_eq!(r.header().seq, 3);
 }
 
 #[test]
@@ -180,10 +200,12 @@ fn payload_layouts_are_fixed() {
     assert_eq!(size_of::<AttitudePayload>(), 856);
     // Ownship: 32 + 12 f64 + 3 u8 + 5 pad = 136.
     assert_eq!(size_of::<OwnshipPayload>(), 136);
-    // Target: u32 + 4 u8 + 8 callsign + 14 f64 + u64 flags = 136; Traffic: 32 + 2 u32 +
-    // 1024*136 = 139304.
-    assert_eq!(size_of::<Target>(), 136);
-    assert_eq!(size_of::<TrafficPayload>(), 139_304);
+    // Target (v3, issue 26): u32 + 4 u8 + 8 callsign = 16; 8 f64 of reported state = 64;
+    // 5 u8 + 3 pad = 8; 14 f64 of relative geometry = 112; u64 flags = 8: 208. The traffic
+    // header: 32 + 2 u32 = 40. A 10-target picture is 40 + 10 * 208 = 2120 bytes of payload
+    // (schema 2: 139304 whatever the count).
+    assert_eq!(size_of::<Target>(), 208);
+    assert_eq!(size_of::<TrafficHeader>(), 40);
     // DeviceIntegrity: 16 + 2 u8 + 6 pad + f64 + 9 u64 = 104; Integrity: 32 + 8 + 2 f64 +
     // 8*104 = 888, + issue 18's u8 + 7 pad = 896, + issue 25's 2 u32 and 32 active alerts of
     // (u32 + 2 u8 + 2 pad + i64 + 160) = 176: 896 + 8 + 5632 = 6536.
@@ -194,7 +216,8 @@ fn payload_layouts_are_fixed() {
     assert_eq!(size_of::<IntegrityPayload>(), 6632);
     // Alert: 32 + u32 + 2 u8 + 2 pad + i64 + 160 = 208.
     assert_eq!(size_of::<AlertPayload>(), 208);
-    assert_eq!(align_of::<TrafficPayload>(), 8);
+    assert_eq!(align_of::<Target>(), 8);
+    assert_eq!(align_of::<TrafficHeader>(), 8);
 }
 
 #[test]
@@ -205,7 +228,8 @@ fn type_names_are_explicit_and_versioned() {
         [
             <AttitudePayload as ZeroCopySend>::type_name(),
             <OwnshipPayload as ZeroCopySend>::type_name(),
-            <TrafficPayload as ZeroCopySend>::type_name(),
+            <Target as ZeroCopySend>::type_name(),
+            <TrafficHeader as ZeroCopySend>::type_name(),
             <IntegrityPayload as ZeroCopySend>::type_name(),
             <AlertPayload as ZeroCopySend>::type_name(),
         ]
@@ -215,12 +239,13 @@ fn type_names_are_explicit_and_versioned() {
         [
             "vigil.Attitude.v4",
             "vigil.Ownship.v2",
-            "vigil.Traffic.v2",
+            "vigil.Target.v3",
+            "vigil.TrafficHeader.v1",
             "vigil.Integrity.v3",
             "vigil.Alert.v1"
         ]
     );
-    assert_eq!(SCHEMA_VERSION, 2);
+    assert_eq!(SCHEMA_VERSION, 3);
 }
 
 #[test]

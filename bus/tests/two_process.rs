@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use common::*;
 use vigil_bus::{
-    AlertPayload, AttitudePayload, IntegrityPayload, OwnshipPayload, Payload, Publisher,
-    Subscriber, TrafficPayload,
+    AlertPayload, AttitudePayload, FixedPayload, IntegrityPayload, OwnshipPayload, Publisher,
+    Subscriber, TrafficPublisher, TrafficSubscriber,
 };
 
 /// Entry of the child roles; does nothing when run as a normal test.
@@ -28,9 +28,16 @@ fn child_process_entry() {
 }
 
 /// Forwards every sample of `sub` to `publ` unchanged (the publisher restamps seq and send time).
-fn forward<T: Payload>(sub: &mut Subscriber<T>, publ: &mut Publisher<T>) {
+fn forward<T: FixedPayload>(sub: &mut Subscriber<T>, publ: &mut Publisher<T>) {
     while let Some(r) = sub.try_receive().expect("child receive") {
         publ.publish(r.payload()).expect("child publish");
+    }
+}
+
+/// [`forward`] for traffic pictures.
+fn forward_traffic(sub: &mut TrafficSubscriber, publ: &mut TrafficPublisher) {
+    while let Some(r) = sub.try_receive().expect("child receive") {
+        publ.publish(&r.to_payload()).expect("child publish");
     }
 }
 
@@ -40,12 +47,12 @@ fn child_echo(prefix: &str) {
     let outbound = bus(&format!("{prefix}/back"), "echo-out");
     let mut s1 = inbound.subscriber::<AttitudePayload>().unwrap();
     let mut s2 = inbound.subscriber::<OwnshipPayload>().unwrap();
-    let mut s3 = inbound.subscriber::<TrafficPayload>().unwrap();
+    let mut s3 = inbound.traffic_subscriber().unwrap();
     let mut s4 = inbound.subscriber::<IntegrityPayload>().unwrap();
     let mut s5 = inbound.subscriber::<AlertPayload>().unwrap();
     let mut p1 = outbound.publisher::<AttitudePayload>().unwrap();
     let mut p2 = outbound.publisher::<OwnshipPayload>().unwrap();
-    let mut p3 = outbound.publisher::<TrafficPayload>().unwrap();
+    let mut p3 = outbound.traffic_publisher().unwrap();
     let mut p4 = outbound.publisher::<IntegrityPayload>().unwrap();
     let mut p5 = outbound.publisher::<AlertPayload>().unwrap();
     println!("{READY}");
@@ -53,7 +60,7 @@ fn child_echo(prefix: &str) {
     while alive.load(Ordering::Relaxed) {
         forward(&mut s1, &mut p1);
         forward(&mut s2, &mut p2);
-        forward(&mut s3, &mut p3);
+        forward_traffic(&mut s3, &mut p3);
         forward(&mut s4, &mut p4);
         forward(&mut s5, &mut p5);
         // Any topic's wake-up will do: the parent publishes all of them together.
@@ -75,12 +82,24 @@ fn child_hold(prefix: &str) {
 }
 
 /// Checks the echo of one topic: true once a sample came back with the content sent.
-fn echoed<T: Payload>(sub: &mut Subscriber<T>, sent: &T) -> bool {
+fn echoed<T: FixedPayload>(sub: &mut Subscriber<T>, sent: &T) -> bool {
     let mut ok = false;
     while let Some(r) = sub.try_receive().unwrap() {
         assert_eq!(r.header().schema_version, vigil_bus::SCHEMA_VERSION);
         assert!(r.header().seq >= 1);
         assert_eq!(content(r.payload()), content(sent), "{} changed", T::TOPIC);
+        ok = true;
+    }
+    ok
+}
+
+/// [`echoed`] for traffic pictures.
+fn echoed_traffic(sub: &mut TrafficSubscriber, sent: &vigil_bus::TrafficPayload) -> bool {
+    let mut ok = false;
+    while let Some(r) = sub.try_receive().unwrap() {
+        assert_eq!(r.header().schema_version, vigil_bus::SCHEMA_VERSION);
+        assert!(r.header().seq >= 1);
+        assert_eq!(content(&r.to_payload()), content(sent), "traffic changed");
         ok = true;
     }
     ok
@@ -94,12 +113,12 @@ fn every_payload_round_trips_through_another_process() {
     let (a, o, t, i, al) = (attitude(), ownship(), traffic(), integrity(), alert());
     let mut p1 = out.publisher::<AttitudePayload>().unwrap();
     let mut p2 = out.publisher::<OwnshipPayload>().unwrap();
-    let mut p3 = out.publisher::<TrafficPayload>().unwrap();
+    let mut p3 = out.traffic_publisher().unwrap();
     let mut p4 = out.publisher::<IntegrityPayload>().unwrap();
     let mut p5 = out.publisher::<AlertPayload>().unwrap();
     let mut s1 = back.subscriber::<AttitudePayload>().unwrap();
     let mut s2 = back.subscriber::<OwnshipPayload>().unwrap();
-    let mut s3 = back.subscriber::<TrafficPayload>().unwrap();
+    let mut s3 = back.traffic_subscriber().unwrap();
     let mut s4 = back.subscriber::<IntegrityPayload>().unwrap();
     let mut s5 = back.subscriber::<AlertPayload>().unwrap();
 
@@ -114,13 +133,13 @@ fn every_payload_round_trips_through_another_process() {
         );
         p1.publish(&a).unwrap();
         p2.publish(&o).unwrap();
-        p3.publish_with(|p| *p = t).unwrap();
+        p3.publish(&t).unwrap();
         p4.publish(&i).unwrap();
         p5.publish(&al).unwrap();
         std::thread::sleep(Duration::from_millis(10));
         done[0] |= echoed(&mut s1, &a);
         done[1] |= echoed(&mut s2, &o);
-        done[2] |= echoed(&mut s3, &t);
+        done[2] |= echoed_traffic(&mut s3, &t);
         done[3] |= echoed(&mut s4, &i);
         done[4] |= echoed(&mut s5, &al);
     }

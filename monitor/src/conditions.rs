@@ -525,7 +525,7 @@ impl TargetSummary {
                 plausibility_flags: t.plausibility_flags,
                 callsign: t.callsign,
                 horizontal_distance_m: t.horizontal_distance_m,
-                vertical_separation_m: t.vertical_separation_m,
+                vertical_separation_m: t.vertical_separation_m(),
                 time_to_lowc_s: t.time_to_lowc_s,
             })
     }

@@ -534,7 +534,8 @@ fn target(address: u32, address_type: u8, level: u8, flags: u8) -> Target {
         alert_level: level,
         plausibility_flags: flags,
         horizontal_distance_m: 1234.4,
-        vertical_separation_m: 150.0,
+        // 150 m above the ownship.
+        rel_down_m: -150.0,
         time_to_lowc_s: 23.45,
         ..Target::EMPTY
     };
@@ -756,7 +757,10 @@ fn random_payloads_never_panic_and_transitions_stay_consistent() {
             .collect();
         traffic.set_targets(&targets);
         if rng.one_in(7) {
-            traffic.count = rng.next() as u32;
+            // Schema 3 holds the targets in a vector (a corrupt wire count is clamped when the
+            // sample is read, `TrafficPayload::from_wire`): cut the picture short instead.
+            let keep = rng.next() as usize % (traffic.targets.len() + 1);
+            traffic.targets.truncate(keep);
         }
         for (k, mon) in [&mut m, &mut latching].into_iter().enumerate() {
             if !rng.one_in(3) {

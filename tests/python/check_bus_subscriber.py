@@ -6,8 +6,8 @@
 2. `vigil replay tests/data/replay/headon.mcap --publish --speed 10` publishes the golden head-on
    flight; this subscriber receives traffic and alerts and checks them against the golden file
    (`headon.golden`, checked against the scenario's geometry by the Rust tests): every traffic
-   address it lists, the highest alert level it gives each, schema version 2, sequence numbers
-   only increasing, and the same alert transitions (id and state) in the same order. Exits
+   address it lists, the highest alert level it gives each, schema version 3, sequence numbers
+   only increasing, each picture's slice as long as its count, and the same alert transitions (id and state) in the same order. Exits
    non-zero on any failure.
 """
 
@@ -83,9 +83,11 @@ def main():
         while (pic := traffic.receive()) is not None:
             pictures += 1
             seqs.append(pic.header.seq)
-            if pic.header.schema_version != 2:
+            if pic.header.schema_version != 3:
                 failures.append(f"schema version {pic.header.schema_version}")
-            for t in pic.targets[: pic.count]:
+            if len(pic.targets) != pic.count:
+                failures.append(f"picture {pic.header.seq}: {len(pic.targets)} targets, count {pic.count}")
+            for t in pic.targets:
                 levels[t.address] = max(levels.get(t.address, 0), t.alert_level)
         while (a := alerts.receive()) is not None:
             transitions.append((a.alert_id, a.state))

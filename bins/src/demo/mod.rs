@@ -24,7 +24,6 @@ use clap::Args;
 use vigil_bus::payload::alerts::AlertPayload;
 use vigil_bus::payload::attitude::AttitudePayload;
 use vigil_bus::payload::ownship::OwnshipPayload;
-use vigil_bus::payload::traffic::TrafficPayload;
 use vigil_bus::{Bus, BusConfig};
 
 use view::View;
@@ -336,7 +335,7 @@ fn view_loop(
     .context("connecting to the bus")?;
     let mut att = bus.subscriber::<AttitudePayload>()?;
     let mut own = bus.subscriber::<OwnshipPayload>()?;
-    let mut traffic = bus.subscriber::<TrafficPayload>()?;
+    let mut traffic = bus.traffic_subscriber()?;
     let mut alerts = bus.subscriber::<AlertPayload>()?;
     let tty = std::io::stdout().is_terminal();
     let mut out = std::io::stdout().lock();
@@ -374,7 +373,7 @@ fn view_loop(
             v.received[1] += 1;
         }
         while let Some(r) = traffic.try_receive()? {
-            v.traffic = Some(Box::new(*r.payload()));
+            v.traffic = Some(Box::new(r.to_payload()));
             v.received[2] += 1;
         }
         while let Some(r) = alerts.try_receive()? {

@@ -177,7 +177,7 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
     }
     s.push_str("\nTRAFFIC   address  callsign  range NM  brg   rel alt ft  t-LoWC s  level\n");
     match &v.traffic {
-        Some(t) if t.count > 0 => {
+        Some(t) if t.count() > 0 => {
             for x in t.targets().iter().take(TRAFFIC_ROWS) {
                 let cs = String::from_utf8_lossy(&x.callsign);
                 let cs = cs.trim_end_matches(['\0', ' ']);
@@ -193,7 +193,7 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
                     cs,
                     x.horizontal_distance_m / M_PER_NM,
                     x.bearing_deg,
-                    x.vertical_separation_m * FT_PER_M,
+                    x.vertical_separation_m() * FT_PER_M,
                     ["-", "preventive", "CORRECTIVE", "WARNING"]
                         .get(usize::from(x.alert_level))
                         .unwrap_or(&"?"),
@@ -204,8 +204,8 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
                     }
                 );
             }
-            if t.count as usize > TRAFFIC_ROWS {
-                let _ = writeln!(s, "          ... {} more", t.count as usize - TRAFFIC_ROWS);
+            if t.count() > TRAFFIC_ROWS {
+                let _ = writeln!(s, "          ... {} more", t.count() - TRAFFIC_ROWS);
             }
         }
         _ => s.push_str("          no traffic\n"),
@@ -259,17 +259,18 @@ mod tests {
         a.pair_verdicts[PAIR_BAHRS_VN200] = [VERDICT_FAIL, VERDICT_PASS, VERDICT_PASS];
         v.attitude = Some(a);
         let mut t = Box::new(TrafficPayload::default());
-        t.count = 1;
-        t.targets[0] = Target {
+        let mut x = Target {
             address: 0x4B1A01,
             alert_level: 3,
             horizontal_distance_m: 3704.0,
-            vertical_separation_m: -30.48,
+            // 100 ft below the ownship.
+            rel_down_m: 30.48,
             bearing_deg: 12.0,
             time_to_lowc_s: 8.5,
             ..Target::EMPTY
         };
-        t.targets[0].callsign[..7].copy_from_slice(b"HEADON1");
+        x.callsign[..7].copy_from_slice(b"HEADON1");
+        t.set_targets(&[x]);
         v.traffic = Some(t);
         let mut al = AlertPayload {
             severity: 2,

@@ -38,7 +38,7 @@ use vigil_fusion::pipeline::TrafficPicture;
 use vigil_fusion::time::ClockStatus;
 use vigil_fusion::time::aligner::{ClockReport, Device};
 use vigil_fusion::traffic::track::AddressSpace;
-use vigil_fusion::traffic::{AltitudeKind, Target};
+use vigil_fusion::traffic::{AltitudeKind, Origins, Target};
 
 use super::config::Protocol;
 
@@ -433,6 +433,18 @@ fn fail_safe_bits(t: &Target) -> u64 {
     .fold(0u64, |acc, &(on, bit)| if on { acc | bit } else { acc })
 }
 
+/// The `SOURCE_*` bits of a target's origins.
+fn source_bits(o: &Origins) -> u8 {
+    [
+        (o.adsb, tr::SOURCE_ADSB),
+        (o.uat, tr::SOURCE_UAT),
+        (o.flarm, tr::SOURCE_FLARM),
+        (o.relayed, tr::SOURCE_TISB),
+    ]
+    .iter()
+    .fold(0u8, |acc, &(on, bit)| if on { acc | bit } else { acc })
+}
+
 /// One target of the traffic payload; `own` (the ownship of the same step) gives the distance of
 /// a target without geometry (a stale one). Every unknown is NaN with its `FLAG_*` bit.
 pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
@@ -456,10 +468,13 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
         (Some(v), Some(o)) => [v[0] - o[1], v[1] - o[0]],
         _ => [nan; 2],
     };
-    let rel_up = match (t.vertical_rate_mps, own.and_then(|o| o.vertical_rate_mps)) {
-        (Some(v), Some(o)) if g.is_some_and(|g| g.vertical_separation_m.is_some()) => v - o,
+    // Down is the negated up rate of the separation (intruder minus ownship).
+    let rel_down_rate = match (t.vertical_rate_mps, own.and_then(|o| o.vertical_rate_mps)) {
+        (Some(v), Some(o)) if g.is_some_and(|g| g.vertical_separation_m.is_some()) => o - v,
         _ => nan,
     };
+    let r = &t.reported;
+    let u8_or = |v: Option<u8>| v.unwrap_or(tr::NOT_REPORTED);
     tr::Target {
         address: t.key.address & 0x00FF_FFFF,
         address_type: address_type(t.key.space),
@@ -471,13 +486,29 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
         },
         plausibility_flags: plausibility_bits(&t.flags),
         callsign,
+        lat_deg: t.lat_deg,
+        lon_deg: t.lon_deg,
+        alt_pressure_m: r.alt_pressure_m.unwrap_or(nan),
+        alt_geometric_m: r.alt_geometric_m.unwrap_or(nan),
+        track_deg: r.track_deg.unwrap_or(nan),
+        ground_speed_mps: r.ground_speed_mps.unwrap_or(nan),
+        vertical_rate_mps: t.vertical_rate_mps.unwrap_or(nan),
+        position_sigma_m: t.position_sigma_m,
+        nic: u8_or(r.nic),
+        nac_p: u8_or(r.nac_p),
+        nac_v: u8_or(r.nac_v),
+        emitter_category: u8_or(r.emitter_category),
+        sources: source_bits(&r.origins),
+        reserved: [0; 3],
         rel_north_m: distance * cos,
         rel_east_m: distance * sin,
+        rel_down_m: g
+            .and_then(|g| g.vertical_separation_m)
+            .map_or(nan, |dz| -dz),
         rel_vel_north_mps: rel_h[0],
         rel_vel_east_mps: rel_h[1],
-        rel_vel_up_mps: rel_up,
+        rel_vel_down_mps: rel_down_rate,
         horizontal_distance_m: distance,
-        vertical_separation_m: g.and_then(|g| g.vertical_separation_m).unwrap_or(nan),
         bearing_deg: t.bearing_true_deg.rem_euclid(360.0),
         range_rate_mps: g.and_then(|g| g.range_rate_mps).unwrap_or(nan),
         tcpa_s: g.and_then(|g| g.tcpa_s).unwrap_or(nan),
@@ -495,16 +526,15 @@ pub fn target(t: &Target, own: Option<&Ownship>) -> tr::Target {
     }
 }
 
-/// Fills `out` (reused: the payload is 140 KiB) with the picture, targets in the picture's
-/// priority order; targets beyond the capacity are dropped and counted.
+/// Fills `out` (reused, so its target vector keeps its allocation) with the picture, targets in
+/// the picture's priority order; targets beyond [`tr::MAX_TARGETS`] are dropped and counted.
 pub fn traffic(p: &TrafficPicture, own: Option<&Ownship>, out: &mut TrafficPayload) {
     out.header = Default::default();
     out.header.gps_time_ns = p.t_gps_ns;
     let n = p.targets.len().min(tr::MAX_TARGETS);
-    for (slot, t) in out.targets.iter_mut().zip(&p.targets) {
-        *slot = target(t, own);
-    }
-    out.count = n as u32;
+    out.targets.clear();
+    out.targets
+        .extend(p.targets[..n].iter().map(|t| target(t, own)));
     out.dropped = u32::try_from(p.targets.len() - n).unwrap_or(u32::MAX);
 }
 

@@ -22,7 +22,7 @@ use vigil_fusion::pipeline::TrafficPicture;
 use vigil_fusion::time::aligner::{ClockReport, Device};
 use vigil_fusion::time::{AlignedTime, ClockStatus, TimeSource};
 use vigil_fusion::traffic::track::{AddressSpace, PlausibilityFlags, TargetKey};
-use vigil_fusion::traffic::{AltitudeKind, Target, TrafficStats};
+use vigil_fusion::traffic::{AltitudeKind, Origins, Reported, Target, TrafficStats};
 
 use super::*;
 
@@ -272,6 +272,21 @@ fn fusion_target(address: u32, level: u8, geometry: Option<Geometry>) -> Target 
         flarm_alarm_level: None,
         flags: PlausibilityFlags::default(),
         fail_safe: Default::default(),
+        reported: Reported {
+            alt_pressure_m: Some(770.0),
+            alt_geometric_m: None,
+            track_deg: Some(270.0),
+            ground_speed_mps: Some(50.0),
+            nic: Some(8),
+            nac_p: Some(9),
+            nac_v: None,
+            emitter_category: Some(1),
+            origins: Origins {
+                adsb: true,
+                relayed: true,
+                ..Origins::default()
+            },
+        },
     }
 }
 
@@ -294,9 +309,20 @@ fn target_fields_and_units() {
     assert!(p.rel_north_m.abs() < 1e-9);
     assert!((p.rel_east_m - 2000.0).abs() < 1e-9);
     assert!(p.rel_vel_north_mps.is_nan() && p.rel_vel_east_mps.is_nan());
-    assert!(p.rel_vel_up_mps.is_nan());
+    assert!(p.rel_vel_down_mps.is_nan());
     assert_eq!(p.horizontal_distance_m, 2000.0);
-    assert_eq!(p.vertical_separation_m, 150.0);
+    // 150 m above the ownship is 150 m up: -150 m in the north-east-down frame.
+    assert_eq!(p.rel_down_m, -150.0);
+    assert_eq!(p.vertical_separation_m(), 150.0);
+    // Reported state carried through in the payload's units, unknowns as NaN or NOT_REPORTED.
+    assert_eq!((p.lat_deg, p.lon_deg), (47.41, 8.5));
+    assert_eq!(p.alt_pressure_m, 770.0);
+    assert!(p.alt_geometric_m.is_nan() && p.vertical_rate_mps.is_nan());
+    assert_eq!((p.track_deg, p.ground_speed_mps), (270.0, 50.0));
+    assert_eq!(p.position_sigma_m, 10.0);
+    assert_eq!((p.nic, p.nac_p, p.nac_v), (8, 9, tr::NOT_REPORTED));
+    assert_eq!(p.emitter_category, 1);
+    assert_eq!(p.sources, tr::SOURCE_ADSB | tr::SOURCE_TISB);
     assert_eq!(p.bearing_deg, 90.0);
     assert_eq!(p.range_rate_mps, -60.0);
     assert_eq!(p.tcpa_s, 30.0);
@@ -328,19 +354,20 @@ fn target_fields_and_units() {
     );
     assert!((p.rel_north_m - p.horizontal_distance_m).abs() < 1e-9);
     assert_eq!(p.altitude_kind, tr::ALTITUDE_UNKNOWN);
-    assert!(p.vertical_separation_m.is_nan() && p.range_rate_mps.is_nan());
+    assert!(p.rel_down_m.is_nan() && p.range_rate_mps.is_nan());
     assert!(p.time_to_lowc_s.is_nan());
     assert_eq!(p.callsign, [0; tr::CALLSIGN_LEN]);
 
     // Relative velocity: intruder (north 0, east -50, down -2: westbound, climbing 2 m/s) minus
-    // the ownship (track 30 deg at 40 m/s: north 34.641, east 20.0; vertical rate -1.5 m/s).
+    // the ownship (track 30 deg at 40 m/s: north 34.641, east 20.0; vertical rate -1.5 m/s,
+    // down +1.5): down -2 - 1.5 = -3.5 m/s.
     let mut t = fusion_target(3, 0, Some(geometry()));
     t.velocity_ne_mps = Some([0.0, -50.0]);
     t.vertical_rate_mps = Some(2.0);
     let p = target(&t, Some(&o));
     assert!((p.rel_vel_north_mps - (0.0 - 34.641_016)).abs() < 1e-6);
     assert!((p.rel_vel_east_mps - (-50.0 - 20.0)).abs() < 1e-9);
-    assert!((p.rel_vel_up_mps - (2.0 + 1.5)).abs() < 1e-9);
+    assert!((p.rel_vel_down_mps - (-3.5)).abs() < 1e-9);
     // Without the ownship it is unknown.
     assert!(target(&t, None).rel_vel_north_mps.is_nan());
 }
@@ -362,7 +389,7 @@ fn traffic_keeps_priority_order_bounds_and_counts_dropped() {
     traffic(&pic, None, &mut out);
     assert_eq!(out.header.gps_time_ns, T0);
     assert_eq!(out.header.seq, 0, "header reset (the publisher stamps it)");
-    assert_eq!(out.count as usize, tr::MAX_TARGETS);
+    assert_eq!(out.count(), tr::MAX_TARGETS);
     assert_eq!(out.dropped, 3);
     // Order kept: slot i holds the picture's i-th target.
     assert_eq!(out.targets[0].address, 0);
@@ -376,7 +403,7 @@ fn traffic_keeps_priority_order_bounds_and_counts_dropped() {
         ..pic.clone()
     };
     traffic(&small, None, &mut out);
-    assert_eq!((out.count, out.dropped), (2, 0));
+    assert_eq!((out.count(), out.dropped), (2, 0));
 }
 
 #[test]

@@ -353,7 +353,7 @@ pub fn traffic_geojson(t: &TrafficPayload, own: Option<&OwnshipPayload>) -> Opti
                     "address": address,
                     "alert_level": x.alert_level,
                     "horizontal_distance_m": x.horizontal_distance_m,
-                    "vertical_separation_m": x.vertical_separation_m,
+                    "vertical_separation_m": x.vertical_separation_m(),
                     "time_to_lowc_s": x.time_to_lowc_s,
                 },
             })
@@ -501,7 +501,7 @@ impl Outputs for FoxgloveView {
                     && self.traffic_limit.admit(t) =>
             {
                 any.downcast_ref::<TrafficPayload>()
-                    .map(|p| Item::Traffic(Box::new(*p)))
+                    .map(|p| Item::Traffic(Box::new(p.clone())))
             }
             Topic::Integrity if ch.integrity.has_sinks() => any
                 .downcast_ref::<IntegrityPayload>()

@@ -12,8 +12,12 @@
 //! - Traffic alert status `s` is 1 while the DAA alert level is corrective or warning (the
 //!   levels that call for a manoeuvre), else 0.
 //! - Address type `t`: ICAO 0, non-ICAO / FLARM 1 (self-assigned), TIS-B track file 3, surface 4.
-//! - NACp from the 1-sigma position uncertainty: EPU (95 % radius of a circular 2-D normal) =
-//!   2.448 sigma, then the ICD's table 3.5.1.6 bounds; NIC is not known: 0.
+//! - NACp from the 1-sigma position uncertainty at the picture's time: EPU (95 % radius of a
+//!   circular 2-D normal) = 2.448 sigma, then the ICD's table 3.5.1.6 bounds; when the source
+//!   reported a NACp too, the lower (worse) of the two, because extrapolation since the report
+//!   only loses accuracy. NIC as the source reported it (0..11), else 0 (unknown).
+//! - Emitter category as reported when it is in the ICD's table (0..39), else 0 (no
+//!   information).
 //! - Misc: airborne unless the address is a surface vehicle's (the picture has no air/ground
 //!   state); "extrapolated" when the newest report is more than a second old; track type "true
 //!   track" when a velocity is known, else "not valid".
@@ -196,11 +200,18 @@ pub fn traffic_report(t: &Target) -> TargetReport {
         extrapolated: t.age_s > 1.0,
         track_type,
         track_deg,
-        nic: 0,
-        nac_p: nac_p(Some(t.position_sigma_m)),
+        nic: t.reported.nic.filter(|&n| n <= 11).unwrap_or(0),
+        nac_p: {
+            let from_sigma = nac_p(Some(t.position_sigma_m));
+            t.reported.nac_p.map_or(from_sigma, |r| r.min(from_sigma))
+        },
         horizontal_velocity,
         vertical_velocity: vertical(t.vertical_rate_mps),
-        emitter_category: 0,
+        emitter_category: t
+            .reported
+            .emitter_category
+            .filter(|&c| c <= 39)
+            .unwrap_or(0),
         callsign: callsign(t.callsign.as_deref()),
         emergency_code: 0,
         spare: 0,

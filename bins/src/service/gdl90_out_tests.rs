@@ -5,8 +5,8 @@
 use vigil_drivers::ttmrf::gdl90::{Gdl90Decoder, Gdl90Message, TrafficAltitude};
 use vigil_drivers::{DeviceDecoder, decode_slice};
 use vigil_fusion::ownship::{Ownship, PositionSource};
-use vigil_fusion::traffic::TrafficStats;
 use vigil_fusion::traffic::track::{AddressSpace, PlausibilityFlags, TargetKey};
+use vigil_fusion::traffic::{Reported, TrafficStats};
 
 use super::*;
 
@@ -90,6 +90,13 @@ fn target() -> Target {
         flarm_alarm_level: None,
         flags: PlausibilityFlags::default(),
         fail_safe: Default::default(),
+        // The ICD's traffic report example: NIC 10, NACp 9, emitter category 1 (light).
+        reported: Reported {
+            nic: Some(10),
+            nac_p: Some(9),
+            emitter_category: Some(1),
+            ..Reported::default()
+        },
     }
 }
 
@@ -154,9 +161,10 @@ fn every_message_decodes_by_the_icds_tables() {
     assert_eq!(i32::from(alt) * 25 - 1000, 5000, "pressure altitude, ft");
     assert_eq!(m[12] & 0x0F, 0b1001, "airborne, updated, true track");
     assert_eq!(
-        m[13], 0x09,
-        "NIC 0 (unknown), NACp 9: EPU 2.4477 x 10 m = 24.5 m < 30 m"
+        m[13], 0xA9,
+        "NIC 10, NACp 9 (reported 9; from sigma: EPU 2.4477 x 10 m = 24.5 m < 30 m, also 9)"
     );
+    assert_eq!(m[18], 1, "emitter category light");
     let hv = (u16::from(m[14]) << 4) | u16::from(m[15] >> 4);
     assert_eq!(hv, 123, "kt");
     let vv = ((i32::from(m[15] & 0x0F) << 8 | i32::from(m[16])) << 20) >> 20;
@@ -239,4 +247,24 @@ fn nacp_follows_the_icds_bounds() {
     assert_eq!(nac_p(Some(30.0)), 8);
     assert_eq!(nac_p(Some(40.0)), 7, "97.9 m < 0.1 NM");
     assert_eq!(nac_p(Some(10_000.0)), 0);
+}
+
+#[test]
+fn reported_accuracy_never_claims_more_than_the_extrapolated_position_has() {
+    // Reported NACp 11 (EPU < 3 m) but 10 m sigma at the picture's time: NACp 9 goes out.
+    let mut t = target();
+    t.reported.nac_p = Some(11);
+    assert_eq!(traffic_report(&t).nac_p, 9);
+    // Reported NACp 7 with a 10 m sigma: the source's own 7 (the worse) goes out.
+    t.reported.nac_p = Some(7);
+    assert_eq!(traffic_report(&t).nac_p, 7);
+    // Nothing reported: NIC 0 and emitter 0 (unknown), NACp from the sigma alone.
+    t.reported = Reported::default();
+    let r = traffic_report(&t);
+    assert_eq!((r.nic, r.nac_p, r.emitter_category), (0, 9, 0));
+    // Out of the ICD's tables: not sent.
+    t.reported.nic = Some(12);
+    t.reported.emitter_category = Some(40);
+    let r = traffic_report(&t);
+    assert_eq!((r.nic, r.emitter_category), (0, 0));
 }

@@ -24,7 +24,7 @@ use tracing::{error, info, warn};
 use vigil_bus::clock::monotonic_ns;
 use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
-    Publisher, Topic, TrafficPayload,
+    Publisher, Topic, TrafficPayload, TrafficPublisher,
 };
 use vigil_sim::record::RawRecorder;
 
@@ -53,7 +53,7 @@ pub struct RunArgs {
 pub struct BusOutputs {
     attitude: Publisher<AttitudePayload>,
     ownship: Publisher<OwnshipPayload>,
-    traffic: Publisher<TrafficPayload>,
+    traffic: TrafficPublisher,
     integrity: Publisher<IntegrityPayload>,
     alerts: Publisher<AlertPayload>,
     errors: u64,
@@ -65,7 +65,7 @@ impl BusOutputs {
         Ok(Self {
             attitude: bus.publisher()?,
             ownship: bus.publisher()?,
-            traffic: bus.publisher()?,
+            traffic: bus.traffic_publisher()?,
             integrity: bus.publisher()?,
             alerts: bus.publisher()?,
             errors: 0,
@@ -89,10 +89,10 @@ impl Outputs for BusOutputs {
             Topic::Ownship => any
                 .downcast_ref::<OwnshipPayload>()
                 .map(|p| self.ownship.publish(p)),
-            // 140 KiB: copied once, into the loaned sample.
+            // The targets are copied once, into a loaned slice of their count.
             Topic::Traffic => any
                 .downcast_ref::<TrafficPayload>()
-                .map(|p| self.traffic.publish_with(|s| *s = *p)),
+                .map(|p| self.traffic.publish(p)),
             Topic::Integrity => any
                 .downcast_ref::<IntegrityPayload>()
                 .map(|p| self.integrity.publish(p)),

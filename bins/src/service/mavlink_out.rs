@@ -14,7 +14,8 @@
 //! | `ver_velocity` | vertical rate, cm/s up; flag `VERTICAL_VELOCITY_VALID` |
 //! | `callsign` | when known; flag `VALID_CALLSIGN` |
 //! | `tslc` | age of the newest report, whole seconds (saturating at 255) |
-//! | `squawk`, `emitter_type` | not carried by the fused picture: 0, no flag |
+//! | `emitter_type` | the reported emitter category: MAVLink's `ADSB_EMITTER_TYPE` numbers DO-260B's categories as GDL90 does (0..19); beyond 19 (obstacles GDL90 adds) or not reported: 0, no information |
+//! | `squawk` | not carried by the fused picture: 0, no flag |
 //!
 //! Each target is sent at most once per second (of GPS time); the heartbeat once per second.
 //! Unknown stays unknown: a field without its validity flag carries 0.
@@ -160,7 +161,11 @@ pub fn vehicle(t: &Target) -> AdsbVehicle {
         flags,
         squawk: 0,
         callsign,
-        emitter_type: 0,
+        emitter_type: t
+            .reported
+            .emitter_category
+            .filter(|&c| c <= 19)
+            .unwrap_or(0),
         tslc_s: t.age_s.clamp(0.0, 255.0) as u8,
     }
 }

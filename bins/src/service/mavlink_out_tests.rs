@@ -28,6 +28,7 @@ fn target(address: u32) -> Target {
         flarm_alarm_level: None,
         flags: PlausibilityFlags::default(),
         fail_safe: Default::default(),
+        reported: Default::default(),
     }
 }
 
@@ -114,6 +115,13 @@ fn unknown_quantities_carry_no_validity_flag() {
     // Due north: 0 deg, never 360.
     t.velocity_ne_mps = Some([30.0, -1e-9]);
     assert_eq!(vehicle(&t).heading_deg, 0.0);
+    // Emitter category: 14 (UAV) is ADSB_EMITTER_TYPE_UAV (14); 20 (cluster obstacle, GDL90
+    // only) has no MAVLink number: 0, no information.
+    assert_eq!(vehicle(&t).emitter_type, 0, "not reported");
+    t.reported.emitter_category = Some(14);
+    assert_eq!(vehicle(&t).emitter_type, 14);
+    t.reported.emitter_category = Some(20);
+    assert_eq!(vehicle(&t).emitter_type, 0);
 }
 
 #[test]

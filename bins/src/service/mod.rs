@@ -529,7 +529,7 @@ pub struct Collected {
     /// Ownship payloads.
     pub ownship: Vec<OwnshipPayload>,
     /// Traffic payloads (count and the first targets only matter to tests; kept whole).
-    pub traffic: Vec<Box<TrafficPayload>>,
+    pub traffic: Vec<TrafficPayload>,
     /// Integrity payloads.
     pub integrity: Vec<IntegrityPayload>,
     /// Alert payloads.
@@ -546,7 +546,7 @@ impl Outputs for Collected {
         } else if let Some(p) = any.downcast_ref::<OwnshipPayload>() {
             self.ownship.push(*p);
         } else if let Some(p) = any.downcast_ref::<TrafficPayload>() {
-            self.traffic.push(Box::new(*p));
+            self.traffic.push(p.clone());
         } else if let Some(p) = any.downcast_ref::<IntegrityPayload>() {
             self.integrity.push(*p);
         } else if let Some(p) = any.downcast_ref::<AlertPayload>() {

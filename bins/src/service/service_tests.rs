@@ -62,7 +62,7 @@ fn nominal_chunks_give_every_payload_in_gps_order() {
     }
     // Nominal: five intruders; the last picture holds them all, none dropped.
     let t = out.traffic.last().unwrap();
-    assert_eq!((t.count, t.dropped), (5, 0));
+    assert_eq!((t.count(), t.dropped), (5, 0));
     let i = out.integrity.last().unwrap();
     assert_eq!(i.device_count, 4);
     for d in i.devices() {
@@ -197,7 +197,7 @@ fn same_chunks_same_outputs() {
         }
         let mut lines: Vec<String> = out.attitude.iter().map(json).collect();
         lines.extend(out.ownship.iter().map(json));
-        lines.extend(out.traffic.iter().map(|p| json(&**p)));
+        lines.extend(out.traffic.iter().map(json));
         lines
     };
     let a = run();
@@ -224,7 +224,7 @@ fn service_and_fused_replay_agree() {
     s.finish(sink.chunks.last().unwrap().t_host_ns, &mut out);
     let mut live: Vec<String> = out.attitude.iter().map(json).collect();
     live.extend(out.ownship.iter().map(json));
-    live.extend(out.traffic.iter().map(|p| json(&**p)));
+    live.extend(out.traffic.iter().map(json));
 
     let info = sink.info.as_ref().unwrap();
     let specs: Vec<(&str, &str, u32)> = info

@@ -23,9 +23,12 @@ def main():
     alerts = vigil_bus.Subscriber(node, "alerts", prefix, wait_s=60.0)
     while True:
         while (pic := traffic.receive()) is not None:
-            for t in pic.targets[: pic.count]:
+            for t in pic.targets:
                 name = bytes(t.callsign).rstrip(b"\0").decode(errors="replace")
-                print(f"{t.address:06X} {name:8} {LEVELS[min(t.alert_level, 3)]}")
+                print(
+                    f"{t.address:06X} {name:8} {LEVELS[min(t.alert_level, 3)]:10} "
+                    f"{t.lat_deg:.5f} {t.lon_deg:.5f} {t.horizontal_distance_m:.0f} m"
+                )
         while (a := alerts.receive()) is not None:
             reason = bytes(a.reason).rstrip(b"\0").decode(errors="replace")
             print(f"alert {a.alert_id:08X} {STATES[min(a.state, 2)]}: {reason}")

@@ -130,7 +130,7 @@ class OwnshipPayload(ctypes.Structure):
 
 
 class Target(ctypes.Structure):
-    """iceoryx2 type name `vigil.Target.v2`."""
+    """iceoryx2 type name `vigil.Target.v3`."""
 
     _fields_ = [
         ("address", ctypes.c_uint32),
@@ -139,13 +139,27 @@ class Target(ctypes.Structure):
         ("altitude_kind", ctypes.c_uint8),
         ("plausibility_flags", ctypes.c_uint8),
         ("callsign", (ctypes.c_uint8) * 8),
+        ("lat_deg", ctypes.c_double),
+        ("lon_deg", ctypes.c_double),
+        ("alt_pressure_m", ctypes.c_double),
+        ("alt_geometric_m", ctypes.c_double),
+        ("track_deg", ctypes.c_double),
+        ("ground_speed_mps", ctypes.c_double),
+        ("vertical_rate_mps", ctypes.c_double),
+        ("position_sigma_m", ctypes.c_double),
+        ("nic", ctypes.c_uint8),
+        ("nac_p", ctypes.c_uint8),
+        ("nac_v", ctypes.c_uint8),
+        ("emitter_category", ctypes.c_uint8),
+        ("sources", ctypes.c_uint8),
+        ("reserved", (ctypes.c_uint8) * 3),
         ("rel_north_m", ctypes.c_double),
         ("rel_east_m", ctypes.c_double),
+        ("rel_down_m", ctypes.c_double),
         ("rel_vel_north_mps", ctypes.c_double),
         ("rel_vel_east_mps", ctypes.c_double),
-        ("rel_vel_up_mps", ctypes.c_double),
+        ("rel_vel_down_mps", ctypes.c_double),
         ("horizontal_distance_m", ctypes.c_double),
-        ("vertical_separation_m", ctypes.c_double),
         ("bearing_deg", ctypes.c_double),
         ("range_rate_mps", ctypes.c_double),
         ("tcpa_s", ctypes.c_double),
@@ -158,22 +172,21 @@ class Target(ctypes.Structure):
 
     @staticmethod
     def type_name() -> str:
-        return "vigil.Target.v2"
+        return "vigil.Target.v3"
 
 
-class TrafficPayload(ctypes.Structure):
-    """iceoryx2 type name `vigil.Traffic.v2`."""
+class TrafficHeader(ctypes.Structure):
+    """iceoryx2 type name `vigil.TrafficHeader.v1`."""
 
     _fields_ = [
         ("header", Header),
         ("count", ctypes.c_uint32),
         ("dropped", ctypes.c_uint32),
-        ("targets", (Target) * 1024),
     ]
 
     @staticmethod
     def type_name() -> str:
-        return "vigil.Traffic.v2"
+        return "vigil.TrafficHeader.v1"
 
 
 class ActiveAlert(ctypes.Structure):
@@ -291,8 +304,8 @@ LAYOUT = {
     "ChannelComparison": (48, 8, {"bahrs": (0, 8), "vn200": (8, 8), "diff": (16, 8), "sigma": (24, 8), "stat_ratio": (32, 8), "verdict": (40, 1), "coverage": (41, 1), "reserved": (42, 6)}),
     "AttitudePayload": (856, 8, {"header": (0, 32), "roll_rad": (32, 8), "pitch_rad": (40, 8), "heading_rad": (48, 8), "sigma_roll_rad": (56, 8), "sigma_pitch_rad": (64, 8), "sigma_heading_rad": (72, 8), "units": (80, 192), "pair_verdicts": (272, 9), "isolation": (281, 1), "isolated_unit": (282, 1), "valid": (283, 1), "reserved": (284, 4), "unit_coverage": (288, 3), "check_coverage": (291, 4), "reserved_coverage": (295, 1), "unit_compared_age_s": (296, 24), "check_compared_age_s": (320, 32), "vertical": (352, 96), "inertial": (448, 288), "bahrs_vertical_health": (736, 2), "bahrs_inertial_health": (738, 6), "vertical_tt_rate_mps": (744, 8), "vertical_tt": (752, 96), "vertical_tt_coverage": (848, 1), "vertical_isolated_unit": (849, 1), "reserved_vertical_tt": (850, 6)}),
     "OwnshipPayload": (136, 8, {"header": (0, 32), "lat_deg": (32, 8), "lon_deg": (40, 8), "alt_pressure_m": (48, 8), "alt_geometric_m": (56, 8), "vel_north_mps": (64, 8), "vel_east_mps": (72, 8), "vel_up_mps": (80, 8), "ground_speed_mps": (88, 8), "track_deg": (96, 8), "sigma_horizontal_m": (104, 8), "sigma_vertical_m": (112, 8), "sigma_velocity_mps": (120, 8), "source": (128, 1), "valid": (129, 1), "flags": (130, 1), "reserved": (131, 5)}),
-    "Target": (136, 8, {"address": (0, 4), "address_type": (4, 1), "alert_level": (5, 1), "altitude_kind": (6, 1), "plausibility_flags": (7, 1), "callsign": (8, 8), "rel_north_m": (16, 8), "rel_east_m": (24, 8), "rel_vel_north_mps": (32, 8), "rel_vel_east_mps": (40, 8), "rel_vel_up_mps": (48, 8), "horizontal_distance_m": (56, 8), "vertical_separation_m": (64, 8), "bearing_deg": (72, 8), "range_rate_mps": (80, 8), "tcpa_s": (88, 8), "hmd_m": (96, 8), "tau_mod_s": (104, 8), "time_to_lowc_s": (112, 8), "age_s": (120, 8), "flags": (128, 8)}),
-    "TrafficPayload": (139304, 8, {"header": (0, 32), "count": (32, 4), "dropped": (36, 4), "targets": (40, 139264)}),
+    "Target": (208, 8, {"address": (0, 4), "address_type": (4, 1), "alert_level": (5, 1), "altitude_kind": (6, 1), "plausibility_flags": (7, 1), "callsign": (8, 8), "lat_deg": (16, 8), "lon_deg": (24, 8), "alt_pressure_m": (32, 8), "alt_geometric_m": (40, 8), "track_deg": (48, 8), "ground_speed_mps": (56, 8), "vertical_rate_mps": (64, 8), "position_sigma_m": (72, 8), "nic": (80, 1), "nac_p": (81, 1), "nac_v": (82, 1), "emitter_category": (83, 1), "sources": (84, 1), "reserved": (85, 3), "rel_north_m": (88, 8), "rel_east_m": (96, 8), "rel_down_m": (104, 8), "rel_vel_north_mps": (112, 8), "rel_vel_east_mps": (120, 8), "rel_vel_down_mps": (128, 8), "horizontal_distance_m": (136, 8), "bearing_deg": (144, 8), "range_rate_mps": (152, 8), "tcpa_s": (160, 8), "hmd_m": (168, 8), "tau_mod_s": (176, 8), "time_to_lowc_s": (184, 8), "age_s": (192, 8), "flags": (200, 8)}),
+    "TrafficHeader": (40, 8, {"header": (0, 32), "count": (32, 4), "dropped": (36, 4)}),
     "ActiveAlert": (176, 8, {"alert_id": (0, 4), "severity": (4, 1), "state": (5, 1), "reserved": (6, 2), "raised_gps_ns": (8, 8), "reason": (16, 160)}),
     "HealthComparison": (16, 8, {"state": (0, 1), "reason": (1, 1), "reserved": (2, 6), "disagree_s": (8, 8)}),
     "DeviceIntegrity": (104, 8, {"name": (0, 16), "device": (16, 1), "link_state": (17, 1), "reserved": (18, 6), "last_message_age_s": (24, 8), "bytes_received": (32, 8), "bytes_consumed": (40, 8), "bytes_skipped": (48, 8), "messages": (56, 8), "checksum_failures": (64, 8), "unknown_types": (72, 8), "malformed": (80, 8), "reconnects": (88, 8), "invalid_values": (96, 8)}),

@@ -1,7 +1,8 @@
 //! Every payload vigil publishes, in one place: the header they share and one module per topic.
 //!
 //! Rules every payload follows (they are the contract with consumers in other processes and other
-//! languages): `#[repr(C)]`, fixed size, no pointers, plain integers and floats only (enumerations
+//! languages): `#[repr(C)]`, fixed size (traffic: a fixed-size header and a slice of fixed-size
+//! targets), no pointers, plain integers and floats only (enumerations
 //! travel as `u8` codes with named constants, so an unknown code from a newer publisher is never
 //! undefined behaviour), SI units unless the field name says otherwise, an explicit iceoryx2
 //! `type_name` carrying the schema version (so the Rust module path is not part of the contract),
@@ -25,7 +26,7 @@ use crate::names::Topic;
 /// Schema version of every payload in this crate. Bumped on any layout change; it is also part of
 /// each `type_name`, so iceoryx2 refuses to connect a publisher and a subscriber built from
 /// different layouts instead of letting one misread the other's bytes.
-pub const SCHEMA_VERSION: u32 = 2;
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// Common first field of every payload.
 #[repr(C)]
@@ -49,8 +50,12 @@ pub struct Header {
     pub send_mono_ns: u64,
 }
 
-/// A type published on one of vigil's services.
-pub trait Payload: ZeroCopySend + Debug + Copy + Default + Serialize + 'static {
+/// A type published on one of vigil's services, as the process holds it.
+///
+/// The fixed-size payloads travel as they are ([`FixedPayload`]); the traffic picture travels
+/// as a [`traffic::TrafficHeader`] and a slice of targets sized by its count (see
+/// [`crate::TrafficPublisher`]).
+pub trait Payload: Debug + Clone + Default + Serialize + 'static {
     /// The topic whose service carries this payload.
     const TOPIC: Topic;
     /// The common header.
@@ -58,6 +63,11 @@ pub trait Payload: ZeroCopySend + Debug + Copy + Default + Serialize + 'static {
     /// The common header, mutable (the publisher stamps it).
     fn header_mut(&mut self) -> &mut Header;
 }
+
+/// A payload that travels as one fixed-size `#[repr(C)]` value: every topic but traffic.
+pub trait FixedPayload: Payload + ZeroCopySend + Copy {}
+
+impl<T: Payload + ZeroCopySend + Copy> FixedPayload for T {}
 
 macro_rules! impl_payload {
     ($ty:ty, $topic:expr) => {

@@ -55,7 +55,7 @@ pub fn lossless_bus(prefix: &str, node: &str, wait_s: f64) -> Bus {
 /// Debug form of a payload with the publisher-stamped header fields zeroed, to compare content
 /// (Debug, not `==`, because unknown quantities are NaN).
 pub fn content<T: Payload>(p: &T) -> String {
-    let mut c = *p;
+    let mut c = p.clone();
     let h = c.header_mut();
     h.seq = 0;
     h.send_mono_ns = 0;
@@ -135,13 +135,27 @@ pub fn traffic() -> TrafficPayload {
                 altitude_kind: (i % 3) as u8,
                 plausibility_flags: (i % 32) as u8,
                 callsign,
+                lat_deg: 47.0 + k * 1e-4,
+                lon_deg: 8.0 - k * 1e-4,
+                alt_pressure_m: 1500.0 + k,
+                alt_geometric_m: if i % 2 == 0 { f64::NAN } else { 1550.0 + k },
+                track_deg: (k * 0.7) % 360.0,
+                ground_speed_mps: 60.0 + k / 100.0,
+                vertical_rate_mps: -1.5,
+                position_sigma_m: 9.0,
+                nic: (i % 12) as u8,
+                nac_p: 10,
+                nac_v: vigil_bus::payload::traffic::NOT_REPORTED,
+                emitter_category: (i % 20) as u8,
+                sources: (i % 16) as u8,
+                reserved: [0; 3],
                 rel_north_m: 100.0 + k,
                 rel_east_m: -50.0 - k,
+                rel_down_m: k - 30.0,
                 rel_vel_north_mps: -10.0,
                 rel_vel_east_mps: 2.0 + k / 1000.0,
-                rel_vel_up_mps: 0.5,
+                rel_vel_down_mps: -0.5,
                 horizontal_distance_m: 111.8 + k,
-                vertical_separation_m: 30.0 - k,
                 bearing_deg: (k * 0.35) % 360.0,
                 range_rate_mps: -9.0,
                 tcpa_s: 12.0 + k,

@@ -3,7 +3,7 @@
 use std::collections::HashMap;
 
 use serde::Serialize;
-use vigil_drivers::traffic::TrafficReport;
+use vigil_drivers::traffic::{AddressType, TrafficReport};
 
 use super::alert_filter::AlertFilterParams;
 use super::plausibility::{horizontal_distance_m, max_signal_dbm};
@@ -149,6 +149,103 @@ pub struct Target {
     pub flags: PlausibilityFlags,
     /// The fail-safe rules that applied (issue 24): which quantities were unknown.
     pub fail_safe: FailSafeFlags,
+    /// The intruder's own state as reported (issue 26: what a DAA or a display needs beside the
+    /// relative geometry).
+    pub reported: Reported,
+}
+
+/// What the sources reported of a target, brought to the picture's time where it moves (each
+/// `None` when no source gave it), for the consumers that need absolute state and its quality.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Reported {
+    /// Pressure altitude (1013.25 hPa datum), m, moved on by the reported vertical rate.
+    pub alt_pressure_m: Option<f64>,
+    /// Geometric altitude as the track holds it (above the WGS-84 ellipsoid unless the protocol
+    /// gave MSL), m, moved on by the reported vertical rate.
+    pub alt_geometric_m: Option<f64>,
+    /// Track over ground, deg true, [0, 360).
+    pub track_deg: Option<f64>,
+    /// Ground speed, m/s.
+    pub ground_speed_mps: Option<f64>,
+    /// Navigation integrity category (0..11) of the newest report that carried one.
+    pub nic: Option<u8>,
+    /// Navigation accuracy category for position (0..11), newest report that carried one.
+    pub nac_p: Option<u8>,
+    /// Navigation accuracy category for velocity (0..4), newest report that carried one.
+    pub nac_v: Option<u8>,
+    /// Emitter category (DO-260B / GDL90 set, 0 = no information given).
+    pub emitter_category: Option<u8>,
+    /// Where the reports came from.
+    pub origins: Origins,
+}
+
+/// The links that heard a target directly, and whether a ground station relayed it, from the
+/// newest report of each source (a track keeps one report per link and protocol: a TIS-B relay
+/// on 1090 MHz replaces that source's direct report).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct Origins {
+    /// Heard on 1090 MHz from the aircraft itself (ADS-B, Mode S).
+    pub adsb: bool,
+    /// Heard on 978 MHz (UAT) from the aircraft itself.
+    pub uat: bool,
+    /// Heard by FLARM.
+    pub flarm: bool,
+    /// Relayed by a ground station (TIS-B or ADS-R): a report flagged relayed, or a TIS-B
+    /// address.
+    pub relayed: bool,
+}
+
+impl Origins {
+    fn of(t: &Track) -> Self {
+        use vigil_drivers::traffic::Link;
+        t.sources.iter().fold(Self::default(), |mut o, s| {
+            let r = &s.value.1;
+            if r.flags.relayed
+                || matches!(
+                    r.address_type,
+                    AddressType::TisbIcao | AddressType::TisbOther
+                )
+            {
+                o.relayed = true;
+            } else {
+                match s.value.0.link {
+                    Link::Adsb1090 => o.adsb = true,
+                    Link::Uat978 => o.uat = true,
+                    Link::Flarm => o.flarm = true,
+                }
+            }
+            o
+        })
+    }
+}
+
+impl Reported {
+    /// The reported state of track `t` at `t_ns`; `vs` is its vertical rate, m/s, if known.
+    fn of(t: &Track, t_ns: i64, vs: Option<f64>) -> Self {
+        let alt_at = |a: Option<Timed<f64>>| {
+            a.map(|a| a.value + vs.unwrap_or(0.0) * t_ns.saturating_sub(a.t_gps_ns) as f64 * 1e-9)
+        };
+        // The newest report carrying a field gives it (sources are kept in arrival order per
+        // source; the newest time wins across sources).
+        let newest = |f: fn(&TrafficReport) -> Option<u8>| {
+            t.sources
+                .iter()
+                .filter_map(|s| f(&s.value.1).map(|v| (s.t_gps_ns, v)))
+                .max_by_key(|&(t, _)| t)
+                .map(|(_, v)| v)
+        };
+        Self {
+            alt_pressure_m: alt_at(t.alt_pressure),
+            alt_geometric_m: alt_at(t.alt_geometric),
+            track_deg: t.velocity.map(|v| v.value.0.rem_euclid(360.0)),
+            ground_speed_mps: t.velocity.map(|v| v.value.1),
+            nic: newest(|r| r.nic),
+            nac_p: newest(|r| r.nac_p),
+            nac_v: newest(|r| r.nac_v),
+            emitter_category: t.emitter_category,
+            origins: Origins::of(t),
+        }
+    }
 }
 
 /// Merges traffic reports into tracks and computes the picture against the ownship.
@@ -345,16 +442,8 @@ struct Frames {
 
 /// Which altitudes to compare: like with like when both sides have one; else pressure against
 /// geometric through the ownship's measured difference (it has both); else a band.
-fn vertical_pair(
-    t: &Track,
-    t_ns: i64,
-    own: &Ownship,
-    vs: Option<f64>,
-) -> (AltitudeKind, Option<f64>, Option<f64>, f64) {
-    let alt_at = |a: Option<Timed<f64>>| {
-        a.map(|a| a.value + vs.unwrap_or(0.0) * t_ns.saturating_sub(a.t_gps_ns) as f64 * 1e-9)
-    };
-    let (ip, ig) = (alt_at(t.alt_pressure), alt_at(t.alt_geometric));
+fn vertical_pair(r: &Reported, own: &Ownship) -> (AltitudeKind, Option<f64>, Option<f64>, f64) {
+    let (ip, ig) = (r.alt_pressure_m, r.alt_geometric_m);
     let band_g = own.alt_geometric_band_m;
     match (ip, own.alt_pressure_m, ig, own.alt_geometric_m) {
         (Some(a), Some(o), _, _) => (AltitudeKind::Pressure, Some(a), Some(a - o), 0.0),
@@ -394,7 +483,8 @@ fn target_at(
     let (track_deg, gs) = velocity.unwrap_or((0.0, 0.0));
     let (lat, lon) = extrapolate(pos.value.lat_deg, pos.value.lon_deg, track_deg, gs, dt_pos);
     let vs = t.vertical_rate.map(|v| v.value);
-    let (kind, alt, dz, mut dz_band) = vertical_pair(t, t_ns, own, vs);
+    let reported = Reported::of(t, t_ns, vs);
+    let (kind, alt, dz, mut dz_band) = vertical_pair(&reported, own);
     let category = t.emitter_category;
     let vz_max = policy::max_vertical_rate_mps(category, p.max_vertical_rate_mps);
     if vs.is_none() {
@@ -479,6 +569,7 @@ fn target_at(
         flarm_alarm_level: t.flarm_alarm_level,
         flags: t.findings.active(t_ns, hold_ns),
         fail_safe,
+        reported,
     })
 }
 

@@ -22,4 +22,6 @@ pub mod plausibility;
 pub mod policy;
 pub mod track;
 
-pub use manager::{AltitudeKind, Target, TrackManager, TrafficParams, TrafficStats};
+pub use manager::{
+    AltitudeKind, Origins, Reported, Target, TrackManager, TrafficParams, TrafficStats,
+};

@@ -344,3 +344,69 @@ fn regression_24_unknown_ownship_velocity_is_not_nan() {
     let g = x.geometry.unwrap();
     assert!((g.horizontal_distance_m - 9260.0).abs() < 20.0);
 }
+
+#[test]
+fn reported_state_is_the_newest_of_each_field_moved_to_the_picture_time() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    // t = 0: ADS-B on 1090, NACp 9, no NIC, light aircraft, climbing 5 m/s.
+    m.update(
+        0,
+        &TrafficReport {
+            emitter_category: Some(1),
+            vertical_rate_mps: Some(5.0),
+            alt_geometric_m: Some(1100.0),
+            ..report(0xABCDEF, 47.1, 8.0)
+        },
+    );
+    // t = 0.5 s: the same aircraft on UAT with NIC 7 and NACp 8.
+    m.update(
+        S / 2,
+        &TrafficReport {
+            link: Link::Uat978,
+            protocol: Protocol::Json,
+            nic: Some(7),
+            nac_p: Some(8),
+            vertical_rate_mps: Some(5.0),
+            ..report(0xABCDEF, 47.1, 8.0)
+        },
+    );
+    let pic = m.picture(2 * S, &own());
+    let r = pic[0].reported;
+    // Pressure altitude last reported at 0.5 s (1000 m), moved on 1.5 s at 5 m/s; geometric
+    // last reported at 0 s (1100 m), moved on 2 s.
+    assert!((r.alt_pressure_m.unwrap() - 1007.5).abs() < 1e-9, "{r:?}");
+    assert!((r.alt_geometric_m.unwrap() - 1110.0).abs() < 1e-9, "{r:?}");
+    assert_eq!(r.track_deg, Some(180.0));
+    assert!((r.ground_speed_mps.unwrap() - 100.0 * MPS_PER_KT).abs() < 1e-9);
+    // The newest report carrying each category gives it: NACp 8 (UAT, newer than 9), NIC 7
+    // (only UAT gave one), NACv nobody.
+    assert_eq!((r.nic, r.nac_p, r.nac_v), (Some(7), Some(8), None));
+    assert_eq!(r.emitter_category, Some(1));
+    assert_eq!(
+        r.origins,
+        Origins {
+            adsb: true,
+            uat: true,
+            flarm: false,
+            relayed: false
+        }
+    );
+    // A TIS-B relay of it on 1090: the 1090 source's newest report is now relayed.
+    m.update(
+        S,
+        &TrafficReport {
+            address_type: AddressType::TisbIcao,
+            ..report(0xABCDEF, 47.1, 8.0)
+        },
+    );
+    let r = m.picture(2 * S, &own())[0].reported;
+    assert!(
+        r.origins.relayed && r.origins.uat && !r.origins.adsb,
+        "{r:?}"
+    );
+    assert_eq!(
+        r.nac_p,
+        Some(9),
+        "the relay at 1 s is the newest with a NACp"
+    );
+}
