@@ -119,22 +119,15 @@ impl VerticalChannel {
             (None, Some(v)) => {
                 let s_vn = vn.vel_u_mps.unwrap_or(vp.vn200_velocity_sigma_mps);
                 let sigma = (vp.bahrs_velocity_sigma_mps.powi(2) + s_vn.powi(2)).sqrt();
-                let d = b.velocity_down_mps - v;
-                let ratio = (d / sigma).abs() / k;
-                let fault = self.velocity.update(ratio, d / sigma, dt_s, pp);
-                VerticalComparison {
-                    bahrs_mps: Some(b.velocity_down_mps),
-                    vn200_mps: Some(v),
-                    diff_mps: Some(d),
-                    sigma_mps: Some(sigma),
-                    stat_ratio: Some(ratio),
-                    verdict: if fault {
-                        PairVerdict::Fail
-                    } else {
-                        PairVerdict::Pass
-                    },
-                    gate: None,
-                }
+                VerticalComparison::compared(
+                    b.velocity_down_mps,
+                    v,
+                    sigma,
+                    k,
+                    &mut self.velocity,
+                    dt_s,
+                    pp,
+                )
             }
             _ => not_compared(Some(b.velocity_down_mps), vn.vel_down_mps, gate_v),
         };
@@ -175,22 +168,7 @@ impl VerticalChannel {
                                 .max(std::f64::consts::SQRT_2 * u / span)
                         });
                         let sigma = (vp.pressure_rate_sigma_mps.powi(2) + s_vn.powi(2)).sqrt();
-                        let d = rb - rv;
-                        let ratio = (d / sigma).abs() / k;
-                        let fault = self.rate.update(ratio, d / sigma, dt_s, pp);
-                        VerticalComparison {
-                            bahrs_mps: Some(rb),
-                            vn200_mps: Some(rv),
-                            diff_mps: Some(d),
-                            sigma_mps: Some(sigma),
-                            stat_ratio: Some(ratio),
-                            verdict: if fault {
-                                PairVerdict::Fail
-                            } else {
-                                PairVerdict::Pass
-                            },
-                            gate: None,
-                        }
+                        VerticalComparison::compared(rb, rv, sigma, k, &mut self.rate, dt_s, pp)
                     }
                     _ => not_compared(None, None, Some(GateReason::NoData)),
                 }
@@ -336,22 +314,7 @@ impl VerticalChannel {
         let compare = |per: &mut Persistence, r: Option<f64>, s: f64| match r {
             Some(r) => {
                 let sigma = (s * s + sigma_tt * sigma_tt).sqrt();
-                let d = r - tt_rate;
-                let ratio = (d / sigma).abs() / k;
-                let fault = per.update(ratio, d / sigma, dt_s, &pp);
-                VerticalComparison {
-                    bahrs_mps: Some(r),
-                    vn200_mps: Some(tt_rate),
-                    diff_mps: Some(d),
-                    sigma_mps: Some(sigma),
-                    stat_ratio: Some(ratio),
-                    verdict: if fault {
-                        PairVerdict::Fail
-                    } else {
-                        PairVerdict::Pass
-                    },
-                    gate: None,
-                }
+                VerticalComparison::compared(r, tt_rate, sigma, k, per, dt_s, &pp)
             }
             None => {
                 per.reset();
@@ -370,6 +333,38 @@ impl VerticalChannel {
         };
         self.last_third = Some((t1, r));
         r
+    }
+}
+
+impl VerticalComparison {
+    /// The comparison of `a` with `b` (m/s) whose combined 1-sigma is `sigma`: the difference
+    /// `a - b`, its test ratio (1 at `k` sigmas), and the verdict `persistence` holds after
+    /// taking it.
+    fn compared(
+        a: f64,
+        b: f64,
+        sigma: f64,
+        k: f64,
+        persistence: &mut Persistence,
+        dt_s: f64,
+        pp: &PersistenceParams,
+    ) -> Self {
+        let d = a - b;
+        let ratio = (d / sigma).abs() / k;
+        let fault = persistence.update(ratio, d / sigma, dt_s, pp);
+        Self {
+            bahrs_mps: Some(a),
+            vn200_mps: Some(b),
+            diff_mps: Some(d),
+            sigma_mps: Some(sigma),
+            stat_ratio: Some(ratio),
+            verdict: if fault {
+                PairVerdict::Fail
+            } else {
+                PairVerdict::Pass
+            },
+            gate: None,
+        }
     }
 }
 
