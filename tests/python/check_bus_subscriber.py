@@ -24,6 +24,7 @@ import iceoryx2 as iox2  # noqa: E402
 
 import vigil_bus  # noqa: E402
 from vigil_bus import payloads  # noqa: E402
+from verdict import conclude  # noqa: E402
 
 
 def check_layout(failures):
@@ -107,10 +108,7 @@ def main():
         f"{pictures} traffic pictures ({traffic.missed} missed); targets and highest levels "
         f"{ {f'{a:06X}': l for a, l in levels.items()} }; alert transitions {transitions}"
     )
-    if failures:
-        for f in failures[:20]:
-            print("FAIL:", f)
-        sys.exit(1)
+    conclude(failures)
 
 
 if __name__ == "__main__":

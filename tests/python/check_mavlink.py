@@ -20,6 +20,7 @@ from pathlib import Path
 
 from mcap.reader import make_reader
 from pymavlink import mavutil
+from verdict import conclude
 
 FT = 0.3048
 
@@ -116,10 +117,7 @@ def main():
         f"{others} for other targets, {len(heartbeats)} heartbeats; worst position error "
         f"{worst_pos:.2f} m, altitude {worst_alt / FT:.2f} ft"
     )
-    if failures:
-        for f in failures[:20]:
-            print("FAIL:", f)
-        sys.exit(1)
+    conclude(failures)
 
 
 if __name__ == "__main__":
