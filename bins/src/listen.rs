@@ -51,6 +51,19 @@ pub struct ListenArgs {
     /// --publish --speed max` (see `BusConfig::lossless_wait_s`).
     #[arg(long)]
     pub lossless: bool,
+    /// Receive from `vigil bridge` over Zenoh at this endpoint (e.g. `tcp/127.0.0.1:7447`)
+    /// instead of from iceoryx2 on this host (cargo feature `bridge`).
+    #[cfg(feature = "bridge")]
+    #[arg(long, value_name = "ENDPOINT")]
+    pub zenoh: Option<String>,
+    /// With `--zenoh`: the vehicle whose topic to receive (`*`: every vehicle).
+    #[cfg(feature = "bridge")]
+    #[arg(long, default_value = "*", requires = "zenoh")]
+    pub vehicle: String,
+    /// With `--zenoh` on a `tls/` endpoint: the CA certificate that signed the bridge's.
+    #[cfg(feature = "bridge")]
+    #[arg(long, requires = "zenoh", value_name = "PEM")]
+    pub zenoh_ca: Option<std::path::PathBuf>,
 }
 
 /// Receive latency summary, us.
@@ -113,6 +126,17 @@ pub fn run(args: &ListenArgs) -> Result<()> {
     .context("connecting to the bus")?;
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
+    #[cfg(feature = "bridge")]
+    if let Some(endpoint) = &args.zenoh {
+        return crate::bridge::listen_remote(
+            &bus,
+            endpoint,
+            args.zenoh_ca.as_deref(),
+            &args.vehicle,
+            args,
+            &mut out,
+        );
+    }
     match args.topic {
         Topic::Attitude => listen::<Subscriber<AttitudePayload>>(&mut bus, args, &mut out),
         Topic::Ownship => listen::<Subscriber<OwnshipPayload>>(&mut bus, args, &mut out),
@@ -156,13 +180,7 @@ fn listen<S: TopicSubscriber>(
             if args.latency {
                 latencies.push(r.latency_ns());
             } else {
-                let mut line = Map::new();
-                line.insert("topic".into(), Value::from(topic.as_str()));
-                line.insert("missed_before".into(), Value::from(r.missed_before));
-                if let Value::Object(fields) = serde_json::to_value(&r.payload)? {
-                    line.extend(fields);
-                }
-                serde_json::to_writer(&mut *out, &line)?;
+                serde_json::to_writer(&mut *out, &json_line(topic, r.missed_before, &r.payload)?)?;
                 out.write_all(b"\n")?;
                 // Flushed per sample: a consumer process reads the lines as they come.
                 out.flush()?;
@@ -193,6 +211,18 @@ fn listen<S: TopicSubscriber>(
     }
     out.flush()?;
     Ok(())
+}
+
+/// The JSON line of one sample: `topic`, `missed_before`, then the payload's fields (the same
+/// for `vigil listen` and `vigil bridge`).
+pub fn json_line<P: Serialize>(topic: Topic, missed_before: u64, payload: &P) -> Result<Value> {
+    let mut line = Map::new();
+    line.insert("topic".into(), Value::from(topic.as_str()));
+    line.insert("missed_before".into(), Value::from(missed_before));
+    if let Value::Object(fields) = serde_json::to_value(payload)? {
+        line.extend(fields);
+    }
+    Ok(Value::Object(line))
 }
 
 /// How long `vigil listen` waits for a first sample before it checks for a publisher.
@@ -264,17 +294,7 @@ fn print_active(bus: &mut Bus, out: &mut impl Write) -> Result<u64> {
         return Ok(0);
     };
     let mut n = 0;
-    for a in report.active_alerts() {
-        let mut line = Map::new();
-        line.insert("topic".into(), Value::from(Topic::Alerts.as_str()));
-        line.insert("active".into(), Value::from(true));
-        line.insert(
-            "as_of_gps_ns".into(),
-            Value::from(report.header.gps_time_ns),
-        );
-        if let Value::Object(fields) = serde_json::to_value(a)? {
-            line.extend(fields);
-        }
+    for line in active_lines(&report)? {
         serde_json::to_writer(&mut *out, &line)?;
         out.write_all(b"\n")?;
         n += 1;
@@ -287,6 +307,28 @@ fn print_active(bus: &mut Bus, out: &mut impl Write) -> Result<u64> {
     }
     out.flush()?;
     Ok(n)
+}
+
+/// One line per alert active in `report` (`"active": true`, `as_of_gps_ns`, then the alert's
+/// fields), as `vigil listen alerts` prints them first and `vigil bridge` serves them.
+pub fn active_lines(report: &IntegrityPayload) -> Result<Vec<Value>> {
+    report
+        .active_alerts()
+        .iter()
+        .map(|a| {
+            let mut line = Map::new();
+            line.insert("topic".into(), Value::from(Topic::Alerts.as_str()));
+            line.insert("active".into(), Value::from(true));
+            line.insert(
+                "as_of_gps_ns".into(),
+                Value::from(report.header.gps_time_ns),
+            );
+            if let Value::Object(fields) = serde_json::to_value(a)? {
+                line.extend(fields);
+            }
+            Ok(Value::Object(line))
+        })
+        .collect()
 }
 
 #[cfg(test)]

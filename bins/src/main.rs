@@ -1,6 +1,7 @@
 //! `vigil`: the one command-line program (run, demo, monitor, config, decode, geometry, sim,
 //! record, replay, listen).
 
+mod bridge;
 mod decode;
 #[cfg(target_os = "linux")]
 mod demo;
@@ -66,6 +67,9 @@ enum Command {
     Info(info::InfoArgs),
     /// Print what a vigil iceoryx2 service publishes, as JSON Lines (or latency statistics).
     Listen(listen::ListenArgs),
+    /// Publish a running vigil's topics on Zenoh as vigil/<vehicle>/<topic>, for other computers.
+    #[cfg(feature = "bridge")]
+    Bridge(bridge::BridgeArgs),
     /// The integrity monitor as a separate process: subscribes to the fused topics, publishes alerts.
     Monitor(monitor_cmd::MonitorArgs),
     /// Run the service: read the ports, fuse, publish on the bus, monitor, record.
@@ -93,6 +97,8 @@ fn main() -> ExitCode {
         Command::Replay(args) => replay::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Listen(args) => listen::run(&args),
+        #[cfg(feature = "bridge")]
+        Command::Bridge(args) => bridge::run(&args),
         Command::Monitor(args) => monitor_cmd::run(&args),
         #[cfg(target_os = "linux")]
         Command::Run(args) => service::live::run(&args),

@@ -31,7 +31,8 @@ pub struct ConfigError {
     pub reason: String,
 }
 
-fn invalid(key: impl Into<String>, reason: impl Into<String>) -> ConfigError {
+/// A [`ConfigError`] for `key`.
+pub(crate) fn invalid(key: impl Into<String>, reason: impl Into<String>) -> ConfigError {
     ConfigError {
         key: key.into(),
         reason: reason.into(),
@@ -456,6 +457,8 @@ pub struct Config {
     pub realtime: RealtimeSection,
     /// Outputs besides the bus (MAVLink traffic).
     pub outputs: OutputsSection,
+    /// `vigil bridge`: the topics on Zenoh (issue 22).
+    pub bridge: crate::bridge::config::BridgeSection,
 }
 
 impl Default for Config {
@@ -477,6 +480,7 @@ impl Default for Config {
             live_view: LiveViewSection::default(),
             realtime: RealtimeSection::default(),
             outputs: OutputsSection::default(),
+            bridge: crate::bridge::config::BridgeSection::default(),
         }
     }
 }
@@ -602,9 +606,10 @@ integrity_period_s = 1.0
 /// real-time and the monitor's own commented sections; it parses to [`Config::default`].
 pub fn example() -> String {
     format!(
-        "{EXAMPLE}{}{}{}",
+        "{EXAMPLE}{}{}{}{}",
         LiveViewSection::EXAMPLE,
         RealtimeSection::EXAMPLE,
+        crate::bridge::config::BridgeSection::EXAMPLE,
         MonitorParams::example_toml()
     )
 }
@@ -653,6 +658,7 @@ impl Config {
             ));
         }
         positive("bus.cleanup_period_s", self.bus.cleanup_period_s)?;
+        self.bridge.validate()?;
         let m = &self.outputs.mavlink;
         if m.enabled() && m.address.parse::<std::net::SocketAddr>().is_err() {
             return Err(invalid(

@@ -84,6 +84,47 @@ macro_rules! impl_payload {
 }
 pub(crate) use impl_payload;
 
+mod sealed {
+    pub trait Sealed {}
+}
+
+/// A structure of this crate that travels on iceoryx2 as it is: `#[repr(C)]`, plain integers and
+/// floats, explicit padding fields (no implicit holes; `tests/c_layout.rs` checks every offset),
+/// so its bytes are all initialised and its layout is the C header's. Sealed: only this crate's
+/// structures are.
+pub trait Wire: ZeroCopySend + Copy + sealed::Sealed {}
+
+macro_rules! wire {
+    ($($t:ty),* $(,)?) => {
+        $(impl sealed::Sealed for $t {} impl Wire for $t {})*
+    };
+}
+wire!(
+    Header,
+    attitude::AttitudePayload,
+    ownship::OwnshipPayload,
+    traffic::Target,
+    traffic::TrafficHeader,
+    integrity::IntegrityPayload,
+    alerts::AlertPayload,
+);
+
+/// The iceoryx2 type name of a structure (its `#[type_name(...)]`, schema version included):
+/// what another process or language must give to open the service, and what `vigil bridge`
+/// names as the Zenoh encoding's schema.
+pub fn type_name<T: Wire>() -> &'static str {
+    // SAFETY: `type_name` only returns the string the derive stored; it is unsafe to implement
+    // (a wrong name is unsound), not to call.
+    unsafe { <T as ZeroCopySend>::type_name() }
+}
+
+/// The bytes of a structure as it travels on iceoryx2 (`vigil bridge`'s raw encoding).
+pub fn wire_bytes<T: Wire>(v: &T) -> &[u8] {
+    // SAFETY: a `Wire` type has no implicit padding (see the trait), so every byte of `v` is
+    // initialised; the slice borrows `v` and covers exactly its size.
+    unsafe { core::slice::from_raw_parts((v as *const T).cast::<u8>(), size_of::<T>()) }
+}
+
 /// Copies `text` into a fixed byte field, NUL-padded, truncated at a UTF-8 character boundary so
 /// the stored bytes always stay valid UTF-8.
 pub fn write_text(field: &mut [u8], text: &str) {
@@ -117,6 +158,23 @@ pub(crate) fn ser_text<S: Serializer, const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wire_bytes_are_the_fields_in_order() {
+        let h = Header {
+            schema_version: 3,
+            reserved: 0,
+            seq: 0x0102_0304_0506_0708,
+            gps_time_ns: -2,
+            send_mono_ns: 9,
+        };
+        let b = wire_bytes(&h);
+        assert_eq!(b.len(), 32);
+        assert_eq!(&b[0..4], &3u32.to_ne_bytes());
+        assert_eq!(&b[8..16], &0x0102_0304_0506_0708u64.to_ne_bytes());
+        assert_eq!(&b[16..24], &(-2i64).to_ne_bytes());
+        assert_eq!(type_name::<Header>(), "vigil.Header.v1");
+    }
 
     #[test]
     fn text_round_trips_and_truncates_on_char_boundary() {
