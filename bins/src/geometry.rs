@@ -1,6 +1,9 @@
 //! `vigil geometry`: the DO-365 geometry calculator for integrators, and an independent way to
 //! check vigil's geometry. JSON Lines in (`{"ownship": {...}, "intruder": {...}}`), one JSON object
-//! out per input line.
+//! out per input line, with vigil's JSON names (`crate::json_names`): `lowc_interval_s` (the
+//! interval [start, end] of predicted loss of well clear, s), `time_to_lowc_s` (its start, s, the
+//! traffic payload's name) and `alert_level` as a word (`none`, `preventive`, `corrective`,
+//! `warning`).
 
 use std::io::{self, BufRead, BufWriter, Write};
 
@@ -45,8 +48,8 @@ struct OutLine {
     hmd_at_cpa_m: Option<f64>,
     tau_mod_s: Option<f64>,
     well_clear_violated_now: bool,
-    loss_of_well_clear_interval_s: Option<[f64; 2]>,
-    time_to_loss_of_well_clear_s: Option<f64>,
+    lowc_interval_s: Option<[f64; 2]>,
+    time_to_lowc_s: Option<f64>,
     alert_level: u8,
 }
 
@@ -98,8 +101,8 @@ fn compute(line: &str) -> Result<OutLine> {
         hmd_at_cpa_m: g.hmd_m,
         tau_mod_s: g.tau_mod_s,
         well_clear_violated_now: g.well_clear_violated_now,
-        loss_of_well_clear_interval_s: g.loss_of_well_clear_interval_s.map(|(a, b)| [a, b]),
-        time_to_loss_of_well_clear_s: g.loss_of_well_clear_interval_s.map(|(a, _)| a),
+        lowc_interval_s: g.loss_of_well_clear_interval_s.map(|(a, b)| [a, b]),
+        time_to_lowc_s: g.loss_of_well_clear_interval_s.map(|(a, _)| a),
         alert_level: g.alert_level,
     })
 }
@@ -122,7 +125,10 @@ pub fn run(args: &GeometryArgs) -> Result<()> {
             continue;
         }
         match compute(&line) {
-            Ok(o) => serde_json::to_writer(&mut out, &o)?,
+            Ok(o) => {
+                let v = crate::json_names::named_value(&o)?;
+                serde_json::to_writer(&mut out, &v)?
+            }
             Err(e) => {
                 errors += 1;
                 let msg = format!("line {}: {e:#}", n + 1);

@@ -10,15 +10,21 @@
 //!   the previous record's: the voted attitude, the pairwise differences and joint test ratios;
 //! - `ownship`: every step: source, position, altitudes, velocity, heading;
 //! - `traffic`: every step: per target (priority order) address, range, bearings, vertical
-//!   separation, range rate, CPA, modified tau, loss-of-well-clear interval, raw and filtered
-//!   alert levels, plausibility flags;
+//!   separation, range rate, CPA, modified tau, loss-of-well-clear interval (`lowc_interval_s`,
+//!   [start, end] in s from now: the interval, not the payload's `time_to_lowc_s`, which is its
+//!   start alone), raw and filtered alert levels, plausibility flags;
 //! - `alert` (format 2, issue 20): every transition of the integrity monitor (`vigil run`'s
 //!   monitor, with the flight's configuration: see `replay_config`), exactly, with its reason;
 //!   then `alerts_active`: the active set after the evaluation. A regression of the monitor (or
 //!   a changed threshold) shows in the diff like any other field.
 //!
-//! `--check` compares field by field, record by record, with a tolerance per field chosen by the
-//! unit in its name (below); the replay is deterministic, so on one machine the outputs are
+//! Format 3 (issue 26): the lines have vigil's JSON names (`crate::json_names`): alert levels and
+//! severities as words, addresses as six hex digits, `t_utc` (and `raised_utc`) beside each GPS
+//! time, `lowc_interval_s` for the interval that format 2 called `lowc_s`. The values are the
+//! same; only their representation changed.
+//!
+//! `--check` compares field by field, record by record: strings (words, addresses, UTC times)
+//! exactly, numbers with a tolerance per field chosen by the unit in its name (below); the replay is deterministic, so on one machine the outputs are
 //! identical and the tolerances only absorb floating-point differences between platforms. A
 //! difference beyond tolerance is reported as record, field, golden value, new value and
 //! difference. `--bless` rewrites the golden file from the replay.
@@ -35,8 +41,9 @@ use vigil_fusion::pipeline::{Fused, TrafficPicture};
 use crate::replay_fused::{FusedEvent, active_line, alert_line};
 use crate::service::config::Config;
 
-/// Format version of the golden files (2: alert transitions and active sets added).
-pub const FORMAT: u64 = 2;
+/// Format version of the golden files (2: alert transitions and active sets added; 3: vigil's
+/// JSON names, see the module documentation).
+pub const FORMAT: u64 = 3;
 
 /// Every n-th attitude record is kept (plus every change of verdict).
 const ATTITUDE_EVERY: u64 = 10;
@@ -75,6 +82,12 @@ fn verdicts(p: &PairRecord) -> String {
     .collect()
 }
 
+/// `v` with vigil's JSON names (`crate::json_names`).
+fn named(mut v: Value) -> Value {
+    crate::json_names::normalise(&mut v);
+    v
+}
+
 /// Projects fused outputs onto golden lines.
 #[derive(Debug, Default)]
 pub struct Projector {
@@ -85,6 +98,7 @@ pub struct Projector {
 impl Projector {
     /// The golden lines of a fused replay's event (alerts: each transition, then the active set).
     pub fn project_event(&mut self, e: FusedEvent<'_>) -> Vec<Value> {
+        // Alert lines come with the JSON names already (`alert_line`, `active_line`).
         match e {
             FusedEvent::Fused(o) => self.project(o).into_iter().collect(),
             FusedEvent::Alerts(alerts, active) => {
@@ -99,9 +113,9 @@ impl Projector {
     /// The golden line of `o`, or `None` for an attitude record that is decimated away.
     pub fn project(&mut self, o: &Fused) -> Option<Value> {
         match o {
-            Fused::Attitude(a) => self.attitude(a),
-            Fused::Ownship(o) => Some(ownship(o)),
-            Fused::Traffic(p) => Some(traffic(p)),
+            Fused::Attitude(a) => self.attitude(a).map(named),
+            Fused::Ownship(o) => Some(named(ownship(o))),
+            Fused::Traffic(p) => Some(named(traffic(p))),
             // The golden files hold the check records; prompt outputs (a `vigil run` option,
             // off in replays) repeat their verdicts.
             Fused::Prompt(_) => None,
@@ -183,7 +197,7 @@ fn traffic(p: &TrafficPicture) -> Value {
         .map(|t| {
             let g = t.geometry.as_ref();
             let mut m = Map::new();
-            m.insert("address".into(), json!(format!("{:06X}", t.key.address)));
+            m.insert("address".into(), json!(t.key.address));
             m.insert("altitude_kind".into(), json!(t.altitude_kind));
             m.insert("bearing_true_deg".into(), r(t.bearing_true_deg, 3));
             m.insert("bearing_relative_deg".into(), ro(t.bearing_relative_deg, 3));
@@ -203,7 +217,7 @@ fn traffic(p: &TrafficPicture) -> Value {
             m.insert("hmd_m".into(), ro(g.and_then(|g| g.hmd_m), 1));
             m.insert("tau_mod_s".into(), ro(g.and_then(|g| g.tau_mod_s), 2));
             m.insert(
-                "lowc_s".into(),
+                "lowc_interval_s".into(),
                 g.and_then(|g| g.loss_of_well_clear_interval_s)
                     .map_or(Value::Null, |iv| json!([r(iv.0, 2), r(iv.1, 2)])),
             );
@@ -485,7 +499,7 @@ mod tests {
         assert_eq!(tolerance("voted_deg[2]"), Some(2e-4));
         assert_eq!(tolerance("lat_deg"), Some(2e-7));
         assert_eq!(tolerance("targets[3].horizontal_distance_m"), Some(0.2));
-        assert_eq!(tolerance("targets[0].lowc_s[1]"), Some(0.02));
+        assert_eq!(tolerance("targets[0].lowc_interval_s[1]"), Some(0.02));
         assert_eq!(tolerance("targets[0].alert_level"), None);
         assert_eq!(tolerance("joint_ratio[1]"), Some(2e-4));
     }

@@ -4,8 +4,11 @@
 //!
 //! Each line is the payload as serde writes it (units in the field names, NaN as `null`), preceded
 //! by `topic` and `missed_before` (samples of that publisher missed just before this one: a gap in
-//! `header.seq`). With `--latency` no sample is printed; one summary object is printed at the end:
-//! latency from the publisher's `CLOCK_MONOTONIC` send stamp to reception, in microseconds.
+//! `header.seq`), with vigil's JSON names (`crate::json_names`): addresses as six hex digits,
+//! codes (alert level, severity, state, address type, ...) as words, and beside every GPS time
+//! (`header.gps_time_ns`, `raised_gps_ns`) its UTC (`time_utc`, `raised_utc`). With `--latency`
+//! no sample is printed; one summary object is printed at the end: latency from the publisher's
+//! `CLOCK_MONOTONIC` send stamp to reception, in microseconds.
 //!
 //! It stops after `--count` samples, after `--duration` seconds, or at SIGINT/SIGTERM (quietly,
 //! exit status 0). When nothing has arrived after 2 s and no publisher is connected, it says so on
@@ -14,7 +17,8 @@
 //!
 //! `vigil listen alerts` prints the active set first (issue 25): one line per alert raised or
 //! latched now, from the latest `vigil/integrity` report (`"active": true`, `alert_id`,
-//! `severity`, `state`, `raised_gps_ns`, `reason`, and `as_of_gps_ns`, the report's time), then the
+//! `severity`, `state`, `raised_gps_ns`, `reason`, and `as_of_gps_ns`, the report's time, each
+//! GPS time with its `_utc`), then the
 //! transitions. It waits up to 2 s for a report (`vigil run` publishes one a second); without one
 //! it says so on stderr and goes on with the transitions. The lines count towards `--count`.
 
@@ -219,7 +223,8 @@ pub fn json_line<P: Serialize>(topic: Topic, missed_before: u64, payload: &P) ->
     let mut line = Map::new();
     line.insert("topic".into(), Value::from(topic.as_str()));
     line.insert("missed_before".into(), Value::from(missed_before));
-    if let Value::Object(fields) = serde_json::to_value(payload)? {
+    // The payload's fields with vigil's JSON names (hex addresses, words, UTC beside GPS times).
+    if let Value::Object(fields) = crate::json_names::named_value(payload)? {
         line.extend(fields);
     }
     Ok(Value::Object(line))
@@ -323,10 +328,13 @@ pub fn active_lines(report: &IntegrityPayload) -> Result<Vec<Value>> {
                 "as_of_gps_ns".into(),
                 Value::from(report.header.gps_time_ns),
             );
-            if let Value::Object(fields) = serde_json::to_value(a)? {
+            if let Value::Object(fields) = crate::json_names::named_value(a)? {
                 line.extend(fields);
             }
-            Ok(Value::Object(line))
+            // `as_of_gps_ns` is added here: its UTC sibling too.
+            let mut line = Value::Object(line);
+            crate::json_names::normalise(&mut line);
+            Ok(line)
         })
         .collect()
 }

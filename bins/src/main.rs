@@ -8,6 +8,7 @@ mod demo;
 mod geometry;
 mod golden;
 mod info;
+mod json_names;
 mod listen;
 #[cfg(target_os = "linux")]
 mod measure;

@@ -28,13 +28,10 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use crate::json_names::{Code, code_word};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use vigil_bus::clock::monotonic_ns;
-use vigil_bus::payload::alerts::{
-    SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_WARNING, STATE_CLEARED, STATE_LATCHED,
-    STATE_RAISED,
-};
 use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
     Publisher, Topic, TopicSubscriber,
@@ -181,22 +178,14 @@ impl Runner {
     }
 }
 
+/// The word of an alert state (the table of `crate::json_names`).
 fn state_name(state: u8) -> &'static str {
-    match state {
-        STATE_RAISED => "raised",
-        STATE_CLEARED => "cleared",
-        STATE_LATCHED => "latched",
-        _ => "state?",
-    }
+    code_word(Code::AlertState, u64::from(state)).unwrap_or("state?")
 }
 
+/// The word of a severity (the table of `crate::json_names`).
 fn severity_name(severity: u8) -> &'static str {
-    match severity {
-        SEVERITY_ADVISORY => "advisory",
-        SEVERITY_CAUTION => "caution",
-        SEVERITY_WARNING => "warning",
-        _ => "severity?",
-    }
+    code_word(Code::Severity, u64::from(severity)).unwrap_or("severity?")
 }
 
 /// Runs `vigil monitor`.

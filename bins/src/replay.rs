@@ -93,9 +93,10 @@ pub enum Emit {
     Fused,
 }
 
-/// Writes one decoded message as a JSON line.
+/// Writes one decoded message as a JSON line, with vigil's JSON names (`crate::json_names`).
 fn write_line<W: Write>(out: &mut W, d: Decoded<'_>) -> Result<()> {
-    serde_json::to_writer(&mut *out, &d)?;
+    let v = crate::json_names::named_value(&d)?;
+    serde_json::to_writer(&mut *out, &v)?;
     out.write_all(b"\n")?;
     Ok(())
 }

@@ -439,7 +439,8 @@ pub fn replay_aligned_with(
 /// Replays `mcap` into `out` as aligned JSON lines.
 pub fn replay_aligned<W: Write>(mcap: impl std::io::Read, out: &mut W) -> Result<ReplaySummary> {
     replay_aligned_with(mcap, |s| {
-        serde_json::to_writer(&mut *out, &AlignedLine::of(s))?;
+        let v = crate::json_names::named_value(&AlignedLine::of(s))?;
+        serde_json::to_writer(&mut *out, &v)?;
         out.write_all(b"\n")?;
         Ok(())
     })

@@ -18,6 +18,8 @@
 //!
 //! Prompt attitude outputs (`attitude_output = "prompt"`, `vigil run`'s default) are fed to the
 //! monitor as in flight but not written: they repeat the check verdicts at the VN-200's rate.
+//! Every line has vigil's JSON names (`crate::json_names`): addresses as six hex digits, alert
+//! levels and severities as words, `t_utc` beside `t_gps_ns`, `lowc_interval_s`.
 //! The output is a deterministic function of the file and the configuration.
 
 use std::io::{Read, Write};
@@ -211,7 +213,7 @@ pub fn replay_fused_with<R: Read>(
 
 /// The JSON line of an alert transition.
 pub fn alert_line(a: &AlertPayload) -> serde_json::Value {
-    json!({
+    let mut v = json!({
         "kind": "alert",
         "t_gps_ns": a.header.gps_time_ns,
         "alert_id": a.alert_id,
@@ -220,16 +222,20 @@ pub fn alert_line(a: &AlertPayload) -> serde_json::Value {
         "state": state_name(a.state),
         "raised_gps_ns": a.raised_gps_ns,
         "reason": a.reason(),
-    })
+    });
+    crate::json_names::normalise(&mut v);
+    v
 }
 
 /// The JSON line of the active set after an evaluation at GPS time `t_gps_ns`.
 pub fn active_line(t_gps_ns: i64, active: &[ActiveAlert]) -> serde_json::Value {
-    json!({
+    let mut v = json!({
         "kind": "alerts_active",
         "t_gps_ns": t_gps_ns,
         "active": active,
-    })
+    });
+    crate::json_names::normalise(&mut v);
+    v
 }
 
 /// Replays `input` into `out` as fused JSON lines.
@@ -245,7 +251,10 @@ pub fn replay_fused<R: Read, W: Write>(
         line.clear();
         match e {
             FusedEvent::Fused(Fused::Prompt(_)) => return Ok(()),
-            FusedEvent::Fused(o) => serde_json::to_writer(&mut line, o)?,
+            FusedEvent::Fused(o) => {
+                let v = crate::json_names::named_value(o)?;
+                serde_json::to_writer(&mut line, &v)?
+            }
             FusedEvent::Alerts(alerts, active) => {
                 for a in alerts {
                     serde_json::to_writer(&mut line, &alert_line(a))?;

@@ -49,11 +49,15 @@ fn head_on_by_hand() {
     assert!(g["hmd_at_cpa_m"].as_f64().unwrap() < 1e-6);
     assert_eq!(g["vertical_separation_ft"], 0.0);
     assert_eq!(g["well_clear_violated_now"], false);
-    let t = g["time_to_loss_of_well_clear_s"].as_f64().unwrap();
-    assert_eq!(g["loss_of_well_clear_interval_s"][0].as_f64().unwrap(), t);
+    // Issue 26: one name for the time to loss of well clear (the payload's), `lowc_interval_s`
+    // for the interval it starts.
+    let t = g["time_to_lowc_s"].as_f64().unwrap();
+    assert_eq!(g["lowc_interval_s"][0].as_f64().unwrap(), t);
+    assert!(g.get("time_to_loss_of_well_clear_s").is_none());
     // tau_mod = 35 s at r = 3976.8 m: t = (r0 - 3976.8) / 102.889.
     assert!((t - (r - 3976.8) / closing).abs() < 0.01, "{t}");
-    assert_eq!(g["alert_level"], 2);
+    // Corrective (2): tau_mod under 35 s, as DO-365 Phase I's corrective threshold.
+    assert_eq!(g["alert_level"], "corrective");
 }
 
 #[test]
@@ -64,10 +68,10 @@ fn diverging_has_nulls_and_bad_lines_are_reported() {
     assert!(!ok, "bad lines make the exit code non-zero");
     assert_eq!(out.len(), 3);
     assert!(out[0]["tau_mod_s"].is_null());
-    assert!(out[0]["loss_of_well_clear_interval_s"].is_null());
-    assert!(out[0]["time_to_loss_of_well_clear_s"].is_null());
+    assert!(out[0]["lowc_interval_s"].is_null());
+    assert!(out[0]["time_to_lowc_s"].is_null());
     assert_eq!(out[0]["tcpa_s"], 0.0);
-    assert_eq!(out[0]["alert_level"], 0);
+    assert_eq!(out[0]["alert_level"], "none");
     assert!(
         out[1]["error"]
             .as_str()

@@ -63,8 +63,13 @@ fn a_perturbed_output_fails_with_a_readable_report() {
     let t = &mut v["targets"][0];
     let range = t["horizontal_distance_m"].as_f64().unwrap();
     t["horizontal_distance_m"] = serde_json::json!(range + 50.0);
-    let level = t["alert_level"].as_u64().unwrap();
-    let perturbed_level = if level == 3 { 2 } else { level + 1 };
+    // Golden format 3: alert levels are words (none, preventive, corrective, warning).
+    let level = t["alert_level"].as_str().unwrap().to_string();
+    let perturbed_level = if level == "warning" {
+        "corrective"
+    } else {
+        "warning"
+    };
     t["alert_level"] = serde_json::json!(perturbed_level);
     lines[i] = serde_json::to_string(&v).unwrap();
     let path = common::tmp("golden_replay", "headon-perturbed.golden");
@@ -87,7 +92,7 @@ fn a_perturbed_output_fails_with_a_readable_report() {
     );
     assert!(
         err.contains(&format!(
-            "targets[0].alert_level: golden {perturbed_level}, now {level}"
+            "targets[0].alert_level: golden \"{perturbed_level}\", now \"{level}\""
         )),
         "{err}"
     );

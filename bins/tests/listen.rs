@@ -6,6 +6,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use vigil_bus::payload::alerts::SEVERITY_CAUTION;
+use vigil_bus::payload::traffic::{ADDRESS_FLARM_FIXED, ALERT_CORRECTIVE, ALTITUDE_GEOMETRIC};
 use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, FixedPayload, Publisher, Target, TrafficPayload,
 };
@@ -87,7 +88,10 @@ fn listen_prints_alerts_as_json_lines() {
         let v: serde_json::Value = serde_json::from_str(line).unwrap();
         assert_eq!(v["topic"], "alerts");
         assert_eq!(v["missed_before"], 0);
-        assert_eq!(v["severity"], u64::from(SEVERITY_CAUTION));
+        assert_eq!(v["severity"], "caution");
+        // The publisher left the GPS time 0 (no time): its UTC is null.
+        assert_eq!(v["header"]["gps_time_ns"], 0);
+        assert!(v["header"]["time_utc"].is_null());
         // The alert published as number i carries seq i + 1, id 100 + i and reason "#i".
         let seq = v["header"]["seq"].as_u64().unwrap();
         assert!(seq > prev_seq);
@@ -142,6 +146,46 @@ fn listen_prints_traffic_pictures_of_their_own_length() {
         assert!(targets[0]["alt_pressure_m"].is_null());
         assert_eq!(v["header"]["schema_version"], 3);
     }
+}
+
+/// Issue 26: the traffic payload's address as six hex digits, its codes as words, its GPS time
+/// with UTC beside it.
+#[test]
+fn listen_prints_traffic_with_hex_addresses_words_and_utc() {
+    let prefix = format!("vigil-test-{}-listen-traffic-names", std::process::id());
+    let b = bus(&prefix);
+    let mut publ = b.traffic_publisher().unwrap();
+    // GPS week 1899 began 2016-05-29 00:00:00 GPS (1899 x 7 days after 1980-01-06); GPS - UTC
+    // was 17 s. Tuesday 2016-05-31 10:00:01.250 UTC is 2 d + 10 h + 1.25 s + 17 s into the week.
+    let t_gps_ns: i64 = (1899 * 604_800 + 172_800 + 36_018) * 1_000_000_000 + 250_000_000;
+    let lines = listen_while(
+        &["traffic", "--prefix", &prefix, "--count", "1"],
+        Duration::from_millis(20),
+        |_| {
+            let mut t = TrafficPayload::default();
+            t.header.gps_time_ns = t_gps_ns;
+            t.set_targets(&[Target {
+                address: 0x4B1A01,
+                address_type: ADDRESS_FLARM_FIXED,
+                alert_level: ALERT_CORRECTIVE,
+                altitude_kind: ALTITUDE_GEOMETRIC,
+                time_to_lowc_s: 12.5,
+                ..Target::EMPTY
+            }]);
+            publ.publish(&t).unwrap();
+        },
+    );
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    let v: serde_json::Value = serde_json::from_str(&lines[0]).unwrap();
+    assert_eq!(v["topic"], "traffic");
+    assert_eq!(v["header"]["gps_time_ns"], t_gps_ns);
+    assert_eq!(v["header"]["time_utc"], "2016-05-31T10:00:01.250Z");
+    let x = &v["targets"][0];
+    assert_eq!(x["address"], "4B1A01");
+    assert_eq!(x["address_type"], "flarm_fixed");
+    assert_eq!(x["alert_level"], "corrective");
+    assert_eq!(x["altitude_kind"], "geometric");
+    assert_eq!(x["time_to_lowc_s"], 12.5);
 }
 
 #[test]

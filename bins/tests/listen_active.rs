@@ -78,9 +78,20 @@ fn a_late_listener_prints_the_active_warning_first() {
     assert_eq!(v["topic"], "alerts");
     assert_eq!(v["active"], true);
     assert_eq!(v["alert_id"], 0x0400_0000);
-    assert_eq!(v["severity"], u64::from(SEVERITY_WARNING));
-    assert_eq!(v["state"], u64::from(STATE_RAISED));
+    // Issue 26: words for the codes, UTC beside the GPS times. GPS 1 400 000 000 s is Unix
+    // 1 400 000 000 + 315 964 800 (GPS epoch) - 18 (GPS - UTC since 2017) = 1 715 964 782 s:
+    // 19 860 days (2024-01-01 is day 19 723; +137 in leap 2024 = May 17) and 60 782 s (16:53:02).
+    assert_eq!(v["severity"], "warning");
+    assert_eq!(v["state"], "raised");
     assert_eq!(v["raised_gps_ns"], raised_ns);
+    assert_eq!(v["raised_utc"], "2024-05-17T16:53:02.000Z");
+    // The report listened to is 10 to 30 s after the raise (published every 250 ms, 20 s limit).
+    assert!(
+        v["as_of_utc"]
+            .as_str()
+            .unwrap()
+            .starts_with("2024-05-17T16:53:")
+    );
     assert!(v["as_of_gps_ns"].as_i64().unwrap() >= raised_ns + 10_000_000_000);
     assert!(
         v["reason"]

@@ -67,15 +67,29 @@ fn fused_lines_have_the_named_fields_and_replays_are_identical() {
         assert_eq!(t["t_gps_ns"].as_i64(), Some(ts));
         assert_eq!(o["source"], "vn200_ins");
         assert!(o["lat_deg"].as_f64().unwrap() > 47.0);
+        // Issue 26: UTC beside the GPS time. The scenario starts at 2026-06-01T10:00:00Z (its
+        // `start_utc`): Unix 20 605 days (2026-01-01 is day 20 454, + 151 to June 1) x 86 400 +
+        // 36 000 = 1 780 308 000 s, GPS 1 780 308 000 - 315 964 800 + 18 = 1 464 343 218 s.
+        let since_start_s = ts / 1_000_000_000 - 1_464_343_218;
+        assert!((0..60).contains(&since_start_s));
+        assert_eq!(
+            o["t_utc"],
+            format!("2026-06-01T10:00:{since_start_s:02}.000Z")
+        );
+        assert_eq!(t["t_utc"], o["t_utc"]);
     }
     // The head-on intruder (4B1A01) with its geometry: closing at 100 m/s from 8000 m.
     let last = traffic.last().unwrap();
     let x = &last["targets"][0];
-    assert_eq!(x["key"]["address"], 0x4B1A01);
+    assert_eq!(x["key"]["address"], "4B1A01");
     let g = &x["geometry"];
     let r = g["horizontal_distance_m"].as_f64().unwrap();
     let rr = g["range_rate_mps"].as_f64().unwrap();
     assert!((rr + 100.0).abs() < 2.0, "range rate {rr}");
     assert!(r > 5000.0 && r < 6000.0, "range {r}");
-    assert_eq!(x["alert_level"], 3);
+    assert_eq!(x["alert_level"], "warning");
+    assert_eq!(
+        x["geometry"]["lowc_interval_s"].as_array().map(Vec::len),
+        Some(2)
+    );
 }

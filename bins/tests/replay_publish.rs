@@ -59,7 +59,7 @@ fn a_subscriber_in_another_process_receives_every_traffic_message_in_order() {
         assert_eq!(m["header"]["seq"], i as u64 + 1, "in order, none missing");
         assert_eq!(m["missed_before"], 0);
         assert_eq!(m["count"], 1);
-        assert_eq!(m["targets"][0]["address"], 0x4B1A01);
+        assert_eq!(m["targets"][0]["address"], "4B1A01");
     }
     // Pictures one GPS second apart.
     let t: Vec<i64> = a

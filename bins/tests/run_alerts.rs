@@ -47,12 +47,12 @@ fn listen_alerts_sees_the_bahrs_fault_raised_and_cleared() {
         .collect();
     let raised = isolated
         .iter()
-        .find(|a| a["state"] == 0)
+        .find(|a| a["state"] == "raised")
         .unwrap_or_else(|| panic!("no BAHRS isolation raised: {summary:#?}"));
     let id = &raised["alert_id"];
     let cleared = alerts
         .iter()
-        .find(|a| &a["alert_id"] == id && a["state"] == 1)
+        .find(|a| &a["alert_id"] == id && a["state"] == "cleared")
         .unwrap_or_else(|| panic!("BAHRS isolation not cleared: {summary:#?}"));
     let t = |a: &Value| a["header"]["gps_time_ns"].as_i64().unwrap();
     let held_s = (t(cleared) - t(raised)) as f64 * 1e-9;

@@ -171,7 +171,7 @@ fn run_publishes_fused_outputs_and_sigterm_finalises_the_recording() {
         for (address, distance) in targets {
             let x = r
                 .iter()
-                .find(|x| x["key"]["address"].as_u64() == Some(u64::from(*address)))
+                .find(|x| x["key"]["address"] == format!("{address:06X}"))
                 .unwrap_or_else(|| panic!("{address:06X} not replayed at {t}"));
             let d = x["geometry"]["horizontal_distance_m"].as_f64().unwrap();
             assert!(

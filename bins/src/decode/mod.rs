@@ -217,9 +217,11 @@ impl<W: Write> JsonLines<W> {
         }
     }
 
-    /// Writes one value as one line.
+    /// Writes one value as one line, with vigil's JSON names (`crate::json_names`: addresses as
+    /// hex, codes as words, UTC beside GPS times).
     pub fn write<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<()> {
-        serde_json::to_writer(&mut self.out, value)?;
+        let v = crate::json_names::named_value(value)?;
+        serde_json::to_writer(&mut self.out, &v)?;
         self.out.write_all(b"\n")?;
         Ok(())
     }

@@ -19,28 +19,24 @@ use vigil_drivers::ttmrf::mavlink::MavlinkDecoder;
 
 use super::{JsonLines, Summary, TtFormat, run_decoder};
 
-/// Keys whose integer values are 24-bit addresses.
-const ADDRESS_KEYS: [&str; 4] = ["address", "target_address", "icao_address", "id"];
+/// Keys whose integer values are 24-bit addresses: the usual ones and MAVLink COLLISION's `id`.
+const ADDRESS_KEYS: [&str; 5] = ["address", "icao", "icao_address", "target_address", "id"];
 
-/// Rewrites integer addresses under [`ADDRESS_KEYS`] (at any depth) as upper-case hex, and
-/// drops null members (an absent field is unknown).
+/// Drops null members (an absent field is unknown) at any depth, then applies the JSON names
+/// (`crate::json_names`: addresses as hex, codes as words, UTC beside GPS times).
 fn hex_addresses(v: &mut Value) {
-    match v {
-        Value::Object(map) => {
-            map.retain(|_, val| !val.is_null());
-            for (k, val) in map.iter_mut() {
-                if ADDRESS_KEYS.contains(&k.as_str())
-                    && let Some(a) = val.as_u64()
-                {
-                    *val = Value::String(format!("{:06X}", a & 0xFF_FFFF));
-                } else {
-                    hex_addresses(val);
-                }
+    fn drop_nulls(v: &mut Value) {
+        match v {
+            Value::Object(map) => {
+                map.retain(|_, val| !val.is_null());
+                map.values_mut().for_each(drop_nulls);
             }
+            Value::Array(items) => items.iter_mut().for_each(drop_nulls),
+            _ => {}
         }
-        Value::Array(items) => items.iter_mut().for_each(hex_addresses),
-        _ => {}
     }
+    drop_nulls(v);
+    crate::json_names::normalise_with(v, &ADDRESS_KEYS);
 }
 
 /// The JSON line of one message.

@@ -111,4 +111,24 @@ mod tests {
         assert_eq!(summary.extra["checksum_bypassed"], 1);
         assert_eq!(summary.extra["split"]["packets"], 0);
     }
+
+    /// Issue 26: a GPS time in the decoded JSON gets its UTC beside it.
+    #[test]
+    fn gps_time_has_its_utc_beside_it() {
+        // Common group (0x01), TimeGps only (type 0x0002): u64 ns since the GPS epoch. GPS week
+        // 1899 began 2016-05-29 00:00:00 GPS; GPS - UTC was 17 s; Tuesday 2016-05-31
+        // 10:00:01.250 UTC is 2 d + 10 h + 1.25 s + 17 s into the week.
+        let t: u64 = (1899 * 604_800 + 172_800 + 36_018) * 1_000_000_000 + 250_000_000;
+        let mut bytes = vec![0xFA, 0x01, 0x02, 0x00];
+        bytes.extend_from_slice(&t.to_le_bytes());
+        let crc = vigil_drivers::vn200::crc::crc16(&bytes[1..]);
+        bytes.extend_from_slice(&crc.to_be_bytes());
+        let mut out = JsonLines::new(Vec::new());
+        decode(&mut &bytes[..], &mut out).unwrap();
+        out.flush().unwrap();
+        let text = String::from_utf8(out.out.into_inner().unwrap()).unwrap();
+        let line: Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+        assert_eq!(line["common"]["time_gps_ns"], t);
+        assert_eq!(line["common"]["time_utc"], "2016-05-31T10:00:01.250Z");
+    }
 }

@@ -4,9 +4,8 @@
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 
-use vigil_bus::payload::alerts::{
-    AlertPayload, SEVERITY_ADVISORY, SEVERITY_CAUTION, STATE_CLEARED, STATE_LATCHED, STATE_RAISED,
-};
+use crate::json_names::{Code, code_word};
+use vigil_bus::payload::alerts::AlertPayload;
 use vigil_bus::payload::attitude::{
     AttitudePayload, FAULT_FROZEN, FAULT_HEALTH, FAULT_INVALID, FAULT_ISOLATED, FAULT_STALE,
     ISOLATION_DETECTED_NOT_ISOLATED, ISOLATION_ISOLATED, ISOLATION_NO_FAULT, PAIR_BAHRS_VN200,
@@ -82,21 +81,30 @@ fn unit_state(flags: u8, valid: u8) -> String {
     }
 }
 
+/// The word of a severity (the table of `crate::json_names`), a warning in capitals.
 fn severity(s: u8) -> &'static str {
-    match s {
-        SEVERITY_ADVISORY => "advisory",
-        SEVERITY_CAUTION => "caution",
-        _ => "WARNING",
+    match code_word(Code::Severity, u64::from(s)) {
+        Some("warning") => "WARNING",
+        Some(w) => w,
+        None => "?",
     }
 }
 
-fn state(s: u8) -> &'static str {
-    match s {
-        STATE_RAISED => "raised",
-        STATE_CLEARED => "cleared",
-        STATE_LATCHED => "latched",
-        _ => "?",
+/// The word of a DAA alert level (the table of `crate::json_names`): none as `-`, corrective and
+/// warning in capitals.
+fn alert_level(l: u8) -> &'static str {
+    match code_word(Code::AlertLevel, u64::from(l)) {
+        Some("none") => "-",
+        Some("corrective") => "CORRECTIVE",
+        Some("warning") => "WARNING",
+        Some(w) => w,
+        None => "?",
     }
+}
+
+/// The word of an alert state (the table of `crate::json_names`).
+fn state(s: u8) -> &'static str {
+    code_word(Code::AlertState, u64::from(s)).unwrap_or("?")
 }
 
 /// Renders the view; `t0_gps_ns` is the GPS time shown as 0 s (the first sample seen).
@@ -175,16 +183,18 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
         }
         None => s.push_str("  no attitude yet\n"),
     }
-    s.push_str("\nTRAFFIC   address  callsign  range NM  brg   rel alt ft  t-LoWC s  level\n");
+    s.push_str(
+        "\nTRAFFIC   address  callsign  range NM  brg   rel alt ft  time_to_lowc_s  level\n",
+    );
     match &v.traffic {
         Some(t) if t.count() > 0 => {
             for x in t.targets().iter().take(TRAFFIC_ROWS) {
                 let cs = String::from_utf8_lossy(&x.callsign);
                 let cs = cs.trim_end_matches(['\0', ' ']);
                 let lowc = if x.time_to_lowc_s.is_finite() {
-                    format!("{:8.1}", x.time_to_lowc_s)
+                    format!("{:14.1}", x.time_to_lowc_s)
                 } else {
-                    "       -".to_string()
+                    format!("{:>14}", "-")
                 };
                 let _ = writeln!(
                     s,
@@ -194,9 +204,7 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
                     x.horizontal_distance_m / M_PER_NM,
                     x.bearing_deg,
                     x.vertical_separation_m() * FT_PER_M,
-                    ["-", "preventive", "CORRECTIVE", "WARNING"]
-                        .get(usize::from(x.alert_level))
-                        .unwrap_or(&"?"),
+                    alert_level(x.alert_level),
                     if x.plausibility_flags != 0 {
                         "  SUSPECT"
                     } else {
@@ -230,6 +238,7 @@ pub fn render(v: &View, t0_gps_ns: i64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vigil_bus::payload::alerts::STATE_RAISED;
     use vigil_bus::payload::traffic::Target;
 
     #[test]
@@ -292,9 +301,10 @@ mod tests {
         );
         assert!(text.contains("BAHRS/VN-200 X..") && text.contains("FAULT: BAHRS isolated"));
         assert!(text.contains("BAHRS      ") && text.contains("ISOLATED"));
-        // 3704 m = 2.00 NM, -30.48 m = -100 ft.
+        // 3704 m = 2.00 NM, -30.48 m = -100 ft; the column header is the payload's name.
+        assert!(text.contains("rel alt ft  time_to_lowc_s  level"), "{text}");
         assert!(
-            text.contains("4B1A01   HEADON1       2.00   12        -100       8.5  WARNING"),
+            text.contains("4B1A01   HEADON1       2.00   12        -100             8.5  WARNING"),
             "{text}"
         );
         assert!(text.contains("4.0 s  WARNING  raised   BAHRS isolated: roll differs by 7.1 deg"));

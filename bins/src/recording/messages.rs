@@ -503,14 +503,10 @@ pub struct Alert {
 }
 
 /// The state name of an alert payload's `state` code.
+/// (The one table is `crate::json_names::code_word`; "unknown" for a code without a name.)
 pub fn state_name(state: u8) -> &'static str {
-    use vigil_bus::payload::alerts::{STATE_CLEARED, STATE_LATCHED, STATE_RAISED};
-    match state {
-        STATE_RAISED => "raised",
-        STATE_CLEARED => "cleared",
-        STATE_LATCHED => "latched",
-        _ => "unknown",
-    }
+    use crate::json_names::{Code, code_word};
+    code_word(Code::AlertState, u64::from(state)).unwrap_or("unknown")
 }
 
 impl Alert {
