@@ -272,3 +272,66 @@ fn a_tls_endpoint_serves_only_a_client_that_trusts_its_certificate() {
     let lines = listen_remote(&format!("tcp/127.0.0.1:{port}"), &[], "3");
     assert!(lines.is_empty(), "{lines:?}");
 }
+
+/// A Zenoh session with `settings` (JSON5 values).
+fn session(settings: &[(&str, String)]) -> zenoh::Session {
+    let mut config = zenoh::Config::default();
+    for (k, v) in settings {
+        config.insert_json5(k, v).unwrap();
+    }
+    zenoh::open(config).wait().unwrap()
+}
+
+/// The bridge as a client of a router recovers by itself when the router restarts: a subscriber
+/// on the router receives the vehicle's topic before, and again after, with nothing restarted
+/// but the router.
+#[test]
+fn a_bridge_behind_a_router_recovers_when_the_router_restarts() {
+    let prefix = format!("vigil-test-{}-bridge-router", std::process::id());
+    let port = free_port();
+    let endpoint = format!("tcp/127.0.0.1:{port}");
+    let router = || {
+        session(&[
+            ("mode", "\"router\"".to_string()),
+            ("listen/endpoints", format!("[\"{endpoint}\"]")),
+            ("scouting/multicast/enabled", "false".to_string()),
+        ])
+    };
+    let r1 = router();
+    let config = common::tmp("bridge_router", "bridge.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "[bus]\nprefix = \"{prefix}\"\n[bridge]\nvehicle = \"r1\"\nmode = \"client\"\n\
+             listen = []\nconnect = [\"{endpoint}\"]\n"
+        ),
+    )
+    .unwrap();
+    let _bridge = start_bridge(&["--config", config.to_str().unwrap()]);
+    let _ticker = Ticker::start(&prefix);
+    let ground = session(&[
+        ("mode", "\"client\"".to_string()),
+        ("connect/endpoints", format!("[\"{endpoint}\"]")),
+        ("scouting/multicast/enabled", "false".to_string()),
+    ]);
+    let sub = ground
+        .declare_subscriber("vigil/r1/attitude")
+        .wait()
+        .unwrap();
+    assert!(
+        sub.recv_timeout(Duration::from_secs(10)).unwrap().is_some(),
+        "nothing through the router"
+    );
+    // The router goes away and comes back on the same endpoint.
+    r1.close().wait().unwrap();
+    std::thread::sleep(Duration::from_secs(1));
+    while sub.try_recv().unwrap().is_some() {}
+    let _r2 = router();
+    let start = Instant::now();
+    let again = sub.recv_timeout(Duration::from_secs(30)).unwrap();
+    assert!(again.is_some(), "the bridge did not come back");
+    eprintln!(
+        "back through the restarted router after {:?}",
+        start.elapsed()
+    );
+}
