@@ -262,6 +262,7 @@ impl BridgeSection {
     }
 
     /// The Zenoh session configuration (JSON5 key, value) pairs of this section.
+    #[cfg(feature = "bridge")]
     pub fn zenoh_settings(&self) -> Vec<(&'static str, serde_json::Value)> {
         use serde_json::json;
         let mode = match self.mode {
@@ -338,6 +339,24 @@ mod tests {
     fn the_example_is_the_default() {
         assert_eq!(section(BridgeSection::EXAMPLE), BridgeSection::default());
         BridgeSection::default().validate().unwrap();
+    }
+
+    #[cfg(feature = "bridge")]
+    #[test]
+    fn zenoh_settings_never_advertise_and_carry_the_certificates() {
+        let tls = "[bridge.tls]\nroot_ca_certificate = \"ca.pem\"\ncertificate = \"c.pem\"\n\
+                   private_key = \"k.pem\"\n";
+        let b = section(&format!(
+            "[bridge]\nlisten = [\"tls/127.0.0.1:7447\"]\n{tls}"
+        ));
+        let s: std::collections::BTreeMap<_, _> = b.zenoh_settings().into_iter().collect();
+        assert_eq!(s["mode"], "peer");
+        assert_eq!(s["scouting/multicast/enabled"], false);
+        assert_eq!(s["listen/endpoints"][0], "tls/127.0.0.1:7447");
+        assert_eq!(s["transport/link/tls/listen_certificate"], "c.pem");
+        assert_eq!(s["transport/link/tls/listen_private_key"], "k.pem");
+        assert_eq!(s["transport/link/tls/root_ca_certificate"], "ca.pem");
+        assert!(!s.contains_key("transport/auth/usrpwd/user"));
     }
 
     #[test]
