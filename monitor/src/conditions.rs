@@ -29,8 +29,8 @@ use vigil_bus::payload::ownship::{
 use vigil_bus::payload::read_text;
 use vigil_bus::payload::traffic::{
     ALERT_CORRECTIVE, ALERT_NONE, ALERT_PREVENTIVE, CALLSIGN_LEN, PLAUSIBILITY_ALTITUDE_JUMP,
-    PLAUSIBILITY_IMPOSSIBLE_SPEED, PLAUSIBILITY_INCONSISTENT_SOURCES, PLAUSIBILITY_POSITION_JUMP,
-    PLAUSIBILITY_RANGE_VS_SIGNAL, Target,
+    PLAUSIBILITY_IMPOSSIBLE_SPEED, PLAUSIBILITY_INCONSISTENT_SOURCES, PLAUSIBILITY_POSITION_DRIFT,
+    PLAUSIBILITY_POSITION_JUMP, PLAUSIBILITY_RANGE_VS_SIGNAL, Target,
 };
 
 use crate::lifecycle::Condition;
@@ -549,6 +549,7 @@ pub fn plausibility_names(flags: u8) -> Vec<&'static str> {
         (PLAUSIBILITY_ALTITUDE_JUMP, "altitude jump"),
         (PLAUSIBILITY_RANGE_VS_SIGNAL, "signal too strong for range"),
         (PLAUSIBILITY_INCONSISTENT_SOURCES, "inconsistent sources"),
+        (PLAUSIBILITY_POSITION_DRIFT, "position drift"),
     ]
     .into_iter()
     .filter(|(bit, _)| flags & bit != 0)

@@ -72,7 +72,7 @@
 //! | `decode_error_ratio_max` | fraction | 0.05 | largest rejected fraction of frames in a window |
 //! | `decode_min_frames` | frames | 20 | fewest frames for a window to be judged |
 //! | `clock_require_pps` | bool | false | a clock with GPS time but no PPS lock is an advisory |
-//! | `spoofing_flags` | bits | 0x1F | `PLAUSIBILITY_*` bits that make a target suspect |
+//! | `spoofing_flags` | bits | 0x3F | `PLAUSIBILITY_*` bits that make a target suspect (all six) |
 //!
 //! # Time
 //!

@@ -6,7 +6,7 @@
 use serde::{Deserialize, Deserializer, Serialize};
 use vigil_bus::payload::traffic::{
     PLAUSIBILITY_ALTITUDE_JUMP, PLAUSIBILITY_IMPOSSIBLE_SPEED, PLAUSIBILITY_INCONSISTENT_SOURCES,
-    PLAUSIBILITY_POSITION_JUMP, PLAUSIBILITY_RANGE_VS_SIGNAL,
+    PLAUSIBILITY_POSITION_DRIFT, PLAUSIBILITY_POSITION_JUMP, PLAUSIBILITY_RANGE_VS_SIGNAL,
 };
 
 use crate::rules::Rule;
@@ -145,12 +145,15 @@ timing_field!(de_inertial_miscompare, Rule::InertialMiscompare);
 timing_field!(de_health_disagreement, Rule::HealthDisagreement);
 timing_field!(de_clock_disagreement, Rule::ClockDisagreement);
 
-/// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`].
+/// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`]. (Issue 23: the
+/// slow-drift flag of issue 24 was missing here, so a patient spoof never raised
+/// `suspected_spoofing` with the defaults; found by mutation testing, pinned by a test.)
 pub const ALL_PLAUSIBILITY_FLAGS: u8 = PLAUSIBILITY_IMPOSSIBLE_SPEED
     | PLAUSIBILITY_POSITION_JUMP
     | PLAUSIBILITY_ALTITUDE_JUMP
     | PLAUSIBILITY_RANGE_VS_SIGNAL
-    | PLAUSIBILITY_INCONSISTENT_SOURCES;
+    | PLAUSIBILITY_INCONSISTENT_SOURCES
+    | PLAUSIBILITY_POSITION_DRIFT;
 
 /// Thresholds and timings of every rule, with units and defaults (the crate documentation has
 /// them as one table). In TOML: a `[monitor]` section with the thresholds, and one
@@ -414,7 +417,7 @@ impl MonitorParams {
              decode_min_frames = {}\n\
              # Raise an advisory when the clock has GPS time but no PPS lock.\n\
              clock_require_pps = {}\n\
-             # PLAUSIBILITY_* bits that make a target suspect of spoofing (0x1F: all five).\n\
+             # PLAUSIBILITY_* bits that make a target suspect of spoofing (0x3F: all six).\n\
              spoofing_flags = {}\n",
             d.device_silent_s,
             d.feed_silent_s,
@@ -453,6 +456,46 @@ mod tests {
 
     fn parse(text: &str) -> Result<MonitorParams, toml::de::Error> {
         toml::from_str(text)
+    }
+
+    #[test]
+    fn every_plausibility_flag_makes_a_target_suspect_by_default() {
+        // The six PLAUSIBILITY_* bits of vigil-bus are 1 << 0 .. 1 << 5 (0x3F): each one alone
+        // is in the default set, and nothing else is.
+        for bit in 0..6 {
+            assert_ne!(
+                MonitorParams::default().spoofing_flags & (1 << bit),
+                0,
+                "plausibility bit {bit} would never raise suspected_spoofing"
+            );
+        }
+        assert_eq!(ALL_PLAUSIBILITY_FLAGS, 0x3F);
+        assert_eq!(PLAUSIBILITY_POSITION_DRIFT, 1 << 5);
+        // And each has a name in the alert's reason.
+        for bit in 0..6 {
+            assert_eq!(
+                crate::conditions::plausibility_names(1 << bit).len(),
+                1,
+                "bit {bit}"
+            );
+        }
+    }
+
+    #[test]
+    fn silence_limits_must_be_finite_and_not_negative() {
+        for text in [
+            "device_silent_s = -1.0",
+            "feed_silent_s = -0.5",
+            "device_silent_s = inf",
+            "feed_silent_s = nan",
+        ] {
+            let e = parse(text).unwrap().validate().unwrap_err();
+            assert!(
+                e.to_string().contains(text.split(' ').next().unwrap()),
+                "{text}: {e}"
+            );
+        }
+        parse("device_silent_s = 0.0").unwrap().validate().unwrap();
     }
 
     #[test]

@@ -215,6 +215,44 @@ mod tests {
     use vigil_bus::payload::traffic::{ADDRESS_ICAO, ADDRESS_NON_ICAO, ADDRESS_UNKNOWN};
 
     #[test]
+    fn each_rule_has_the_severity_of_the_documented_table() {
+        use vigil_bus::payload::alerts::{SEVERITY_ADVISORY, SEVERITY_CAUTION, SEVERITY_WARNING};
+        // The crate documentation's rule table (lib.rs): warning for an invalid attitude and
+        // traffic (its highest), advisory for decode errors, caution for every other rule.
+        for rule in Rule::ALL {
+            let want = match rule.name() {
+                "attitude_invalid" | "traffic_alert" => SEVERITY_WARNING,
+                "decode_errors" => SEVERITY_ADVISORY,
+                _ => SEVERITY_CAUTION,
+            };
+            assert_eq!(rule.severity(), want, "{rule:?}");
+        }
+    }
+
+    #[test]
+    fn per_target_ids_keep_the_address_type_in_the_rule_code() {
+        // Codes 0x20..=0x2F: TrafficAlert + address type, type 15 and above share 0x2F.
+        let icao = target_alert_id(Rule::TrafficAlert, 0xAB_CDEF, ADDRESS_ICAO);
+        assert_eq!(icao, 0x20AB_CDEF);
+        assert_eq!(
+            target_alert_id(Rule::TrafficAlert, 0xAB_CDEF, 1),
+            0x21AB_CDEF
+        );
+        assert_eq!(target_alert_id(Rule::TrafficAlert, 1, 14), 0x2E00_0001);
+        assert_eq!(target_alert_id(Rule::TrafficAlert, 1, 15), 0x2F00_0001);
+        assert_eq!(
+            target_alert_id(Rule::TrafficAlert, 1, ADDRESS_UNKNOWN),
+            0x2F00_0001
+        );
+        // Only the low 24 bits of the address are kept.
+        assert_eq!(
+            target_alert_id(Rule::SuspectedSpoofing, 0xFF12_3456, 0),
+            0x3012_3456
+        );
+        assert_eq!(Rule::DeviceSilent.alert_id(0xFF00_0003), 0x0800_0003);
+    }
+
+    #[test]
     fn alert_ids_round_trip_to_their_rule() {
         for rule in Rule::ALL {
             let id = rule.alert_id(0x12_3456);
