@@ -315,20 +315,14 @@ impl InertialChannel {
                     // alone). In smooth flight it is half the VN-200's sample-to-sample change.
                     let s_i = vn.step[i];
                     let sigma = (s_b * s_b + s_v * s_v + s_t * s_t + s_i * s_i).sqrt();
-                    let d = bval - v;
-                    let ratio = (d / sigma).abs() / k;
-                    let fault = self.persistence[i].update(ratio, d / sigma, dt_s, &p.persistence);
+                    let j = self.persistence[i].judge((bval, v), sigma, k, dt_s, &p.persistence);
                     SignalComparison {
                         bahrs: Some(bval),
                         vn200: Some(v),
-                        diff: Some(d),
+                        diff: Some(j.diff),
                         sigma: Some(sigma),
-                        stat_ratio: Some(ratio),
-                        verdict: if fault {
-                            PairVerdict::Fail
-                        } else {
-                            PairVerdict::Pass
-                        },
+                        stat_ratio: Some(j.ratio),
+                        verdict: j.verdict,
                         gate: None,
                     }
                 }

@@ -54,7 +54,44 @@ pub struct Persistence {
     initialised: bool,
 }
 
+/// One comparison judged by [`Persistence::judge`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Judged {
+    /// The difference `a - b`.
+    pub diff: f64,
+    /// Its test ratio: 1 at `k` combined sigmas.
+    pub ratio: f64,
+    /// The verdict the persistence holds after taking it.
+    pub verdict: super::isolation::PairVerdict,
+}
+
 impl Persistence {
+    /// Compares `a` with `b` whose combined 1-sigma is `sigma` at `k` sigmas, feeds the result
+    /// to the persistence, and returns the difference, ratio and verdict: the step every
+    /// signal comparison of the cross-check shares (vertical, inertial).
+    pub fn judge(
+        &mut self,
+        (a, b): (f64, f64),
+        sigma: f64,
+        k: f64,
+        dt_s: f64,
+        p: &PersistenceParams,
+    ) -> Judged {
+        use super::isolation::PairVerdict;
+        let diff = a - b;
+        let ratio = (diff / sigma).abs() / k;
+        let fault = self.update(ratio, diff / sigma, dt_s, p);
+        Judged {
+            diff,
+            ratio,
+            verdict: if fault {
+                PairVerdict::Fail
+            } else {
+                PairVerdict::Pass
+            },
+        }
+    }
+
     /// Updates with one sample: the test ratio `ratio` (1 at the threshold), the normalised
     /// difference `z` (in sigmas) and the time since the previous sample `dt_s`. Returns whether a
     /// fault is declared.
@@ -91,6 +128,29 @@ impl Persistence {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn judge_gives_the_difference_its_ratio_and_the_persistent_verdict() {
+        use crate::attitude::isolation::PairVerdict;
+        let p = PersistenceParams::default();
+        let mut per = Persistence::default();
+        // 3 against 1 with a combined sigma of 0.5 at 4 sigmas: difference 2 = 4 sigmas, ratio 1.
+        let j = per.judge((3.0, 1.0), 0.5, 4.0, 0.1, &p);
+        assert_eq!((j.diff, j.ratio), (2.0, 1.0));
+        assert_eq!(
+            j.verdict,
+            PairVerdict::Pass,
+            "one sample never declares a fault"
+        );
+        // Ten times the threshold for longer than declare_after_s: a fault.
+        let steps = (p.declare_after_s / 0.1).ceil() as usize + 20;
+        let last = (0..steps)
+            .map(|_| per.judge((21.0, 1.0), 0.5, 4.0, 0.1, &p))
+            .last()
+            .unwrap();
+        assert_eq!(last.ratio, 10.0);
+        assert_eq!(last.verdict, PairVerdict::Fail);
+    }
 
     #[test]
     fn declared_after_one_second_of_failure_and_cleared_after_one_of_passing() {

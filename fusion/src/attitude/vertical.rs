@@ -349,20 +349,14 @@ impl VerticalComparison {
         dt_s: f64,
         pp: &PersistenceParams,
     ) -> Self {
-        let d = a - b;
-        let ratio = (d / sigma).abs() / k;
-        let fault = persistence.update(ratio, d / sigma, dt_s, pp);
+        let j = persistence.judge((a, b), sigma, k, dt_s, pp);
         Self {
             bahrs_mps: Some(a),
             vn200_mps: Some(b),
-            diff_mps: Some(d),
+            diff_mps: Some(j.diff),
             sigma_mps: Some(sigma),
-            stat_ratio: Some(ratio),
-            verdict: if fault {
-                PairVerdict::Fail
-            } else {
-                PairVerdict::Pass
-            },
+            stat_ratio: Some(j.ratio),
+            verdict: j.verdict,
             gate: None,
         }
     }
