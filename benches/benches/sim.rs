@@ -8,8 +8,9 @@
 use std::io::{Cursor, Write};
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use vigil_record::{Recorded, read_recording};
 use vigil_sim::Simulator;
-use vigil_sim::record::{McapSink, Recorded, read_recording};
+use vigil_sim::record::McapSink;
 use vigil_sim::replay::{Decoded, Replayer};
 use vigil_sim::scenario::builtin;
 

@@ -14,8 +14,8 @@ use anyhow::{Context, Result};
 use clap::Args;
 use mcap::records::Record;
 use vigil_fusion::time::gps;
-use vigil_sim::record::Recorded;
-use vigil_sim::record_read::read_recording_from;
+use vigil_record::Recorded;
+use vigil_record::read_recording_from;
 
 /// Arguments of `vigil info`.
 #[derive(Debug, Args)]
@@ -137,7 +137,7 @@ fn by_streaming(input: &Path) -> Result<Info> {
     let outcome = read_recording_from(BufReader::new(f), |m| -> Result<()> {
         let topic = match m {
             Recorded::Raw { device, .. } => format!("/{device}/raw"),
-            Recorded::Truth { .. } => vigil_sim::record::TRUTH_TOPIC.to_string(),
+            Recorded::Truth { .. } => vigil_record::TRUTH_TOPIC.to_string(),
             Recorded::Other { topic } => topic.to_string(),
         };
         *topics.entry(topic).or_insert(0) += 1;

@@ -27,7 +27,7 @@ use serde::Deserialize;
 use tokio::io::AsyncReadExt;
 use tokio::sync::mpsc;
 use tokio_serial::SerialPortBuilderExt;
-use vigil_sim::record::RawRecorder;
+use vigil_record::RawRecorder;
 
 /// Arguments of `vigil record`.
 #[derive(Debug, Args)]

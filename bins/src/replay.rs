@@ -18,7 +18,7 @@
 //! unknown protocol are counted in the summary on stderr, with each decoder's counters and any
 //! damage found in the file.
 //!
-//! Issue 20: every mode but `--publish` streams the file ([`vigil_sim::record_read`]: one chunk
+//! Issue 20: every mode but `--publish` streams the file ([`vigil_record::read`]: one chunk
 //! in memory at a time, raw messages in receive order per port, damaged chunks skipped and
 //! listed in the summary's `damage`). `--emit fused`, `--check` and `--out` run with the flight's
 //! configuration (`--config FILE`, else the recording's own, see `replay_config`). `--out
@@ -34,8 +34,8 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use serde::Serialize;
-use vigil_sim::record::Recorded;
-use vigil_sim::record_read::{read_recording_from, recorded_span_from};
+use vigil_record::Recorded;
+use vigil_record::{read_recording_from, recorded_span_from};
 use vigil_sim::replay::{Decoded, PortSummary, Replayer};
 
 use crate::progress::ProgressBar;

@@ -31,8 +31,8 @@ use vigil_drivers::{Codec, DecodeStats, DeviceDecoder};
 use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Device, Sample};
 use vigil_fusion::time::host_timed::ChunkClock;
 use vigil_fusion::time::{ClockStatus, NotAligned, TimeSource};
-use vigil_sim::record::Recorded;
-use vigil_sim::record_read::read_recording_from;
+use vigil_record::Recorded;
+use vigil_record::read_recording_from;
 use vigil_sim::replay::{Decoded, Message, PortSummary, Replayer};
 
 use crate::replay::ReplaySummary;

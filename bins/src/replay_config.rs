@@ -9,7 +9,7 @@ use std::io::BufReader;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use vigil_sim::record_read::read_metadata_from;
+use vigil_record::read_metadata_from;
 
 use crate::recording::METADATA_RUN;
 use crate::service::config::Config;

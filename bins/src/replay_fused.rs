@@ -1,7 +1,7 @@
 //! `vigil replay FILE.mcap --emit fused`: the fused outputs of a recording as JSON Lines
 //! (issues 8, 9 and 20).
 //!
-//! The recording is streamed ([`vigil_sim::record_read`]) through the very path of `vigil run`
+//! The recording is streamed ([`vigil_record::read`]) through the very path of `vigil run`
 //! ([`Service`]: decode, align, fuse, convert, monitor) with the recorded host receive times, and
 //! the flight's configuration ([`crate::replay_config`]: `--config FILE`, else the one in the
 //! recording's metadata, else `vigil run`'s defaults). The integrity report and the monitor are
@@ -28,8 +28,8 @@ use anyhow::Result;
 use serde_json::json;
 use vigil_bus::AlertPayload;
 use vigil_fusion::pipeline::Fused;
-use vigil_sim::record::Recorded;
-use vigil_sim::record_read::read_recording_from;
+use vigil_record::Recorded;
+use vigil_record::read_recording_from;
 use vigil_sim::replay::PortSummary;
 
 use crate::recording::messages::{ActiveAlert, state_name};

@@ -21,7 +21,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, anyhow, bail};
 use vigil_bus::{Bus, BusConfig};
 use vigil_monitor::MonitorParams;
-use vigil_sim::record::{Recorded, read_recording};
+use vigil_record::{Recorded, read_recording};
 
 use crate::service::config::{PipelineSection, Port, Protocol};
 use crate::service::live::BusOutputs;

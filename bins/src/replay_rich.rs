@@ -11,7 +11,7 @@ use std::io::{BufReader, BufWriter, Write};
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use vigil_sim::record::RawRecorder;
+use vigil_record::RawRecorder;
 
 use crate::recording::{ChannelSet, METADATA_RUN, RichRecorder, run_metadata};
 use crate::replay::ReplaySummary;
@@ -126,8 +126,8 @@ mod tests {
             .without_truth_channel();
         sim.run(40_000_000_000, &mut sink).unwrap();
         sink.finish().unwrap();
-        let start_gps_ns: i64 = vigil_sim::record::read_metadata(&std::fs::read(&src).unwrap())
-            .unwrap()["start_gps_ns"]
+        let start_gps_ns: i64 = vigil_record::read_metadata(&std::fs::read(&src).unwrap()).unwrap()
+            ["start_gps_ns"]
             .parse()
             .unwrap();
         let summary = replay_rich(
@@ -173,8 +173,8 @@ mod tests {
             .sum::<u64>();
         assert_eq!(in_raw, 0, "every port decoded");
         let mut n_in = 0u64;
-        vigil_sim::record::read_recording::<()>(&std::fs::read(&src).unwrap(), |m| {
-            n_in += u64::from(matches!(m, vigil_sim::record::Recorded::Raw { .. }));
+        vigil_record::read_recording::<()>(&std::fs::read(&src).unwrap(), |m| {
+            n_in += u64::from(matches!(m, vigil_record::Recorded::Raw { .. }));
             Ok(())
         })
         .unwrap();

@@ -1,5 +1,5 @@
 //! Scenario simulator: truth trajectories, device models (clocks, noise, faults) and their wire
-//! bytes, built with the drivers' own encoders, plus the MCAP recording format and its reader.
+//! bytes, built with the drivers' own encoders, written as vigil recordings.
 //!
 //! - [`scenario`]: the scenario model (TOML) and the built-in named scenarios;
 //! - [`trajectory`], [`geo`], [`units`], [`magnetic`]: the world's geometry, atmosphere (ISA),
@@ -8,8 +8,9 @@
 //! - [`device`]: the [`device::DeviceModel`] trait and the BAHRS and Watson models;
 //! - [`link`]: baud-rate pacing, host read chunking and latency, link faults;
 //! - [`engine`]: the run loop ([`Simulator`]) feeding a [`Sink`];
-//! - [`record`]: MCAP writing and reading; [`replay`]: a recording's chunks through the drivers'
-//!   decoders, each message stamped with the receive time of its first byte.
+//! - [`record`]: the MCAP sink (the recording format itself is `vigil_record`);
+//! - [`replay`]: a recording's chunks through the drivers' decoders, each message stamped with
+//!   the receive time of its first byte.
 //!
 //! Everything is a deterministic function of (scenario, seed): no clock, no environment, no
 //! unseeded randomness.
@@ -31,7 +32,6 @@ pub mod geo;
 pub mod link;
 pub mod magnetic;
 pub mod record;
-pub mod record_read;
 pub mod replay;
 pub mod rng;
 pub mod scenario;

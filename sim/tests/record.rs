@@ -3,7 +3,8 @@
 
 use std::io::Cursor;
 
-use vigil_sim::record::{McapSink, Recorded, read_metadata, read_recording, recorded_span};
+use vigil_record::{Recorded, read_metadata, read_recording, recorded_span};
+use vigil_sim::record::McapSink;
 use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
 
@@ -143,7 +144,7 @@ fn recorded_span_is_the_first_and_last_log_time() {
 
 #[test]
 fn read_intervals_are_kept_per_channel_and_read_back() {
-    use vigil_sim::record::RawRecorder;
+    use vigil_record::RawRecorder;
     let ports = [
         ("vn200", "vn200-icd", 921_600),
         ("ttmrf", "ttmrf-text", 921_600),
@@ -178,7 +179,7 @@ fn read_intervals_are_kept_per_channel_and_read_back() {
 /// with every chunk of the channel; a port without a timer reads 0.
 #[test]
 fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
-    use vigil_sim::record::RawRecorder;
+    use vigil_record::RawRecorder;
     let mut rec = RawRecorder::new(Cursor::new(Vec::new()), &[]).unwrap();
     rec.add_port_with_adapter("watson", "watson-ahrs-e304", 9600, 0, 16_000_000)
         .unwrap();
@@ -213,7 +214,7 @@ fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
 /// in receive order, and the file is zstd-compressed by default.
 #[test]
 fn regression_20_any_order_within_a_chunk_replays_in_receive_order() {
-    use vigil_sim::record::RawRecorder;
+    use vigil_record::RawRecorder;
     let ports = [
         ("bahrs", "bahrs-2.0", 115_200),
         ("vn200", "vn200-icd", 921_600),
@@ -338,7 +339,7 @@ fn regression_20_an_unchunked_recording_replays_like_the_chunked_one() {
 /// meanwhile, so its memory stays bounded).
 #[test]
 fn regression_20_a_long_held_message_keeps_everything_in_order() {
-    use vigil_sim::record::RawRecorder;
+    use vigil_record::RawRecorder;
     let ports = [("vn200", "vn200-icd", 921_600)];
     let mut rec = RawRecorder::new(Cursor::new(Vec::new()), &ports).unwrap();
     let body = |t: u64| -> Vec<u8> { (0..10_000).map(|i| (t as usize + i) as u8).collect() };

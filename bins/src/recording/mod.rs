@@ -47,7 +47,7 @@ use serde::{Deserialize, Serialize};
 use vigil_bus::{AlertPayload, IntegrityPayload};
 use vigil_fusion::pipeline::Fused;
 use vigil_fusion::time::aligner::AlignedSample;
-use vigil_sim::record::RawRecorder;
+use vigil_record::RawRecorder;
 
 use messages::ActiveAlert;
 

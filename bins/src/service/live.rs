@@ -26,7 +26,7 @@ use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
     Publisher, Topic, TrafficPayload, TrafficPublisher,
 };
-use vigil_sim::record::RawRecorder;
+use vigil_record::RawRecorder;
 
 use crate::recording::{METADATA_RUN, RichRecorder, run_metadata};
 

@@ -232,7 +232,7 @@ fn service_and_fused_replay_agree() {
         .iter()
         .map(|p| (p.device, p.protocol, p.baud))
         .collect();
-    let mut rec = vigil_sim::record::RawRecorder::new(Cursor::new(Vec::new()), &specs).unwrap();
+    let mut rec = vigil_record::RawRecorder::new(Cursor::new(Vec::new()), &specs).unwrap();
     for c in &sink.chunks {
         rec.write_raw(c.port, c.t_host_ns, &c.bytes).unwrap();
     }

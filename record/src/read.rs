@@ -24,10 +24,10 @@
 use std::collections::{BTreeMap, VecDeque};
 use std::io::{self, Read};
 
-use crate::record::{Recorded, TRUTH_TOPIC};
+use crate::write::{METADATA_NAME, TRUTH_TOPIC};
 
 /// Largest record body read into memory, bytes: a longer length is taken as damage (vigil's
-/// chunks are [`crate::record::CHUNK_BYTES`] uncompressed; other writers use up to a few MiB).
+/// chunks are [`crate::write::CHUNK_BYTES`] uncompressed; other writers use up to a few MiB).
 pub const MAX_RECORD_BYTES: u64 = 256 * 1024 * 1024;
 /// Largest reorder window, bytes of buffered messages.
 pub const MAX_WINDOW_BYTES: usize = 64 * 1024 * 1024;
@@ -591,4 +591,64 @@ pub fn recorded_span_from<R: Read + io::Seek>(mut r: R) -> Option<(u64, u64)> {
         rest = next;
     }
     None
+}
+
+/// One message read back from a recording.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Recorded<'a> {
+    /// A raw read chunk of a device port.
+    Raw {
+        /// Device name (channel metadata `device`, else the topic).
+        device: &'a str,
+        /// Wire protocol (channel metadata `protocol`; empty when absent).
+        protocol: &'a str,
+        /// Host receive time, ns.
+        t_host_ns: u64,
+        /// The bytes.
+        bytes: &'a [u8],
+        /// How often the port was read, ns (channel metadata `read_interval_ns`); 0: as its
+        /// bytes arrived (also when absent, and when unreadable).
+        read_interval_ns: u64,
+        /// Baud rate of the port (channel metadata `baud`); 0 when absent or unreadable.
+        baud: u32,
+        /// The port's USB adapter latency timer, ns (channel metadata `latency_timer_ns`); 0
+        /// when none was known (also when absent or unreadable).
+        latency_timer_ns: u64,
+    },
+    /// A truth record (JSON).
+    Truth {
+        /// Log time, ns.
+        t_host_ns: u64,
+        /// The JSON text.
+        json: &'a [u8],
+    },
+    /// A message on any other channel.
+    Other {
+        /// Its topic.
+        topic: &'a str,
+    },
+}
+
+/// First and last log time of a recording's messages, ns, from its MCAP statistics record (for
+/// progress reports); `None` when the file has no readable summary (a truncated recording) or no
+/// messages.
+pub fn recorded_span(mcap: &[u8]) -> Option<(u64, u64)> {
+    let stats = mcap::Summary::read(mcap).ok()??.stats?;
+    (stats.message_count > 0).then_some((stats.message_start_time, stats.message_end_time))
+}
+
+/// Reads every message of an MCAP file held in memory and hands it to `f`: raw chunks in receive
+/// order, damaged chunks skipped, a truncated file read up to the damage; the outcome says what
+/// was skipped ([`read_recording_from`], which reads any stream). `f` may
+/// stop the reading by returning an error, which is passed back.
+pub fn read_recording<E>(
+    buf: &[u8],
+    f: impl FnMut(Recorded<'_>) -> Result<(), E>,
+) -> Result<ReadOutcome, E> {
+    read_recording_from(buf, f)
+}
+
+/// The `vigil.sim` metadata of a recording, if present and readable.
+pub fn read_metadata(buf: &[u8]) -> Option<BTreeMap<String, String>> {
+    read_metadata_from(buf, METADATA_NAME)
 }
