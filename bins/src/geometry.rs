@@ -1,6 +1,6 @@
 //! `vigil geometry`: the DO-365 geometry calculator for integrators, and an independent way to
 //! check vigil's geometry. JSON Lines in (`{"ownship": {...}, "intruder": {...}}`), one JSON object
-//! out per input line, with vigil's JSON names (`crate::json_names`): `lowc_interval_s` (the
+//! out per input line, with vigil's JSON names (`vigil_service::json_names`): `lowc_interval_s` (the
 //! interval [start, end] of predicted loss of well clear, s), `time_to_lowc_s` (its start, s, the
 //! traffic payload's name) and `alert_level` as a word (`none`, `preventive`, `corrective`,
 //! `warning`).
@@ -126,7 +126,7 @@ pub fn run(args: &GeometryArgs) -> Result<()> {
         }
         match compute(&line) {
             Ok(o) => {
-                let v = crate::json_names::named_value(&o)?;
+                let v = vigil_service::json_names::named_value(&o)?;
                 serde_json::to_writer(&mut out, &v)?
             }
             Err(e) => {

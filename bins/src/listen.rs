@@ -4,7 +4,7 @@
 //!
 //! Each line is the payload as serde writes it (units in the field names, NaN as `null`), preceded
 //! by `topic` and `missed_before` (samples of that publisher missed just before this one: a gap in
-//! `header.seq`), with vigil's JSON names (`crate::json_names`): addresses as six hex digits,
+//! `header.seq`), with vigil's JSON names (`vigil_service::json_names`): addresses as six hex digits,
 //! codes (alert level, severity, state, address type, ...) as words, and beside every GPS time
 //! (`header.gps_time_ns`, `raised_gps_ns`) its UTC (`time_utc`, `raised_utc`). With `--latency`
 //! no sample is printed; one summary object is printed at the end: latency from the publisher's
@@ -224,7 +224,7 @@ pub fn json_line<P: Serialize>(topic: Topic, missed_before: u64, payload: &P) ->
     line.insert("topic".into(), Value::from(topic.as_str()));
     line.insert("missed_before".into(), Value::from(missed_before));
     // The payload's fields with vigil's JSON names (hex addresses, words, UTC beside GPS times).
-    if let Value::Object(fields) = crate::json_names::named_value(payload)? {
+    if let Value::Object(fields) = vigil_service::json_names::named_value(payload)? {
         line.extend(fields);
     }
     Ok(Value::Object(line))
@@ -328,12 +328,12 @@ pub fn active_lines(report: &IntegrityPayload) -> Result<Vec<Value>> {
                 "as_of_gps_ns".into(),
                 Value::from(report.header.gps_time_ns),
             );
-            if let Value::Object(fields) = crate::json_names::named_value(a)? {
+            if let Value::Object(fields) = vigil_service::json_names::named_value(a)? {
                 line.extend(fields);
             }
             // `as_of_gps_ns` is added here: its UTC sibling too.
             let mut line = Value::Object(line);
-            crate::json_names::normalise(&mut line);
+            vigil_service::json_names::normalise(&mut line);
             Ok(line)
         })
         .collect()

@@ -2,36 +2,21 @@
 //! record, replay, listen).
 
 mod bridge;
+mod cli_values;
 mod decode;
 #[cfg(target_os = "linux")]
 mod demo;
 mod geometry;
-mod golden;
 mod info;
-mod json_names;
 mod listen;
 #[cfg(target_os = "linux")]
 mod measure;
 mod monitor_cmd;
 mod progress;
 mod record_cmd;
-mod recording;
 mod replay;
-mod replay_aligned;
-mod replay_config;
-mod replay_fused;
 #[cfg(target_os = "linux")]
-mod replay_publish;
-mod replay_rich;
-// Issue 25 point 7: every alert rule raised and cleared through the service (next to the
-// scenario tests of `replay_fused`: failsafe_scenarios_tests.rs, fused_scenarios_tests.rs).
-#[cfg(all(test, target_os = "linux"))]
-mod rule_e2e_tests;
-// Issue 24: every payload field NaN only where documented unknown, over every golden recording.
-#[cfg(all(test, target_os = "linux"))]
-mod nan_audit_tests;
-#[cfg(target_os = "linux")]
-mod service;
+mod run_cmd;
 mod sim_cmd;
 #[cfg(target_os = "linux")]
 mod sim_live;
@@ -75,10 +60,10 @@ enum Command {
     Monitor(monitor_cmd::MonitorArgs),
     /// Run the service: read the ports, fuse, publish on the bus, monitor, record.
     #[cfg(target_os = "linux")]
-    Run(service::live::RunArgs),
+    Run(run_cmd::RunArgs),
     /// Print an example configuration (`--example`) or validate one (`--check FILE`).
     #[cfg(target_os = "linux")]
-    Config(service::live::ConfigArgs),
+    Config(run_cmd::ConfigArgs),
     /// Measure `vigil run` on simulated ports: VN-200 byte to fused attitude latency at a
     /// subscriber in another process, CPU and memory.
     #[cfg(target_os = "linux")]
@@ -102,9 +87,9 @@ fn main() -> ExitCode {
         Command::Bridge(args) => bridge::run(&args),
         Command::Monitor(args) => monitor_cmd::run(&args),
         #[cfg(target_os = "linux")]
-        Command::Run(args) => service::live::run(&args),
+        Command::Run(args) => run_cmd::run(&args),
         #[cfg(target_os = "linux")]
-        Command::Config(args) => service::live::config(&args),
+        Command::Config(args) => run_cmd::config(&args),
         #[cfg(target_os = "linux")]
         Command::Measure(args) => measure::run(&args),
     };

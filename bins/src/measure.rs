@@ -73,8 +73,8 @@ pub struct MeasureArgs {
     // --- issue 20 ---
     /// Record with `vigil run` (`[record]`, into the temporary directory) with these channels,
     /// to measure the recording's cost; the output states the file's size.
-    #[arg(long, value_enum)]
-    pub record: Option<crate::recording::ChannelSet>,
+    #[arg(long, value_parser = crate::cli_values::channel_set())]
+    pub record: Option<vigil_service::recording::ChannelSet>,
 }
 
 /// CPU time and memory of a process at one moment.
@@ -157,7 +157,7 @@ pub struct Report {
     pub missed: u64,
     /// With `--record`: the channels recorded and the recording's size at the end, bytes (issue
     /// 20).
-    pub recording: Option<(crate::recording::ChannelSet, u64)>,
+    pub recording: Option<(vigil_service::recording::ChannelSet, u64)>,
 }
 
 /// Parses DEVICE=MS.

@@ -28,7 +28,6 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use crate::json_names::{Code, code_word};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use vigil_bus::clock::monotonic_ns;
@@ -36,7 +35,8 @@ use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
     Publisher, Topic, TopicSubscriber,
 };
-use vigil_monitor::{Monitor, MonitorParams};
+use vigil_monitor::{GpsClock, Monitor, MonitorParams};
+use vigil_service::json_names::{Code, code_word};
 
 /// Arguments of `vigil monitor`.
 #[derive(Debug, Args)]
@@ -68,32 +68,6 @@ pub fn load_params(path: &Path) -> Result<MonitorParams> {
         .validate()
         .with_context(|| format!("{}", path.display()))?;
     Ok(params)
-}
-
-/// The monitor's clock: the newest payload GPS time, advanced by the host time since it came.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct GpsClock {
-    newest: Option<(i64, u64)>,
-}
-
-impl GpsClock {
-    /// A payload with GPS time `gps_ns` arrived at host monotonic time `mono_ns`.
-    pub(crate) fn observe(&mut self, gps_ns: i64, mono_ns: u64) {
-        if gps_ns == 0 {
-            return;
-        }
-        if self.newest.is_none_or(|(g, _)| gps_ns > g) {
-            self.newest = Some((gps_ns, mono_ns));
-        }
-    }
-
-    /// GPS time now (host monotonic `mono_ns`), or `None` before any GPS time was seen.
-    pub(crate) fn now(&self, mono_ns: u64) -> Option<i64> {
-        self.newest.map(|(g, m)| {
-            let elapsed = i64::try_from(mono_ns.saturating_sub(m)).unwrap_or(i64::MAX);
-            g.saturating_add(elapsed)
-        })
-    }
 }
 
 /// Most alerts kept waiting for the publisher.
@@ -178,12 +152,12 @@ impl Runner {
     }
 }
 
-/// The word of an alert state (the table of `crate::json_names`).
+/// The word of an alert state (the table of `vigil_service::json_names`).
 fn state_name(state: u8) -> &'static str {
     code_word(Code::AlertState, u64::from(state)).unwrap_or("state?")
 }
 
-/// The word of a severity (the table of `crate::json_names`).
+/// The word of a severity (the table of `vigil_service::json_names`).
 fn severity_name(severity: u8) -> &'static str {
     code_word(Code::Severity, u64::from(severity)).unwrap_or("severity?")
 }
@@ -288,28 +262,6 @@ pub fn run(args: &MonitorArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn clock_is_the_newest_gps_time_advanced_by_host_time() {
-        let mut c = GpsClock::default();
-        assert_eq!(c.now(5), None, "no time before a payload");
-        c.observe(0, 10);
-        assert_eq!(
-            c.now(20),
-            None,
-            "unknown GPS time (0) does not set the clock"
-        );
-        c.observe(1_000, 100);
-        assert_eq!(c.now(100), Some(1_000));
-        assert_eq!(c.now(350), Some(1_250), "advanced by 250 ns of host time");
-        // An older payload does not move it back.
-        c.observe(900, 400);
-        assert_eq!(c.now(400), Some(1_300));
-        c.observe(2_000, 500);
-        assert_eq!(c.now(500), Some(2_000));
-        // A host time before the stamp (never expected) does not move it back either.
-        assert_eq!(c.now(0), Some(2_000));
-    }
 
     #[test]
     fn the_queue_keeps_the_newest_and_counts_what_it_drops() {

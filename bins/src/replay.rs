@@ -25,7 +25,6 @@
 //! RICH.mcap` writes the recording again with its decoded and fused channels
 //! (`replay_rich`).
 
-use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
@@ -33,10 +32,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
-use serde::Serialize;
 use vigil_record::Recorded;
 use vigil_record::{read_recording_from, recorded_span_from};
-use vigil_sim::replay::{Decoded, PortSummary, Replayer};
+use vigil_service::replay::ReplaySummary;
+use vigil_sim::replay::{Decoded, Replayer};
 
 use crate::progress::ProgressBar;
 
@@ -78,8 +77,8 @@ pub struct ReplayArgs {
     #[arg(long, value_name = "RICH.mcap", conflicts_with_all = ["check", "publish"])]
     pub out: Option<PathBuf>,
     /// With --out: the channels to write.
-    #[arg(long, value_enum, default_value = "all", requires = "out")]
-    pub channels: crate::recording::ChannelSet,
+    #[arg(long, value_parser = crate::cli_values::channel_set(), default_value = "all", requires = "out")]
+    pub channels: vigil_service::recording::ChannelSet,
 }
 
 /// Output of `vigil replay`.
@@ -93,25 +92,12 @@ pub enum Emit {
     Fused,
 }
 
-/// Writes one decoded message as a JSON line, with vigil's JSON names (`crate::json_names`).
+/// Writes one decoded message as a JSON line, with vigil's JSON names (`vigil_service::json_names`).
 fn write_line<W: Write>(out: &mut W, d: Decoded<'_>) -> Result<()> {
-    let v = crate::json_names::named_value(&d)?;
+    let v = vigil_service::json_names::named_value(&d)?;
     serde_json::to_writer(&mut *out, &v)?;
     out.write_all(b"\n")?;
     Ok(())
-}
-
-/// Summary of a replay (written to stderr as JSON).
-#[derive(Debug, Serialize)]
-pub struct ReplaySummary {
-    /// Always "summary".
-    pub kind: &'static str,
-    /// MCAP messages read.
-    pub mcap_messages: u64,
-    /// Where reading stopped early (truncated or damaged file).
-    pub damage: Option<String>,
-    /// Per device: decoder counters, or chunks/bytes for devices without a decoder.
-    pub devices: BTreeMap<String, PortSummary>,
 }
 
 /// Replays `mcap` into `out`. `speed`: pace at this multiple of real time. `span`: the
@@ -168,8 +154,8 @@ pub fn replay<W: Write>(
 
 #[cfg(target_os = "linux")]
 fn publish(args: &ReplayArgs, data: &[u8]) -> Result<()> {
-    let speed = crate::replay_publish::Speed::parse(args.speed.as_deref())?;
-    let s = crate::replay_publish::run(&args.input, data, &args.prefix, speed)?;
+    let speed = vigil_service::replay::publish::Speed::parse(args.speed.as_deref())?;
+    let s = vigil_service::replay::publish::run(&args.input, data, &args.prefix, speed)?;
     eprintln!(
         "{{\"kind\":\"summary\",\"chunks\":{},\"attitude\":{},\"traffic\":{},\"alerts\":{}}}",
         s.chunks, s.attitude, s.traffic, s.alerts
@@ -204,19 +190,25 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
             _ => return Err(anyhow!("--speed must be a positive number")),
         },
     };
-    let (cfg, source) = crate::replay_config::replay_config(args.config.as_deref(), &args.input)?;
+    let (cfg, source) =
+        vigil_service::replay::config::replay_config(args.config.as_deref(), &args.input)?;
     if let Some(golden) = &args.check {
         if args.speed.is_some() {
             return Err(anyhow!("--speed does not apply to --check"));
         }
-        return crate::golden::check(&args.input, &cfg, golden, args.bless);
+        return vigil_service::golden::check(&args.input, &cfg, golden, args.bless);
     }
     if let Some(rich) = &args.out {
         if args.speed.is_some() {
             return Err(anyhow!("--speed does not apply to --out"));
         }
-        let summary =
-            crate::replay_rich::replay_rich(&args.input, &cfg, &source, rich, args.channels)?;
+        let summary = vigil_service::replay::rich::replay_rich(
+            &args.input,
+            &cfg,
+            &source,
+            rich,
+            args.channels,
+        )?;
         eprintln!("{}", serde_json::to_string(&summary)?);
         return Ok(());
     }
@@ -232,13 +224,13 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
             if args.speed.is_some() {
                 return Err(anyhow!("--speed applies to --emit decoded only"));
             }
-            crate::replay_aligned::replay_aligned(input, &mut out)
+            vigil_service::replay::aligned::replay_aligned(input, &mut out)
         }
         Emit::Fused => {
             if args.speed.is_some() {
                 return Err(anyhow!("--speed applies to --emit decoded only"));
             }
-            crate::replay_fused::replay_fused(input, &cfg, &mut out)
+            vigil_service::replay::fused::replay_fused(input, &cfg, &mut out)
         }
     };
     let summary = match result {

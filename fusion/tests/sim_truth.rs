@@ -5,7 +5,7 @@
 //! aligned sample is joined to its truth record by device and stream offset (`rx_offset`), so
 //! messages lost or damaged by link faults do not shift the join (damaged ones have no truth).
 //!
-//! Decoding follows `vigil replay --emit aligned` (`bins/src/replay_aligned.rs`): BAHRS and Watson
+//! Decoding follows `vigil replay --emit aligned` (`service/src/replay/aligned.rs`): BAHRS and Watson
 //! with their decoders, the wire length by re-encoding; VN-200 with its decoder and the TT-Multi-RF
 //! port with the text decoder (auto mode) and the HEX decoder side by side over the same bytes,
 //! merged by offset, each message's length running to the next message's start (the last to the

@@ -83,6 +83,7 @@
 //! (the bus publisher restamps `seq` per publisher).
 #![deny(missing_docs)]
 
+pub mod clock;
 mod conditions;
 pub mod lifecycle;
 pub mod links;
@@ -103,6 +104,7 @@ use vigil_bus::payload::ownship::OwnshipPayload;
 use vigil_bus::payload::traffic::TrafficPayload;
 use vigil_bus::payload::write_text;
 
+pub use clock::GpsClock;
 pub use conditions::{plausibility_names, unit_name};
 pub use lifecycle::{Change, Condition, Lifecycle, Phase};
 pub use params::{MonitorParams, ParamError, RuleTiming};

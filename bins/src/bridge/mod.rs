@@ -5,11 +5,10 @@
 //! It only carries vigil's outputs outward: it declares Zenoh publishers and one queryable,
 //! never a Zenoh subscriber, so nothing received from the network reaches vigil's services.
 //!
-//! The configuration ([`config`]) is always compiled (so `vigil config --check` validates
-//! `[bridge]` in every build); the runtime needs the cargo feature `bridge` (Zenoh's
-//! dependencies stay out of the default build).
+//! The configuration (`vigil_service::config::bridge`) is always compiled (so `vigil config
+//! --check` validates `[bridge]` in every build); the runtime needs the cargo feature `bridge`
+//! (Zenoh's dependencies stay out of the default build).
 
-pub mod config;
 #[cfg(feature = "bridge")]
 mod run;
 

@@ -35,9 +35,10 @@ use zenoh::Wait;
 use zenoh::bytes::Encoding;
 use zenoh::qos::{CongestionControl, Priority};
 
-use super::config::{BridgeEncoding, BridgeSection, ZenohMode};
+use vigil_service::config::Config;
+use vigil_service::config::bridge::{BridgeEncoding, BridgeSection, ZenohMode};
+
 use crate::listen::{active_lines, json_line};
-use crate::service::config::Config;
 
 /// Longest time a state sample waits for the bridge to look (see the module's decision).
 const POLL: Duration = Duration::from_millis(10);
@@ -244,7 +245,7 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
     let mut integrity = Subscriber::<IntegrityPayload>::open(&bus)?;
     let mut alerts = Subscriber::<AlertPayload>::open(&bus)?;
 
-    let session = open_session(&b.zenoh_settings())?;
+    let session = open_session(&zenoh_settings(&b))?;
     let v = b.vehicle.as_str();
     let r = &b.rates;
     let e = b.encoding;
@@ -496,4 +497,68 @@ pub fn listen_remote(
     }
     out.flush()?;
     Ok(())
+}
+
+/// The Zenoh session configuration (JSON5 key, value) pairs of a `[bridge]` section.
+fn zenoh_settings(b: &BridgeSection) -> Vec<(&'static str, serde_json::Value)> {
+    use serde_json::json;
+    let mode = match b.mode {
+        ZenohMode::Peer => "peer",
+        ZenohMode::Client => "client",
+    };
+    let mut out = vec![
+        ("mode", json!(mode)),
+        ("listen/endpoints", json!(b.listen)),
+        ("connect/endpoints", json!(b.connect)),
+        // Never advertise on the LAN: a subscriber is given the endpoint.
+        ("scouting/multicast/enabled", json!(false)),
+    ];
+    if let Some(t) = &b.tls {
+        out.push((
+            "transport/link/tls/root_ca_certificate",
+            json!(t.root_ca_certificate),
+        ));
+        if let (Some(c), Some(k)) = (&t.certificate, &t.private_key) {
+            out.push(("transport/link/tls/listen_certificate", json!(c)));
+            out.push(("transport/link/tls/listen_private_key", json!(k)));
+        }
+    }
+    if let Some(a) = &b.auth {
+        out.push(("transport/auth/usrpwd/user", json!(a.user)));
+        out.push(("transport/auth/usrpwd/password", json!(a.password)));
+        if let Some(d) = &a.dictionary_file {
+            out.push(("transport/auth/usrpwd/dictionary_file", json!(d)));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn section(text: &str) -> BridgeSection {
+        #[derive(serde::Deserialize)]
+        struct File {
+            bridge: BridgeSection,
+        }
+        toml::from_str::<File>(text).unwrap().bridge
+    }
+
+    #[test]
+    fn zenoh_settings_never_advertise_and_carry_the_certificates() {
+        let tls = "[bridge.tls]\nroot_ca_certificate = \"ca.pem\"\ncertificate = \"c.pem\"\n\
+                   private_key = \"k.pem\"\n";
+        let b = section(&format!(
+            "[bridge]\nlisten = [\"tls/127.0.0.1:7447\"]\n{tls}"
+        ));
+        let s: std::collections::BTreeMap<_, _> = zenoh_settings(&b).into_iter().collect();
+        assert_eq!(s["mode"], "peer");
+        assert_eq!(s["scouting/multicast/enabled"], false);
+        assert_eq!(s["listen/endpoints"][0], "tls/127.0.0.1:7447");
+        assert_eq!(s["transport/link/tls/listen_certificate"], "c.pem");
+        assert_eq!(s["transport/link/tls/listen_private_key"], "k.pem");
+        assert_eq!(s["transport/link/tls/root_ca_certificate"], "ca.pem");
+        assert!(!s.contains_key("transport/auth/usrpwd/user"));
+    }
 }

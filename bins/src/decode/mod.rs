@@ -217,10 +217,10 @@ impl<W: Write> JsonLines<W> {
         }
     }
 
-    /// Writes one value as one line, with vigil's JSON names (`crate::json_names`: addresses as
+    /// Writes one value as one line, with vigil's JSON names (`vigil_service::json_names`: addresses as
     /// hex, codes as words, UTC beside GPS times).
     pub fn write<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<()> {
-        let v = crate::json_names::named_value(value)?;
+        let v = vigil_service::json_names::named_value(value)?;
         serde_json::to_writer(&mut self.out, &v)?;
         self.out.write_all(b"\n")?;
         Ok(())

@@ -23,7 +23,7 @@ use super::{JsonLines, Summary, TtFormat, run_decoder};
 const ADDRESS_KEYS: [&str; 5] = ["address", "icao", "icao_address", "target_address", "id"];
 
 /// Drops null members (an absent field is unknown) at any depth, then applies the JSON names
-/// (`crate::json_names`: addresses as hex, codes as words, UTC beside GPS times).
+/// (`vigil_service::json_names`: addresses as hex, codes as words, UTC beside GPS times).
 fn hex_addresses(v: &mut Value) {
     fn drop_nulls(v: &mut Value) {
         match v {
@@ -36,7 +36,7 @@ fn hex_addresses(v: &mut Value) {
         }
     }
     drop_nulls(v);
-    crate::json_names::normalise_with(v, &ADDRESS_KEYS);
+    vigil_service::json_names::normalise_with(v, &ADDRESS_KEYS);
 }
 
 /// The JSON line of one message.

@@ -47,8 +47,8 @@ pub struct DemoArgs {
     #[arg(long, value_name = "FILE.mcap")]
     pub record: Option<PathBuf>,
     /// With --record: the channels recorded.
-    #[arg(long, value_enum, default_value = "raw+fused", requires = "record")]
-    pub record_channels: crate::recording::ChannelSet,
+    #[arg(long, value_parser = crate::cli_values::channel_set(), default_value = "raw+fused", requires = "record")]
+    pub record_channels: vigil_service::recording::ChannelSet,
     /// Also send the fused traffic as MAVLink ADSB_VEHICLE (and HEARTBEAT) over UDP to this
     /// address (`IP:PORT`, e.g. 127.0.0.1:14550 for a ground station on this machine).
     #[arg(long, value_name = "IP:PORT")]
@@ -60,15 +60,14 @@ pub struct DemoArgs {
 }
 
 /// The `[record]` section of a `vigil run` configuration writing `path` with `channels`.
-pub(crate) fn record_section(path: &Path, channels: crate::recording::ChannelSet) -> String {
-    let set = match channels {
-        crate::recording::ChannelSet::Raw => "raw",
-        crate::recording::ChannelSet::RawFused => "raw+fused",
-        crate::recording::ChannelSet::All => "all",
-    };
+pub(crate) fn record_section(
+    path: &Path,
+    channels: vigil_service::recording::ChannelSet,
+) -> String {
     format!(
-        "[record]\npath = {:?}\nchannels = \"{set}\"\n",
-        path.display().to_string()
+        "[record]\npath = {:?}\nchannels = \"{}\"\n",
+        path.display().to_string(),
+        channels.name()
     )
 }
 

@@ -4,7 +4,6 @@
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 
-use crate::json_names::{Code, code_word};
 use vigil_bus::payload::alerts::AlertPayload;
 use vigil_bus::payload::attitude::{
     AttitudePayload, FAULT_FROZEN, FAULT_HEALTH, FAULT_INVALID, FAULT_ISOLATED, FAULT_STALE,
@@ -13,6 +12,7 @@ use vigil_bus::payload::attitude::{
 };
 use vigil_bus::payload::ownship::{OwnshipPayload, SOURCE_TTMRF_GNSS, SOURCE_VN200_INS};
 use vigil_bus::payload::traffic::TrafficPayload;
+use vigil_service::json_names::{Code, code_word};
 
 /// Alerts kept in the view's history.
 const ALERT_HISTORY: usize = 8;
@@ -81,7 +81,7 @@ fn unit_state(flags: u8, valid: u8) -> String {
     }
 }
 
-/// The word of a severity (the table of `crate::json_names`), a warning in capitals.
+/// The word of a severity (the table of `vigil_service::json_names`), a warning in capitals.
 fn severity(s: u8) -> &'static str {
     match code_word(Code::Severity, u64::from(s)) {
         Some("warning") => "WARNING",
@@ -90,7 +90,7 @@ fn severity(s: u8) -> &'static str {
     }
 }
 
-/// The word of a DAA alert level (the table of `crate::json_names`): none as `-`, corrective and
+/// The word of a DAA alert level (the table of `vigil_service::json_names`): none as `-`, corrective and
 /// warning in capitals.
 fn alert_level(l: u8) -> &'static str {
     match code_word(Code::AlertLevel, u64::from(l)) {
@@ -102,7 +102,7 @@ fn alert_level(l: u8) -> &'static str {
     }
 }
 
-/// The word of an alert state (the table of `crate::json_names`).
+/// The word of an alert state (the table of `vigil_service::json_names`).
 fn state(s: u8) -> &'static str {
     code_word(Code::AlertState, u64::from(s)).unwrap_or("?")
 }

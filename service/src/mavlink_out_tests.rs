@@ -151,7 +151,7 @@ fn each_target_and_the_heartbeat_at_most_once_a_second() {
 
 #[test]
 fn the_section_is_off_by_default_and_validated() {
-    use crate::service::config::Config;
+    use crate::config::Config;
     let c = Config::parse("").unwrap();
     assert!(!c.outputs.mavlink.enabled());
     assert_eq!(

@@ -168,8 +168,8 @@ impl<O: Outputs> Outputs for Option<O> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::service::config::Config;
-    use crate::service::{Collected, Outputs};
+    use crate::config::Config;
+    use crate::{Collected, Outputs};
     use vigil_bus::{AlertPayload, OwnshipPayload};
 
     #[test]

@@ -9,7 +9,7 @@ use vigil_fusion::traffic::Target;
 use vigil_fusion::traffic::plausibility::horizontal_distance_m;
 use vigil_sim::{Scenario, Simulator, World};
 
-use super::scenario_tests::run_scenario;
+use vigil_tests::fuse::run_scenario;
 
 const S: i64 = 1_000_000_000;
 

@@ -68,24 +68,38 @@ pub const METADATA_TIMELINE: &str = "vigil.timeline";
 pub const METADATA_DEVICES: &str = "vigil.devices";
 
 /// Which channels a recording gets (`[record] channels`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum ChannelSet {
     /// The raw port channels only.
     #[serde(rename = "raw")]
-    #[value(name = "raw")]
     Raw,
     /// Raw plus the fused topics (attitude checks, ownship, traffic, integrity, alerts).
     #[default]
     #[serde(rename = "raw+fused")]
-    #[value(name = "raw+fused")]
     RawFused,
     /// Raw, fused, and every decoded message per device.
     #[serde(rename = "all")]
-    #[value(name = "all")]
     All,
 }
 
 impl ChannelSet {
+    /// Every set, in the order the command line lists them.
+    pub const ALL: [ChannelSet; 3] = [ChannelSet::Raw, ChannelSet::RawFused, ChannelSet::All];
+
+    /// The set's name in the configuration (`[record] channels`) and on the command line.
+    pub const fn name(self) -> &'static str {
+        match self {
+            ChannelSet::Raw => "raw",
+            ChannelSet::RawFused => "raw+fused",
+            ChannelSet::All => "all",
+        }
+    }
+
+    /// The set named `name` (see [`ChannelSet::name`]).
+    pub fn from_name(name: &str) -> Option<ChannelSet> {
+        Self::ALL.into_iter().find(|c| c.name() == name)
+    }
+
     /// The fused channels are written.
     pub fn fused(self) -> bool {
         self != ChannelSet::Raw

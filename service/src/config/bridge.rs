@@ -16,7 +16,7 @@ use std::net::IpAddr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::service::config::{ConfigError, invalid};
+use crate::config::{ConfigError, invalid};
 
 /// Default listen endpoint: loopback only.
 pub const DEFAULT_LISTEN: &str = "tcp/127.0.0.1:7447";
@@ -261,41 +261,6 @@ impl BridgeSection {
         Ok(())
     }
 
-    /// The Zenoh session configuration (JSON5 key, value) pairs of this section.
-    #[cfg(feature = "bridge")]
-    pub fn zenoh_settings(&self) -> Vec<(&'static str, serde_json::Value)> {
-        use serde_json::json;
-        let mode = match self.mode {
-            ZenohMode::Peer => "peer",
-            ZenohMode::Client => "client",
-        };
-        let mut out = vec![
-            ("mode", json!(mode)),
-            ("listen/endpoints", json!(self.listen)),
-            ("connect/endpoints", json!(self.connect)),
-            // Never advertise on the LAN: a subscriber is given the endpoint.
-            ("scouting/multicast/enabled", json!(false)),
-        ];
-        if let Some(t) = &self.tls {
-            out.push((
-                "transport/link/tls/root_ca_certificate",
-                json!(t.root_ca_certificate),
-            ));
-            if let (Some(c), Some(k)) = (&t.certificate, &t.private_key) {
-                out.push(("transport/link/tls/listen_certificate", json!(c)));
-                out.push(("transport/link/tls/listen_private_key", json!(k)));
-            }
-        }
-        if let Some(a) = &self.auth {
-            out.push(("transport/auth/usrpwd/user", json!(a.user)));
-            out.push(("transport/auth/usrpwd/password", json!(a.password)));
-            if let Some(d) = &a.dictionary_file {
-                out.push(("transport/auth/usrpwd/dictionary_file", json!(d)));
-            }
-        }
-        out
-    }
-
     /// The commented `[bridge]` section of `vigil config --example` (its defaults).
     pub const EXAMPLE: &'static str = r#"
 # `vigil bridge` (cargo feature `bridge`): vigil's topics on Zenoh as vigil/<vehicle>/<topic>.
@@ -339,24 +304,6 @@ mod tests {
     fn the_example_is_the_default() {
         assert_eq!(section(BridgeSection::EXAMPLE), BridgeSection::default());
         BridgeSection::default().validate().unwrap();
-    }
-
-    #[cfg(feature = "bridge")]
-    #[test]
-    fn zenoh_settings_never_advertise_and_carry_the_certificates() {
-        let tls = "[bridge.tls]\nroot_ca_certificate = \"ca.pem\"\ncertificate = \"c.pem\"\n\
-                   private_key = \"k.pem\"\n";
-        let b = section(&format!(
-            "[bridge]\nlisten = [\"tls/127.0.0.1:7447\"]\n{tls}"
-        ));
-        let s: std::collections::BTreeMap<_, _> = b.zenoh_settings().into_iter().collect();
-        assert_eq!(s["mode"], "peer");
-        assert_eq!(s["scouting/multicast/enabled"], false);
-        assert_eq!(s["listen/endpoints"][0], "tls/127.0.0.1:7447");
-        assert_eq!(s["transport/link/tls/listen_certificate"], "c.pem");
-        assert_eq!(s["transport/link/tls/listen_private_key"], "k.pem");
-        assert_eq!(s["transport/link/tls/root_ca_certificate"], "ca.pem");
-        assert!(!s.contains_key("transport/auth/usrpwd/user"));
     }
 
     #[test]

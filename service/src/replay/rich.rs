@@ -13,12 +13,12 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use vigil_record::RawRecorder;
 
+use crate::Service;
+use crate::config::Config;
 use crate::recording::{ChannelSet, METADATA_RUN, RichRecorder, run_metadata};
 use crate::replay::ReplaySummary;
-use crate::replay_config::ConfigSource;
-use crate::replay_fused::{Discard, Step, replay_service};
-use crate::service::Service;
-use crate::service::config::Config;
+use crate::replay::config::ConfigSource;
+use crate::replay::fused::{Discard, Step, replay_service};
 
 /// Writes `out` from `input` (see the module documentation).
 pub fn replay_rich(

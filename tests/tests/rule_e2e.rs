@@ -31,10 +31,10 @@ use vigil_bus::{
 use vigil_monitor::{Monitor, MonitorParams, Rule, target_alert_id};
 use vigil_sim::{MemorySink, Scenario, Simulator};
 
-use crate::monitor_cmd::GpsClock;
-use crate::service::config::PipelineSection;
-use crate::service::sim_drive::{drive, ports_of};
-use crate::service::{Outputs, Service};
+use vigil_monitor::GpsClock;
+use vigil_service::config::PipelineSection;
+use vigil_service::{Outputs, Service};
+use vigil_tests::sim_drive::{drive, ports_of};
 
 const S: i64 = 1_000_000_000;
 /// Host-time period of the service's ticks (integrity report and monitor poll), ns.
@@ -693,7 +693,7 @@ to_s = 12.0
     assert!(raised.reason.starts_with("no attitude payload for 2."));
     // 2. `vigil monitor`: a separate monitor fed the published stream as its subscribers
     // deliver it, on its own clock (the newest payload GPS time advanced by host time,
-    // `monitor_cmd::GpsClock`), evaluating after every payload and every 10 ms while idle, as
+    // `vigil_monitor::GpsClock`), evaluating after every payload and every 10 ms while idle, as
     // `monitor_cmd::run` does. (The iceoryx2 transport of that process is covered by
     // `bins/tests/monitor_cli.rs`, which sees it raise `feed_silent` when a publisher stops.)
     let mut monitor = Monitor::new(MonitorParams::default());

@@ -15,11 +15,15 @@ pub mod convert;
 #[cfg(feature = "foxglove")]
 pub mod foxglove_view;
 pub mod gdl90_out;
+pub mod golden;
+pub mod json_names;
 pub mod live;
 pub mod live_view;
 pub mod mavlink_out;
 pub mod reader;
 pub mod realtime;
+pub mod recording;
+pub mod replay;
 pub mod setup;
 pub mod udp_out;
 
@@ -27,7 +31,6 @@ use anyhow::{Result, anyhow};
 use vigil_bus::payload::integrity as integ;
 use vigil_bus::payload::integrity::DEVICE_TTMRF;
 use vigil_bus::{AlertPayload, IntegrityPayload, Payload, TrafficPayload};
-#[cfg(test)]
 use vigil_bus::{AttitudePayload, OwnshipPayload};
 use vigil_fusion::magnetic::Wmm;
 use vigil_fusion::ownship::Ownship;
@@ -36,7 +39,7 @@ use vigil_fusion::time::aligner::AlignedSample;
 use vigil_monitor::{Monitor, MonitorParams};
 
 use crate::recording::{Tapped, identity, messages::active_set};
-use crate::replay_aligned::AlignedReplay;
+use crate::replay::aligned::AlignedReplay;
 use config::Port;
 use convert::PortReport;
 
@@ -520,8 +523,8 @@ fn tap_sample(tap: &mut Option<Tap>, t_host_ns: u64, s: &AlignedSample) {
     }
 }
 
-/// Published payloads kept in memory (tests).
-#[cfg(test)]
+/// Published payloads kept in memory: the [`Outputs`] of tests and of tools that look at a
+/// service's payloads without a bus.
 #[derive(Debug, Default)]
 pub struct Collected {
     /// Attitude payloads.
@@ -536,7 +539,6 @@ pub struct Collected {
     pub alerts: Vec<AlertPayload>,
 }
 
-#[cfg(test)]
 impl Outputs for Collected {
     fn publish<T: Payload>(&mut self, p: &T) {
         use std::any::Any;
@@ -554,18 +556,3 @@ impl Outputs for Collected {
         }
     }
 }
-
-#[cfg(test)]
-pub(crate) mod sim_drive;
-
-#[cfg(test)]
-#[path = "service_tests.rs"]
-mod tests;
-
-#[cfg(test)]
-#[path = "coverage_tests.rs"]
-mod coverage_tests;
-
-#[cfg(test)]
-#[path = "channel_tests.rs"]
-mod channel_tests;

@@ -447,5 +447,5 @@ pub fn replay_aligned<W: Write>(mcap: impl std::io::Read, out: &mut W) -> Result
 }
 
 #[cfg(test)]
-#[path = "replay_aligned_tests.rs"]
+#[path = "aligned_tests.rs"]
 mod tests;

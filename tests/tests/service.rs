@@ -1,12 +1,15 @@
 //! The service core on simulated chunks (no tokio, no bus): the nominal scenario's four ports
 //! through [`Service`], outputs collected.
 
+use vigil_bus::TrafficPayload;
 use vigil_bus::payload::integrity as integ;
+use vigil_fusion::pipeline::{Fused, PipelineConfig};
+use vigil_monitor::MonitorParams;
+use vigil_service::config::PipelineSection;
+use vigil_service::*;
 use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
-
-use super::sim_drive::ports_of;
-use super::*;
+use vigil_tests::sim_drive::ports_of;
 
 fn simulate(seconds: i64) -> MemorySink {
     let mut sim = Simulator::new(&builtin("nominal").unwrap(), 7).unwrap();
@@ -126,7 +129,7 @@ fn a_closed_port_is_disconnected_then_silent_data_counts_reconnects() {
 #[test]
 fn prompt_attitude_follows_every_vn200_message_at_once() {
     let sink = simulate(12);
-    let cfg = super::config::PipelineSection::default().pipeline_config();
+    let cfg = PipelineSection::default().pipeline_config();
     assert!(cfg.prompt_attitude);
     let mut s = service_with(&sink, cfg);
     let mut out = Collected::default();
@@ -240,10 +243,10 @@ fn service_and_fused_replay_agree() {
     let (mut att, mut own, mut traffic) = (Vec::new(), Vec::new(), Vec::new());
     let mut last_own = None;
     // The replay's configuration with the pipeline of `service_for` (checks, not prompts).
-    let mut cfg = crate::service::config::Config::default();
-    cfg.pipeline.attitude_output = crate::service::config::AttitudeOutput::Checks;
-    crate::replay_fused::replay_fused_with(&mcap[..], &cfg, |e| {
-        let crate::replay_fused::FusedEvent::Fused(f) = e else {
+    let mut cfg = vigil_service::config::Config::default();
+    cfg.pipeline.attitude_output = vigil_service::config::AttitudeOutput::Checks;
+    vigil_service::replay::fused::replay_fused_with(&mcap[..], &cfg, |e| {
+        let vigil_service::replay::fused::FusedEvent::Fused(f) = e else {
             return Ok(());
         };
         match f {

@@ -3,7 +3,7 @@
 //!
 //! The recording is streamed ([`vigil_record::read`]) through the very path of `vigil run`
 //! ([`Service`]: decode, align, fuse, convert, monitor) with the recorded host receive times, and
-//! the flight's configuration ([`crate::replay_config`]: `--config FILE`, else the one in the
+//! the flight's configuration ([`crate::replay::config`]: `--config FILE`, else the one in the
 //! recording's metadata, else `vigil run`'s defaults). The integrity report and the monitor are
 //! evaluated every `status.integrity_period_s` of recorded host time, as `vigil run` does. One
 //! line per output, each with its `kind`:
@@ -32,10 +32,10 @@ use vigil_record::Recorded;
 use vigil_record::read_recording_from;
 use vigil_sim::replay::PortSummary;
 
+use crate::config::{Config, Port, Protocol};
 use crate::recording::messages::{ActiveAlert, state_name};
 use crate::replay::ReplaySummary;
-use crate::service::config::{Config, Port, Protocol};
-use crate::service::{Outputs, Service};
+use crate::{Outputs, Service};
 
 /// What a service replay hands its caller after each step.
 #[derive(Debug, Clone, Copy)]
@@ -269,11 +269,3 @@ pub fn replay_fused<R: Read, W: Write>(
         Ok(())
     })
 }
-
-#[cfg(test)]
-#[path = "fused_scenarios_tests.rs"]
-mod scenario_tests;
-
-#[cfg(test)]
-#[path = "failsafe_scenarios_tests.rs"]
-mod failsafe_tests;

@@ -1,13 +1,13 @@
-//! Test support: a simulator run fed through a [`Service`] as `vigil run` feeds its ports (no
-//! tokio, no bus), shared by the service, coverage, channel and rule tests.
+//! A simulator run fed through a [`Service`] as `vigil run` feeds its ports (no tokio, no bus),
+//! shared by the service, coverage, channel and rule tests.
 
-use vigil_sim::MemorySink;
-
-use super::config::{Port, Protocol};
-use super::{Outputs, Service};
+use vigil_monitor::MonitorParams;
+use vigil_service::config::{PipelineSection, Port, Protocol};
+use vigil_service::{Collected, Outputs, Service};
+use vigil_sim::{MemorySink, Scenario, Simulator};
 
 /// The simulator's ports as `[[ports]]` entries (the path is unused: chunks are fed directly).
-pub(crate) fn ports_of(sink: &MemorySink) -> Vec<Port> {
+pub fn ports_of(sink: &MemorySink) -> Vec<Port> {
     sink.info
         .as_ref()
         .expect("the simulator ran")
@@ -28,7 +28,7 @@ pub(crate) fn ports_of(sink: &MemorySink) -> Vec<Port> {
 /// Feeds every chunk of `sink` to `s` in receive order, with every port's link up at the first
 /// chunk and `tick` every `tick_ns` of host time from then on; `now` is told the host time
 /// before each tick and each chunk (for outputs that stamp what they collect).
-pub(crate) fn drive<O: Outputs>(
+pub fn drive<O: Outputs>(
     s: &mut Service,
     sink: &MemorySink,
     out: &mut O,
@@ -51,4 +51,18 @@ pub(crate) fn drive<O: Outputs>(
         now(out, c.t_host_ns);
         s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, out);
     }
+}
+
+/// Runs `sc` for `seconds` (seed 3) through a service with `vigil run`'s pipeline configuration
+/// (prompt attitude), ticking every 100 ms of host time; returns every payload published.
+pub fn run_service(sc: &Scenario, seconds: i64) -> Collected {
+    let mut sim = Simulator::new(sc, 3).unwrap();
+    let mut sink = MemorySink::default();
+    sim.run(seconds * 1_000_000_000, &mut sink).unwrap();
+    let ports = ports_of(&sink);
+    let cfg = PipelineSection::default().pipeline_config();
+    let mut s = Service::new(&ports, cfg, MonitorParams::default(), 2.0).unwrap();
+    let mut out = Collected::default();
+    drive(&mut s, &sink, &mut out, 100_000_000, |_, _| {});
+    out
 }

@@ -23,9 +23,9 @@ use vigil_bus::{Bus, BusConfig};
 use vigil_monitor::MonitorParams;
 use vigil_record::{Recorded, read_recording};
 
-use crate::service::config::{PipelineSection, Port, Protocol};
-use crate::service::live::BusOutputs;
-use crate::service::{Outputs, Service};
+use crate::config::{PipelineSection, Port, Protocol};
+use crate::live::BusOutputs;
+use crate::{Outputs, Service};
 
 /// How fast to replay.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,7 +113,7 @@ pub fn replay_into(
     mcap: &[u8],
     out: &mut impl Outputs,
     mut pace: impl FnMut(u64) -> Result<()>,
-) -> Result<crate::service::Counters> {
+) -> Result<crate::Counters> {
     let ports = ports(mcap)?;
     // `vigil run`'s default fusion parameters (prompt attitude outputs included).
     let mut service = Service::new(

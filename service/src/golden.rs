@@ -38,8 +38,8 @@ use vigil_fusion::attitude::record::{AttitudeRecord, PairRecord};
 use vigil_fusion::ownship::OwnshipSolution;
 use vigil_fusion::pipeline::{Fused, TrafficPicture};
 
-use crate::replay_fused::{FusedEvent, active_line, alert_line};
-use crate::service::config::Config;
+use crate::config::Config;
+use crate::replay::fused::{FusedEvent, active_line, alert_line};
 
 /// Format version of the golden files (2: alert transitions and active sets added; 3: vigil's
 /// JSON names, see the module documentation).
@@ -423,7 +423,7 @@ fn header(recording: &Path) -> Value {
 pub fn golden_lines(input: impl std::io::Read, cfg: &Config) -> Result<Vec<Value>> {
     let mut proj = Projector::default();
     let mut lines = Vec::new();
-    let summary = crate::replay_fused::replay_fused_with(input, cfg, |e| {
+    let summary = crate::replay::fused::replay_fused_with(input, cfg, |e| {
         lines.extend(proj.project_event(e));
         Ok(())
     })?;

@@ -1,4 +1,4 @@
-//! `vigil run --config FILE`: the live service on serial ports (issue 10, "bins/").
+//! The live runtime of `vigil run --config FILE`: the service on serial ports (issue 10).
 //!
 //! One task per port opens it with tokio-serial, runs its configured device set-up
 //! ([`super::setup`]) and then reads it ([`super::reader`]: on arrival, or paced for ports that
@@ -17,8 +17,7 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::time::Duration;
 
-use anyhow::{Context, Result, bail};
-use clap::Args;
+use anyhow::{Context, Result};
 use tokio_serial::SerialPortBuilderExt;
 use tracing::{error, info, warn};
 use vigil_bus::clock::monotonic_ns;
@@ -35,17 +34,6 @@ use super::gdl90_out::Gdl90Udp;
 use super::live_view::{Tee, View};
 use super::mavlink_out::MavlinkUdp;
 use super::{Outputs, Service, reader};
-
-/// Arguments of `vigil run`.
-#[derive(Debug, Args)]
-pub struct RunArgs {
-    /// Configuration file (TOML; `vigil config --example` prints one).
-    #[arg(long)]
-    pub config: PathBuf,
-    /// Stop after this many seconds (default: until SIGINT/SIGTERM).
-    #[arg(long)]
-    pub duration: Option<f64>,
-}
 
 /// The bus publishers of every topic: the [`Outputs`] of `vigil run` (and of anything else that
 /// publishes a [`Service`]'s payloads). Failed publications are counted and the first ten
@@ -110,20 +98,9 @@ impl Outputs for BusOutputs {
     }
 }
 
-/// Runs `vigil run`.
-pub fn run(args: &RunArgs) -> Result<()> {
-    let _ = tracing_subscriber::fmt()
-        .with_writer(std::io::stderr)
-        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
-        )
-        .try_init();
-    if args.duration.is_some_and(|d| !(d.is_finite() && d > 0.0)) {
-        bail!("--duration must be a positive number of seconds");
-    }
-    let (config, ports) = Config::load(&args.config)?;
+/// Runs the service on the configured serial ports until `duration`, s, has passed (`None`:
+/// until SIGINT/SIGTERM), on this thread.
+pub fn run(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result<()> {
     // Port tasks share the service on this one thread (see the module documentation): a local
     // runtime, whose `spawn_local` tasks are scheduled like any task of a current-thread
     // runtime. (A `LocalSet` would cost an eventfd write per read: a task woken by the I/O driver
@@ -131,7 +108,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build_local(tokio::runtime::LocalOptions::default())?;
-    rt.block_on(live(config, ports, args.duration))
+    rt.block_on(live(config, ports, duration))
 }
 
 fn secs(s: f64) -> Duration {
@@ -496,39 +473,6 @@ async fn live(config: Config, mut ports: Vec<Port>, duration: Option<f64>) -> Re
         c.out.0.errors(),
         c.record_errors
     );
-    Ok(())
-}
-
-/// Arguments of `vigil config`.
-#[derive(Debug, Args)]
-pub struct ConfigArgs {
-    /// Print a commented example configuration (every key at its default).
-    #[arg(long, conflicts_with = "check")]
-    pub example: bool,
-    /// Validate a configuration file and print its ports.
-    #[arg(long, value_name = "FILE")]
-    pub check: Option<PathBuf>,
-}
-
-/// Runs `vigil config`.
-pub fn config(args: &ConfigArgs) -> Result<()> {
-    if args.example {
-        print!("{}", super::config::example());
-        return Ok(());
-    }
-    let Some(path) = &args.check else {
-        bail!("give --example or --check FILE");
-    };
-    let (_, ports) = Config::load(path)?;
-    for p in ports {
-        println!(
-            "{} {} {} {}",
-            p.device,
-            p.path.display(),
-            p.baud,
-            p.protocol.name()
-        );
-    }
     Ok(())
 }
 

@@ -11,8 +11,8 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use vigil_record::read_metadata_from;
 
+use crate::config::Config;
 use crate::recording::METADATA_RUN;
-use crate::service::config::Config;
 
 /// Where a replay's configuration came from.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -8,8 +8,8 @@ use vigil_bus::payload::attitude as att;
 use vigil_monitor::Rule;
 use vigil_sim::scenario::{BodyAxis, Fault, builtin};
 
-use super::Collected;
-use super::coverage_tests::run;
+use vigil_service::Collected;
+use vigil_tests::sim_drive::run_service as run;
 
 const S: i64 = 1_000_000_000;
 

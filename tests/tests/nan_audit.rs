@@ -15,9 +15,9 @@ use vigil_bus::payload::traffic::{
 };
 use vigil_bus::{OwnshipPayload, Payload, TrafficPayload};
 
-use crate::replay_fused::replay_service;
-use crate::service::config::Config;
-use crate::service::{Outputs, Service};
+use vigil_service::config::Config;
+use vigil_service::replay::fused::replay_service;
+use vigil_service::{Outputs, Service};
 
 #[derive(Default)]
 struct Audit {

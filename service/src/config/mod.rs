@@ -10,6 +10,8 @@
 //! The `[monitor]` section is the monitor's own parameter table ([`MonitorParams`], validated by
 //! it; its errors are reported under `monitor.`).
 
+pub mod bridge;
+
 use std::path::{Path, PathBuf};
 
 use vigil_monitor::MonitorParams;
@@ -458,7 +460,7 @@ pub struct Config {
     /// Outputs besides the bus (MAVLink traffic).
     pub outputs: OutputsSection,
     /// `vigil bridge`: the topics on Zenoh (issue 22).
-    pub bridge: crate::bridge::config::BridgeSection,
+    pub bridge: crate::config::bridge::BridgeSection,
 }
 
 impl Default for Config {
@@ -480,7 +482,7 @@ impl Default for Config {
             live_view: LiveViewSection::default(),
             realtime: RealtimeSection::default(),
             outputs: OutputsSection::default(),
-            bridge: crate::bridge::config::BridgeSection::default(),
+            bridge: crate::config::bridge::BridgeSection::default(),
         }
     }
 }
@@ -609,7 +611,7 @@ pub fn example() -> String {
         "{EXAMPLE}{}{}{}{}",
         LiveViewSection::EXAMPLE,
         RealtimeSection::EXAMPLE,
-        crate::bridge::config::BridgeSection::EXAMPLE,
+        crate::config::bridge::BridgeSection::EXAMPLE,
         MonitorParams::example_toml()
     )
 }

@@ -5,25 +5,7 @@ use vigil_bus::payload::alerts::{STATE_CLEARED, STATE_RAISED};
 use vigil_bus::payload::attitude as att;
 use vigil_monitor::Rule;
 use vigil_sim::scenario::builtin;
-use vigil_sim::{MemorySink, Simulator};
-
-use super::config::PipelineSection;
-use super::sim_drive::{drive, ports_of};
-use super::*;
-
-/// Runs `sc` for `seconds` through a service with `vigil run`'s pipeline configuration (prompt
-/// attitude), ticking every 100 ms of host time.
-pub(super) fn run(sc: &vigil_sim::scenario::Scenario, seconds: i64) -> Collected {
-    let mut sim = Simulator::new(sc, 3).unwrap();
-    let mut sink = MemorySink::default();
-    sim.run(seconds * 1_000_000_000, &mut sink).unwrap();
-    let ports = ports_of(&sink);
-    let cfg = PipelineSection::default().pipeline_config();
-    let mut s = Service::new(&ports, cfg, MonitorParams::default(), 2.0).unwrap();
-    let mut out = Collected::default();
-    drive(&mut s, &sink, &mut out, 100_000_000, |_, _| {});
-    out
-}
+use vigil_tests::sim_drive::run_service as run;
 
 /// Acceptance (issue 25): a 120 s flight whose BAHRS never gets a 0x06 (the VN-200 PPS not wired).
 /// Either the BAHRS is compared on at least 90 % of the attitude payloads after 20 s (a

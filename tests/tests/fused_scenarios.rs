@@ -7,89 +7,19 @@
 use vigil_fusion::attitude::isolation::Unit;
 use vigil_fusion::attitude::record::AttitudeRecord;
 use vigil_fusion::geometry::{AircraftState, IntruderEcef, OwnshipFrame};
-use vigil_fusion::magnetic::Wmm;
 use vigil_fusion::ownship::PositionSource;
-use vigil_fusion::pipeline::{Fused, Pipeline, PipelineConfig, TrafficPicture};
+use vigil_fusion::pipeline::{Fused, TrafficPicture};
 use vigil_sim::scenario::builtin;
-use vigil_sim::{Chunk, PortInfo, RunInfo, Simulator, Sink, SinkError, TruthRecord, World};
+use vigil_sim::{Simulator, World};
 
-use crate::replay_aligned::AlignedReplay;
+use vigil_tests::fuse::run_scenario;
 
 const S: i64 = 1_000_000_000;
-
-/// Feeds every chunk through alignment and fusion and hands each output to `f`.
-struct FuseSink<F: FnMut(&Fused)> {
-    ports: Vec<PortInfo>,
-    replay: AlignedReplay,
-    pipeline: Pipeline,
-    buf: Vec<Fused>,
-    f: F,
-}
-
-impl<F: FnMut(&Fused)> FuseSink<F> {
-    fn drain(&mut self) {
-        for o in self.buf.drain(..) {
-            (self.f)(&o);
-        }
-    }
-}
-
-impl<F: FnMut(&Fused)> Sink for FuseSink<F> {
-    fn start(&mut self, info: &RunInfo) -> Result<(), SinkError> {
-        self.ports = info.ports.clone();
-        Ok(())
-    }
-
-    fn chunk(&mut self, c: &Chunk) -> Result<(), SinkError> {
-        let p = &self.ports[usize::from(c.port)];
-        let (pipeline, buf) = (&mut self.pipeline, &mut self.buf);
-        self.replay
-            .feed(p.device, p.protocol, c.t_host_ns, &c.bytes, &mut |s| {
-                pipeline.handle(s, buf);
-                Ok(())
-            })
-            .expect("feed");
-        self.drain();
-        Ok(())
-    }
-
-    fn truth(&mut self, _: &TruthRecord, _: u64) -> Result<(), SinkError> {
-        Ok(())
-    }
-}
 
 /// Runs `name` for `seconds` with `seed`; returns the scenario start (GPS ns) and the simulator
 /// (for its truth world).
 fn run(name: &str, seconds: i64, seed: u64, f: impl FnMut(&Fused)) -> (i64, Simulator) {
     run_scenario(&builtin(name).unwrap(), seconds, seed, f)
-}
-
-/// Runs a scenario for `seconds` with `seed` (as [`run`], for scenarios that are not built in).
-pub(crate) fn run_scenario(
-    scenario: &vigil_sim::Scenario,
-    seconds: i64,
-    seed: u64,
-    f: impl FnMut(&Fused),
-) -> (i64, Simulator) {
-    let mut sim = Simulator::new(scenario, seed).unwrap();
-    let mut sink = FuseSink {
-        ports: Vec::new(),
-        replay: AlignedReplay::new(),
-        pipeline: Pipeline::new(PipelineConfig::default(), Box::new(Wmm)).unwrap(),
-        buf: Vec::new(),
-        f,
-    };
-    sim.run(seconds * S, &mut sink).unwrap();
-    let (pipeline, buf) = (&mut sink.pipeline, &mut sink.buf);
-    sink.replay
-        .finish(&mut |s| {
-            pipeline.handle(s, buf);
-            Ok(())
-        })
-        .unwrap();
-    sink.pipeline.finish(&mut sink.buf);
-    sink.drain();
-    (sim.world().start_gps_ns, sim)
 }
 
 fn secs(t: i64, t0: i64) -> f64 {
