@@ -1,5 +1,5 @@
 //! `vigil run` and `vigil config`: the command line of the live service
-//! (`vigil_service::live`) and of its configuration (`vigil_service::config`).
+//! (`vigil_service::runtime::live`) and of its configuration (`vigil_service::config`).
 
 use std::path::PathBuf;
 
@@ -32,7 +32,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         bail!("--duration must be a positive number of seconds");
     }
     let (config, ports) = Config::load(&args.config)?;
-    vigil_service::live::run(config, ports, args.duration)
+    vigil_service::runtime::live::run(config, ports, args.duration)
 }
 
 /// Arguments of `vigil config`.

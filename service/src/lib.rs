@@ -12,20 +12,12 @@
 
 pub mod config;
 pub mod convert;
-#[cfg(feature = "foxglove")]
-pub mod foxglove_view;
-pub mod gdl90_out;
 pub mod golden;
 pub mod json_names;
-pub mod live;
-pub mod live_view;
-pub mod mavlink_out;
-pub mod reader;
-pub mod realtime;
+pub mod outputs;
 pub mod recording;
 pub mod replay;
-pub mod setup;
-pub mod udp_out;
+pub mod runtime;
 
 use anyhow::{Result, anyhow};
 use vigil_bus::payload::integrity as integ;

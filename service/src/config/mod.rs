@@ -11,6 +11,8 @@
 //! it; its errors are reported under `monitor.`).
 
 pub mod bridge;
+pub mod live_view;
+pub mod realtime;
 
 use std::path::{Path, PathBuf};
 
@@ -19,9 +21,9 @@ use vigil_monitor::MonitorParams;
 use serde::{Deserialize, Serialize};
 use vigil_fusion::pipeline::{PipelineConfig, TrafficAltitudeKind};
 
-use super::live_view::LiveViewSection;
-use super::realtime::RealtimeSection;
-use super::setup::{Setup, TtText, VN200_IMU_HZ};
+use crate::runtime::setup::{Setup, TtText, VN200_IMU_HZ};
+use live_view::LiveViewSection;
+use realtime::RealtimeSection;
 
 /// A configuration value that failed validation, with its key.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -111,7 +113,7 @@ impl Protocol {
 
     /// How often a port of this protocol is read by default, ms; 0: as its bytes arrive.
     /// Decision: the TT-Multi-RF and the BAHRS are drained every 10 ms (together, see
-    /// [`super::reader`]). At full rates their ~3200 reads a second were more than half of
+    /// [`crate::runtime::reader`]). At full rates their ~3200 reads a second were more than half of
     /// `vigil run`'s wake-ups. The TT-Multi-RF's traffic is published once a second (10 ms is
     /// 2.5 m at a 250 m/s closing speed) and its JSON and raw HEX carry their own times; the
     /// BAHRS's samples carry its MCU time and its cross-checks are not latency-bound. The aligner
@@ -216,7 +218,7 @@ impl PortConfig {
     }
 }
 
-/// `[configure]`: device set-up sent when a port opens (see [`super::setup`]).
+/// `[configure]`: device set-up sent when a port opens (see [`crate::runtime::setup`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ConfigureSection {
@@ -377,7 +379,7 @@ impl Default for StatusSection {
 }
 
 /// `[outputs.mavlink]`: fused traffic as MAVLink `ADSB_VEHICLE` over UDP (see
-/// [`super::mavlink_out`]).
+/// [`crate::outputs::mavlink_out`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct MavlinkSection {
@@ -407,7 +409,7 @@ impl MavlinkSection {
     }
 }
 
-/// `[outputs.gdl90]`: traffic and ownship as GDL90 over UDP (see [`super::gdl90_out`]).
+/// `[outputs.gdl90]`: traffic and ownship as GDL90 over UDP (see [`crate::outputs::gdl90_out`]).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Gdl90Section {
@@ -453,9 +455,9 @@ pub struct Config {
     pub status: StatusSection,
     /// Monitor thresholds and rule timings.
     pub monitor: MonitorParams,
-    /// Foxglove live view (cargo feature `foxglove`; see [`super::live_view`]).
+    /// Foxglove live view (cargo feature `foxglove`; see [`crate::outputs::live_view`]).
     pub live_view: LiveViewSection,
-    /// CPU wake-up latency (see [`super::realtime`]).
+    /// CPU wake-up latency (see [`crate::runtime::realtime`]).
     pub realtime: RealtimeSection,
     /// Outputs besides the bus (MAVLink traffic).
     pub outputs: OutputsSection,
@@ -500,7 +502,7 @@ pub struct Port {
     pub protocol: Protocol,
     /// Device set-up to run each time the port opens.
     pub setup: Option<Setup>,
-    /// Read every this many ns (0: as the bytes arrive); see [`super::reader`].
+    /// Read every this many ns (0: as the bytes arrive); see [`crate::runtime::reader`].
     pub read_interval_ns: u64,
     /// The USB adapter latency timer, ns: configured, read from sysfs by `vigil run`, or
     /// recorded (a replay); `None`: not known, no adapter wait modelled.
@@ -762,7 +764,8 @@ impl Config {
             // Half the line discipline's 4 KiB buffer (`N_TTY_BUF_SIZE`, the reader's buffer) per
             // interval at the port's baud rate: the rest is room for a late drain, so the line is
             // never throttled.
-            let max_ms = super::reader::READ_BYTES as f64 / 2.0 * 10.0 / f64::from(baud) * 1e3;
+            let max_ms =
+                crate::runtime::reader::READ_BYTES as f64 / 2.0 * 10.0 / f64::from(baud) * 1e3;
             if !(interval_ms.is_finite() && (0.0..=max_ms).contains(&interval_ms)) {
                 return Err(invalid(
                     key("read_interval_ms"),
@@ -838,7 +841,7 @@ impl Config {
         }
         positive("status.period_s", self.status.period_s)?;
         positive("status.integrity_period_s", self.status.integrity_period_s)?;
-        self.live_view.validate(super::live_view::AVAILABLE)?;
+        self.live_view.validate(live_view::AVAILABLE)?;
         self.realtime.validate()?;
         self.monitor.validate().map_err(|e| {
             invalid(

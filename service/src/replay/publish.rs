@@ -24,7 +24,7 @@ use vigil_monitor::MonitorParams;
 use vigil_record::{Recorded, read_recording};
 
 use crate::config::{PipelineSection, Port, Protocol};
-use crate::live::BusOutputs;
+use crate::runtime::live::BusOutputs;
 use crate::{Outputs, Service};
 
 /// How fast to replay.

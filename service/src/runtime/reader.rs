@@ -1,6 +1,6 @@
 //! Reading an open serial port after its set-up: every byte once, as few wake-ups as possible.
 //!
-//! A port is opened and set up with tokio-serial ([`super::setup`] needs its async reads, writes
+//! A port is opened and set up with tokio-serial ([`crate::runtime::setup`] needs its async reads, writes
 //! and baud changes); then its descriptor is detached ([`detach`]) and read here in one of two
 //! ways:
 //!

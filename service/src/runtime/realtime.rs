@@ -16,46 +16,14 @@
 use std::fs::File;
 use std::io::Write;
 
-use serde::{Deserialize, Serialize};
-
-use super::config::ConfigError;
+#[cfg(test)]
+use crate::config::realtime::MAX_US;
+pub use crate::config::realtime::RealtimeSection;
 
 /// PM QoS device of the CPU wake-up latency limit.
 pub const PM_QOS_PATH: &str = "/dev/cpu_dma_latency";
 
-/// Largest accepted limit, us (10 s: beyond any idle state's exit latency).
-const MAX_US: u32 = 10_000_000;
-
-/// `[realtime]`: CPU wake-up latency while `vigil run` runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RealtimeSection {
-    /// Limit on the CPUs' idle-state exit latency while running, us (`0`: the CPUs poll when
-    /// idle); absent: no request (default).
-    pub cpu_wakeup_latency_us: Option<u32>,
-}
-
 impl RealtimeSection {
-    /// The commented `[realtime]` section of the example configuration, at the default.
-    pub const EXAMPLE: &str = r#"[realtime]
-# Limit on the CPUs' wake-up latency while vigil run runs, us, through Linux PM QoS
-# (/dev/cpu_dma_latency, needs root): 0 keeps idle CPUs polling, so each serial read wakes the
-# service sooner and cheaper, at the cost of power. Off when absent (the default).
-# cpu_wakeup_latency_us = 0
-
-"#;
-
-    /// Checks the section (errors name the key).
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        match self.cpu_wakeup_latency_us {
-            Some(us) if us > MAX_US => Err(ConfigError {
-                key: "realtime.cpu_wakeup_latency_us".into(),
-                reason: format!("must be within 0 .. {MAX_US} us (got {us})"),
-            }),
-            _ => Ok(()),
-        }
-    }
-
     /// Makes the request when configured: the returned file holds it until dropped. `None`
     /// when not configured or refused (logged).
     pub fn hold(&self) -> Option<File> {

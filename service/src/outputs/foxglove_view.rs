@@ -27,7 +27,7 @@
 //!   own single-threaded tokio runtime. The SDK's per-client queues are lossy too: a slow client
 //!   loses messages, it never pushes back.
 //! - A server that fails to start is an error of [`FoxgloveView::start`]; the caller
-//!   ([`super::live_view::start`]) logs it and the service runs without the view.
+//!   ([`crate::outputs::live_view::start`]) logs it and the service runs without the view.
 //!
 //! Decisions:
 //! - Message log times are the host's wall clock at serialisation (the Foxglove tools' live
@@ -59,7 +59,7 @@ use vigil_bus::{
 use vigil_fusion::geometry::wgs84::{A_M as WGS84_A_M, E2 as WGS84_E2};
 use vigil_fusion::time::gps;
 
-use super::Outputs;
+use crate::Outputs;
 
 /// Capacity of the queue from the processing loop to the view's thread, payloads.
 pub const QUEUE: usize = 64;

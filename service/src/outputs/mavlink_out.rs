@@ -31,9 +31,9 @@ use vigil_drivers::ttmrf::mavlink::{
 use vigil_fusion::pipeline::TrafficPicture;
 use vigil_fusion::traffic::{AltitudeKind, Target};
 
-use super::Outputs;
-use super::config::MavlinkSection;
-use super::udp_out::UdpSink;
+use crate::Outputs;
+use crate::config::MavlinkSection;
+use crate::outputs::udp_out::UdpSink;
 
 /// Shortest interval between two messages about one target, and between heartbeats, ns.
 const MIN_INTERVAL_NS: i64 = 1_000_000_000;

@@ -1,7 +1,7 @@
 //! The live runtime of `vigil run --config FILE`: the service on serial ports (issue 10).
 //!
 //! One task per port opens it with tokio-serial, runs its configured device set-up
-//! ([`super::setup`]) and then reads it ([`super::reader`]: on arrival, or paced for ports that
+//! ([`crate::runtime::setup`]) and then reads it ([`crate::runtime::reader`]: on arrival, or paced for ports that
 //! allow it), reopening it with exponential backoff when it fails to open or disappears (the
 //! [`Service`] reports it disconnected meanwhile). Everything runs on one thread: each read
 //! chunk, stamped with the host monotonic time of the read, goes straight from its port task into
@@ -29,11 +29,12 @@ use vigil_record::RawRecorder;
 
 use crate::recording::{METADATA_RUN, RichRecorder, run_metadata};
 
-use super::config::{Config, LinkSection, Port};
-use super::gdl90_out::Gdl90Udp;
-use super::live_view::{Tee, View};
-use super::mavlink_out::MavlinkUdp;
-use super::{Outputs, Service, reader};
+use crate::config::{Config, LinkSection, Port};
+use crate::outputs::gdl90_out::Gdl90Udp;
+use crate::outputs::live_view::{Tee, View};
+use crate::outputs::mavlink_out::MavlinkUdp;
+use crate::runtime::reader;
+use crate::{Outputs, Service};
 
 /// The bus publishers of every topic: the [`Outputs`] of `vigil run` (and of anything else that
 /// publishes a [`Service`]'s payloads). Failed publications are counted and the first ten
@@ -130,7 +131,8 @@ async fn port_task(i: usize, port: Port, link: LinkSection, ctx: Rc<RefCell<Ctx>
                     // each read with its own receive time.
                     let mut during: Vec<(u64, Vec<u8>)> = Vec::new();
                     let mut forward = |b: Vec<u8>| during.push((monotonic_ns(), b));
-                    super::setup::run(&port.device, setup, &mut serial, &mut forward).await;
+                    crate::runtime::setup::run(&port.device, setup, &mut serial, &mut forward)
+                        .await;
                     for (t, b) in during {
                         ctx.borrow_mut().chunk(i, t, &b);
                     }
@@ -349,7 +351,7 @@ async fn live(config: Config, mut ports: Vec<Port>, duration: Option<f64>) -> Re
     let out = Tee(
         BusOutputs::new(&bus).context("creating the publishers")?,
         Tee(
-            super::live_view::start(&config.live_view),
+            crate::outputs::live_view::start(&config.live_view),
             Tee(mavlink.flatten(), gdl90.flatten()),
         ),
     );

@@ -1,83 +1,20 @@
 //! The optional live view of `vigil run` for the Foxglove/Lichtblick tools (issue 10, "bins/":
 //! "an optional, feature-gated live view ... bound to localhost, off the safety path"): its
-//! configuration section `[live_view]` and the switch between a build with the cargo feature
-//! `foxglove` (the view of [`super::foxglove_view`]) and one without (no view).
+//! configuration section `[live_view]` (`crate::config::live_view`) and the switch between a build with the cargo feature
+//! `foxglove` (the view of [`crate::outputs::foxglove_view`]) and one without (no view).
 //!
 //! Decision: `live_view.enabled = true` in a build without the feature is refused at start
 //! (configuration validation, key `live_view.enabled`) rather than warned about and ignored: an
 //! operator who asked for the view and silently got none would look for a fault elsewhere, and
 //! the fix (rebuild with `--features foxglove`, or set `enabled = false`) is known at once.
 
-use serde::{Deserialize, Serialize};
+use crate::Outputs;
 
-use super::Outputs;
-use super::config::ConfigError;
-
-/// Default TCP port of the WebSocket server (the Foxglove tools' usual port).
-pub const DEFAULT_PORT: u16 = 8765;
-
-/// True when this build carries the live view (cargo feature `foxglove`).
-pub const AVAILABLE: bool = cfg!(feature = "foxglove");
-
-/// `[live_view]`: the Foxglove WebSocket live view (needs a build with `--features foxglove`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct LiveViewSection {
-    /// Start the view's WebSocket server (bound to 127.0.0.1 only).
-    pub enabled: bool,
-    /// Its TCP port, 1 to 65535.
-    pub port: u32,
-}
-
-impl Default for LiveViewSection {
-    fn default() -> Self {
-        Self {
-            enabled: false,
-            port: u32::from(DEFAULT_PORT),
-        }
-    }
-}
-
-impl LiveViewSection {
-    /// The commented `[live_view]` section of the example configuration, at the defaults.
-    pub const EXAMPLE: &str = r#"[live_view]
-# Live view for Foxglove or Lichtblick: a WebSocket server on ws://127.0.0.1:PORT (localhost
-# only) showing ownship, traffic, alerts and attitude. Needs a build with
-# `--features foxglove`; enabled = true in a build without it is refused at start.
-enabled = false
-port = 8765
-
-"#;
-
-    /// Checks the section (errors name the key); `available` is whether the build carries the
-    /// view ([`AVAILABLE`]; a parameter so both builds' behaviour is testable in either).
-    pub fn validate(&self, available: bool) -> Result<(), ConfigError> {
-        if self.port == 0 || self.port > u32::from(u16::MAX) {
-            return Err(ConfigError {
-                key: "live_view.port".into(),
-                reason: format!("must be a TCP port, 1 to 65535 (got {})", self.port),
-            });
-        }
-        if self.enabled && !available {
-            return Err(ConfigError {
-                key: "live_view.enabled".into(),
-                reason: "this vigil was built without the live view; rebuild with \
-                         `cargo build --release --features foxglove`, or set it to false"
-                    .into(),
-            });
-        }
-        Ok(())
-    }
-
-    /// The port as a TCP port (a validated section's port always fits; an invalid one gives 0).
-    pub fn tcp_port(&self) -> u16 {
-        u16::try_from(self.port).unwrap_or(0)
-    }
-}
+pub use crate::config::live_view::{AVAILABLE, DEFAULT_PORT, LiveViewSection};
 
 /// The live view, when the build carries it.
 #[cfg(feature = "foxglove")]
-pub type View = super::foxglove_view::FoxgloveView;
+pub type View = crate::outputs::foxglove_view::FoxgloveView;
 
 /// The live view of a build without the feature: a type with no value (never started).
 #[cfg(not(feature = "foxglove"))]
@@ -99,7 +36,7 @@ pub fn start(section: &LiveViewSection) -> Option<View> {
     }
     #[cfg(feature = "foxglove")]
     {
-        match super::foxglove_view::FoxgloveView::start(section.tcp_port()) {
+        match crate::outputs::foxglove_view::FoxgloveView::start(section.tcp_port()) {
             Ok(v) => {
                 tracing::info!(
                     "live view: Foxglove WebSocket server on ws://127.0.0.1:{}",
@@ -124,7 +61,7 @@ pub fn start(section: &LiveViewSection) -> Option<View> {
     }
 }
 
-/// Publishes to two outputs: `vigil run` publishes to the bus ([`super::live::BusOutputs`]) and
+/// Publishes to two outputs: `vigil run` publishes to the bus ([`crate::runtime::live::BusOutputs`]) and
 /// to the live view when it runs (`Tee(bus, Option<View>)`). The first output is served first,
 /// so the view never delays the bus.
 #[derive(Debug)]

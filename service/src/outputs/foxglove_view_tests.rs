@@ -458,11 +458,11 @@ fn foxglove_a_port_in_use_is_an_error_and_the_service_goes_on() {
     );
     assert!(e.to_string().contains(&format!("127.0.0.1:{port}")), "{e}");
     // Through the service's entry point: logged, no view, no panic.
-    let section = super::super::live_view::LiveViewSection {
+    let section = crate::outputs::live_view::LiveViewSection {
         enabled: true,
         port: u32::from(port),
     };
-    assert!(super::super::live_view::start(&section).is_none());
+    assert!(crate::outputs::live_view::start(&section).is_none());
 }
 
 #[test]

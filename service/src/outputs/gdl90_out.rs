@@ -39,9 +39,9 @@ use vigil_fusion::time::gps;
 use vigil_fusion::traffic::track::AddressSpace;
 use vigil_fusion::traffic::{AltitudeKind, Target};
 
-use super::Outputs;
-use super::config::Gdl90Section;
-use super::udp_out::UdpSink;
+use crate::Outputs;
+use crate::config::Gdl90Section;
+use crate::outputs::udp_out::UdpSink;
 
 const FT_PER_M: f64 = 1.0 / 0.3048;
 const KT_PER_MPS: f64 = 3600.0 / 1852.0;
