@@ -1,12 +1,23 @@
-//! The service (issue 10, `vigil run`): raw port chunks in, bus payloads and alerts out.
+//! vigil's deterministic service: raw port chunks in, bus payloads and alerts out.
 //!
-//! [`Service`] is the whole processing path as a plain struct, free of tokio, ports and clocks:
-//! [`Service::on_chunk`] takes one read chunk of a port with its host monotonic receive time and
-//! runs it through [`AlignedReplay`] (decode, align) -> [`Pipeline`] (fuse) -> [`convert`] ->
-//! [`Outputs`] (publish), feeding the [`Monitor`] with every payload published;
-//! [`Service::tick`] publishes the `integrity` report and the monitor's alerts at a host time.
-//! [`Service::on_link`] tells it a port opened or closed. The same struct serves `vigil run`
-//! ([`live`]), and is meant for `vigil demo` and `vigil replay --publish`.
+//! [`Service`] is the whole processing path as a plain struct, sans-IO in the style of
+//! quinn-proto: no tokio, no ports, no clock. Time is an argument of every call:
+//! - [`Service::handle_chunk`] takes one read chunk of a port with its host monotonic receive time
+//!   and runs it through [`AlignedReplay`] (decode, align) -> [`Pipeline`] (fuse) -> [`convert`]
+//!   -> [`Outputs`] (publish), feeding the [`Monitor`] with every payload published;
+//! - [`Service::handle_link`] tells it a port opened or closed;
+//! - [`Service::handle_timeout`] publishes the `integrity` report and the monitor's alerts due at
+//!   a host time.
+//!
+//! Outputs are drained through the [`Outputs`] trait: the bus in `vigil run`
+//! ([`runtime::live::BusOutputs`]), UDP and the live view ([`outputs`]), memory in tests
+//! ([`Collected`]). The same struct serves `vigil run` ([`runtime`]), `vigil replay` ([`replay`])
+//! and the end-to-end tests; given the same calls it gives the same outputs.
+//!
+//! Also here: the configuration ([`config`], TOML, validated with errors naming the key), the
+//! conversion of fused outputs to bus payloads ([`convert`]), the recording's decoded and fused
+//! channels ([`recording`]), the golden-file format ([`golden`]) and vigil's JSON names
+//! ([`json_names`]).
 //!
 //! Bad input is counted (decoder counters, per-port in `integrity`), never fatal.
 
@@ -132,7 +143,7 @@ struct Tap {
 }
 
 impl Service {
-    /// A service over `ports` (index order = the port numbers of [`Service::on_chunk`]).
+    /// A service over `ports` (index order = the port numbers of [`Service::handle_chunk`]).
     pub fn new(
         ports: &[Port],
         pipeline: PipelineConfig,
@@ -174,7 +185,7 @@ impl Service {
 
     /// Port `port` opened (`open`), or closed or failed to open, at host time `t_host_ns`. Every
     /// open after the first counts as a reconnect.
-    pub fn on_link(&mut self, port: usize, open: bool, t_host_ns: u64) {
+    pub fn handle_link(&mut self, port: usize, open: bool, t_host_ns: u64) {
         if let Some(p) = self.ports.get_mut(port) {
             if open && !p.open {
                 p.opens += 1;
@@ -187,7 +198,13 @@ impl Service {
 
     /// Takes one chunk read from port `port` at host monotonic time `t_host_ns` and publishes what
     /// it completes.
-    pub fn on_chunk(&mut self, port: usize, t_host_ns: u64, bytes: &[u8], out: &mut impl Outputs) {
+    pub fn handle_chunk(
+        &mut self,
+        port: usize,
+        t_host_ns: u64,
+        bytes: &[u8],
+        out: &mut impl Outputs,
+    ) {
         let Some(p) = self.ports.get_mut(port) else {
             self.counters.unknown_port += 1;
             return;
@@ -372,7 +389,7 @@ impl Service {
 
     /// Publishes the integrity report, evaluates the monitor and publishes its alerts (call
     /// periodically, at host time `t_host_ns`).
-    pub fn tick(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
+    pub fn handle_timeout(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
         let mut p = self.integrity(t_host_ns);
         self.monitor.integrity(&p);
         if let Some(t) = self.gps_time(t_host_ns) {

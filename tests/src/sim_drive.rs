@@ -39,17 +39,17 @@ pub fn drive<O: Outputs>(
         return;
     };
     for i in 0..sink.info.as_ref().map_or(0, |i| i.ports.len()) {
-        s.on_link(i, true, t0);
+        s.handle_link(i, true, t0);
     }
     let mut next_tick = t0;
     for c in &sink.chunks {
         while c.t_host_ns >= next_tick {
             now(out, next_tick);
-            s.tick(next_tick, out);
+            s.handle_timeout(next_tick, out);
             next_tick += tick_ns;
         }
         now(out, c.t_host_ns);
-        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, out);
+        s.handle_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, out);
     }
 }
 

@@ -32,19 +32,19 @@ fn nominal_chunks_give_every_payload_in_gps_order() {
     let sink = simulate(12);
     let mut s = service_for(&sink);
     for i in 0..4 {
-        s.on_link(i, true, sink.chunks[0].t_host_ns);
+        s.handle_link(i, true, sink.chunks[0].t_host_ns);
     }
     let mut out = Collected::default();
     let mut next_tick = sink.chunks[0].t_host_ns;
     for c in &sink.chunks {
         while c.t_host_ns >= next_tick {
-            s.tick(next_tick, &mut out);
+            s.handle_timeout(next_tick, &mut out);
             next_tick += 1_000_000_000;
         }
-        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
+        s.handle_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
     }
     let last = sink.chunks.last().unwrap().t_host_ns;
-    s.tick(last, &mut out);
+    s.handle_timeout(last, &mut out);
 
     assert_eq!(s.counters().errors, 0);
     assert_eq!(s.counters().chunks, sink.chunks.len() as u64);
@@ -91,10 +91,10 @@ fn a_closed_port_is_disconnected_then_silent_data_counts_reconnects() {
     let mut out = Collected::default();
     // Nothing tried yet: unknown; a port that fails to open: disconnected, no reconnect counted.
     assert_eq!(s.integrity(t0).devices[0].link_state, integ::LINK_UNKNOWN);
-    s.on_link(1, false, t0);
+    s.handle_link(1, false, t0);
     let d = s.integrity(t0).devices[1];
     assert_eq!((d.link_state, d.reconnects), (integ::LINK_DISCONNECTED, 0));
-    s.on_link(0, true, t0);
+    s.handle_link(0, true, t0);
     // Open, no message for more than the silence limit (2 s): silent.
     assert_eq!(
         s.integrity(t0 + 1_000_000_000).devices[0].link_state,
@@ -105,18 +105,18 @@ fn a_closed_port_is_disconnected_then_silent_data_counts_reconnects() {
         integ::LINK_SILENT
     );
     for c in sink.chunks.iter().filter(|c| c.port == 0) {
-        s.on_chunk(0, c.t_host_ns, &c.bytes, &mut out);
+        s.handle_chunk(0, c.t_host_ns, &c.bytes, &mut out);
     }
     let tl = sink.chunks.iter().rfind(|c| c.port == 0).unwrap().t_host_ns;
     assert_eq!(s.integrity(tl).devices[0].link_state, integ::LINK_OK);
-    s.on_link(0, false, tl);
+    s.handle_link(0, false, tl);
     let d = s.integrity(tl).devices[0];
     assert_eq!(d.link_state, integ::LINK_DISCONNECTED);
-    s.on_link(0, true, tl + 1);
+    s.handle_link(0, true, tl + 1);
     assert_eq!(s.integrity(tl + 1).devices[0].reconnects, 1);
     // Garbage is counted, never fatal.
-    s.on_chunk(0, tl + 2, &[0x55; 300], &mut out);
-    s.on_chunk(9, tl + 3, b"no such port", &mut out);
+    s.handle_chunk(0, tl + 2, &[0x55; 300], &mut out);
+    s.handle_chunk(9, tl + 3, b"no such port", &mut out);
     assert_eq!(s.counters().unknown_port, 1);
     assert_eq!(s.counters().errors, 0);
     let d = s.integrity(tl + 4).devices[0];
@@ -146,7 +146,7 @@ fn prompt_attitude_follows_every_vn200_message_at_once() {
     let (mut written, mut at_once, mut late) = (0u64, 0usize, Vec::new());
     for c in &sink.chunks {
         let before = out.attitude.len();
-        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
+        s.handle_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
         if usize::from(c.port) != vn200 {
             continue;
         }
@@ -196,7 +196,7 @@ fn same_chunks_same_outputs() {
         let mut s = service_for(&sink);
         let mut out = Collected::default();
         for c in &sink.chunks {
-            s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
+            s.handle_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
         }
         let mut lines: Vec<String> = out.attitude.iter().map(json).collect();
         lines.extend(out.ownship.iter().map(json));
@@ -222,7 +222,7 @@ fn service_and_fused_replay_agree() {
     let mut s = service_for(&sink);
     let mut out = Collected::default();
     for c in &sink.chunks {
-        s.on_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
+        s.handle_chunk(usize::from(c.port), c.t_host_ns, &c.bytes, &mut out);
     }
     s.finish(sink.chunks.last().unwrap().t_host_ns, &mut out);
     let mut live: Vec<String> = out.attitude.iter().map(json).collect();

@@ -115,7 +115,7 @@ pub fn replay_service<R: Read>(
                     })
                 });
                 if let Some(i) = port {
-                    service.on_link(i, true, t_host_ns);
+                    service.handle_link(i, true, t_host_ns);
                 }
                 devices.push((device.to_string(), port, 0, 0));
                 devices.len() - 1
@@ -124,7 +124,7 @@ pub fn replay_service<R: Read>(
         let next = next_tick.get_or_insert(t_host_ns.saturating_add(tick_ns));
         while *next <= t_host_ns {
             let t = *next;
-            service.tick(t, out);
+            service.handle_timeout(t, out);
             each(service, Step::Tick)?;
             *next += tick_ns;
         }
@@ -133,7 +133,7 @@ pub fn replay_service<R: Read>(
         d.2 += 1;
         d.3 += bytes.len() as u64;
         if let Some(i) = d.1 {
-            service.on_chunk(i, t_host_ns, bytes, out);
+            service.handle_chunk(i, t_host_ns, bytes, out);
         }
         each(
             service,
@@ -149,7 +149,7 @@ pub fn replay_service<R: Read>(
         )
     })?;
     service.finish(last, out);
-    service.tick(last, out);
+    service.handle_timeout(last, out);
     each(service, Step::Tick)?;
     let devices = devices
         .iter()

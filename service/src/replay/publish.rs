@@ -141,19 +141,19 @@ pub fn replay_into(
         pace(t_host_ns)?;
         let next = next_tick.get_or_insert(t_host_ns + TICK_NS);
         while *next <= t_host_ns {
-            service.tick(*next, out);
+            service.handle_timeout(*next, out);
             *next += TICK_NS;
         }
         if !opened[i] {
             opened[i] = true;
-            service.on_link(i, true, t_host_ns);
+            service.handle_link(i, true, t_host_ns);
         }
-        service.on_chunk(i, t_host_ns, bytes, out);
+        service.handle_chunk(i, t_host_ns, bytes, out);
         last = last.max(t_host_ns);
         Ok(())
     })?;
     service.finish(last, out);
-    service.tick(last, out);
+    service.handle_timeout(last, out);
     Ok(*service.counters())
 }
 

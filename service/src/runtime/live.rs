@@ -178,7 +178,7 @@ impl Ctx {
     /// A chunk of port `i` read at host time `t` (ns): processed and published, then recorded
     /// with what it produced.
     fn chunk(&mut self, i: usize, t: u64, bytes: &[u8]) {
-        self.service.on_chunk(i, t, bytes, &mut self.out);
+        self.service.handle_chunk(i, t, bytes, &mut self.out);
         if let Some(rec) = &mut self.recorder {
             let r = rec
                 .set_clock(
@@ -211,13 +211,13 @@ impl Ctx {
     }
 
     fn opened(&mut self, i: usize) {
-        self.service.on_link(i, true, monotonic_ns());
+        self.service.handle_link(i, true, monotonic_ns());
         self.closed_logged[i] = false;
         info!("port {}: open", self.ports[i].device);
     }
 
     fn closed(&mut self, i: usize, reason: &str) {
-        self.service.on_link(i, false, monotonic_ns());
+        self.service.handle_link(i, false, monotonic_ns());
         if !self.closed_logged[i] {
             warn!(
                 "port {}: {reason}; retrying with backoff",
@@ -422,7 +422,7 @@ async fn live(config: Config, mut ports: Vec<Port>, duration: Option<f64>) -> Re
             _ = tick.tick() => {
                 let mut c = ctx.borrow_mut();
                 let c = &mut *c;
-                c.service.tick(monotonic_ns(), &mut c.out);
+                c.service.handle_timeout(monotonic_ns(), &mut c.out);
                 c.record_tap();
                 if let Some(r) = bus.cleanup_if_due()
                     && r.cleaned > 0
