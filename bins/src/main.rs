@@ -101,3 +101,15 @@ fn main() -> ExitCode {
         }
     }
 }
+
+/// Logs to stderr at `info` (or as `RUST_LOG` says), coloured on a terminal.
+pub fn init_logging() {
+    let _ = tracing_subscriber::fmt()
+        .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .try_init();
+}

@@ -2,8 +2,10 @@
 //! same layout as the simulator's (one `/<device>/raw` channel per port, log time = host monotonic
 //! receive time of each read, ns), so `vigil replay` reads both alike.
 //!
-//! Ctrl-C (SIGINT) ends the recording cleanly (summary written). The open chunk is flushed to the
-//! file every second, so a killed recorder leaves a file readable up to its last flush.
+//! The serial loop is `vigil run`'s with processing off (`vigil_service::runtime::record`): a
+//! port that fails is reopened with backoff. Ctrl-C (SIGINT) or SIGTERM ends the recording cleanly
+//! (summary written). The open chunk is flushed to the file every second, so a killed recorder
+//! leaves a file readable up to its last flush.
 //!
 //! Configuration (TOML):
 //! ```toml
@@ -15,19 +17,14 @@
 //!                           # name does: "bahrs", "watson")
 //! ```
 
-use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::PathBuf;
-use std::time::Duration;
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Deserialize;
-use tokio::io::AsyncReadExt;
-use tokio::sync::mpsc;
-use tokio_serial::SerialPortBuilderExt;
-use vigil_record::RawRecorder;
+use vigil_service::config::LinkSection;
+use vigil_service::runtime::record::{RecordPort, record};
+use vigil_service::runtime::serial::SerialPort;
 
 /// Arguments of `vigil record`.
 #[derive(Debug, Args)]
@@ -61,23 +58,6 @@ struct PortConfig {
     protocol: String,
 }
 
-/// Host monotonic time, ns (CLOCK_MONOTONIC, the timebase of every recording).
-#[cfg(target_os = "linux")]
-fn monotonic_ns() -> u64 {
-    let t = rustix::time::clock_gettime(rustix::time::ClockId::Monotonic);
-    t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64
-}
-
-#[cfg(not(target_os = "linux"))]
-fn monotonic_ns() -> u64 {
-    use std::sync::OnceLock;
-    static START: OnceLock<std::time::Instant> = OnceLock::new();
-    START
-        .get_or_init(std::time::Instant::now)
-        .elapsed()
-        .as_nanos() as u64
-}
-
 fn load(path: &PathBuf) -> Result<Config> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
@@ -108,112 +88,32 @@ fn load(path: &PathBuf) -> Result<Config> {
     Ok(c)
 }
 
-/// Runs `vigil record`.
+/// Runs `vigil record`: `vigil run`'s serial loop with processing off
+/// (`vigil_service::runtime::record`).
 pub fn run(args: &RecordArgs) -> Result<()> {
+    crate::init_logging();
     if args.duration.is_some_and(|d| !(d.is_finite() && d > 0.0)) {
         bail!("--duration must be a positive number of seconds");
     }
     let config = load(&args.config)?;
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()?;
-    rt.block_on(record(config, args))
-}
-
-async fn record(config: Config, args: &RecordArgs) -> Result<()> {
-    let out =
-        File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
-    let specs: Vec<(&str, &str, u32)> = config
+    let ports: Vec<RecordPort> = config
         .ports
-        .iter()
-        .map(|p| (p.device.as_str(), p.protocol.as_str(), p.baud))
-        .collect();
-    let mut rec = RawRecorder::new(BufWriter::new(out), &specs)?;
-    rec.write_metadata(
-        "vigil.record",
-        BTreeMap::from([
-            (
-                "ports".to_string(),
-                specs.iter().map(|s| s.0).collect::<Vec<_>>().join(","),
-            ),
-            (
-                "paths".to_string(),
-                config
-                    .ports
-                    .iter()
-                    .map(|p| p.path.as_str())
-                    .collect::<Vec<_>>()
-                    .join(","),
-            ),
-        ]),
-    )?;
-    let (tx, mut rx) = mpsc::channel::<(u16, u64, Vec<u8>)>(1024);
-    for (i, p) in config.ports.iter().enumerate() {
-        let mut port = tokio_serial::new(&p.path, p.baud)
-            .open_native_async()
-            .with_context(|| format!("cannot open {} ({})", p.path, p.device))?;
-        let tx = tx.clone();
-        let name = p.device.clone();
-        tokio::spawn(async move {
-            let mut buf = vec![0u8; 4096];
-            loop {
-                match port.read(&mut buf).await {
-                    Ok(0) => break,
-                    Ok(n) => {
-                        let t = monotonic_ns();
-                        if tx.send((i as u16, t, buf[..n].to_vec())).await.is_err() {
-                            break;
-                        }
-                    }
-                    Err(e) => {
-                        eprintln!("vigil record: {name}: read error: {e}");
-                        break;
-                    }
-                }
-            }
-        });
-    }
-    drop(tx);
-    let deadline = args
-        .duration
-        .map(|d| tokio::time::Instant::now() + Duration::from_secs_f64(d));
-    let mut flush = tokio::time::interval(Duration::from_secs(1));
-    let ctrl_c = tokio::signal::ctrl_c();
-    tokio::pin!(ctrl_c);
-    let mut bytes = vec![0u64; config.ports.len()];
-    loop {
-        let until = async {
-            match deadline {
-                Some(d) => tokio::time::sleep_until(d).await,
-                None => std::future::pending().await,
-            }
-        };
-        tokio::select! {
-            m = rx.recv() => match m {
-                Some((port, t, data)) => {
-                    bytes[usize::from(port)] += data.len() as u64;
-                    rec.write_raw(port, t, &data)?;
-                }
-                None => break,
+        .into_iter()
+        .map(|p| RecordPort {
+            serial: SerialPort {
+                device: p.device,
+                path: p.path.into(),
+                baud: p.baud,
+                setup: None,
+                read_interval_ns: 0,
             },
-            _ = flush.tick() => rec.flush()?,
-            _ = &mut ctrl_c => break,
-            _ = until => break,
-        }
-    }
-    let mut w = rec
-        .finish()
-        .map_err(|e| anyhow!("writing {}: {e}", args.out.display()))?;
-    w.flush()?;
-    let summary: BTreeMap<&str, u64> = config
-        .ports
-        .iter()
-        .map(|p| p.device.as_str())
-        .zip(bytes)
+            protocol: p.protocol,
+        })
         .collect();
+    let bytes = record(&ports, &args.out, LinkSection::default(), args.duration)?;
     eprintln!(
         "{}",
-        serde_json::json!({ "kind": "summary", "bytes": summary })
+        serde_json::json!({ "kind": "summary", "bytes": bytes })
     );
     Ok(())
 }

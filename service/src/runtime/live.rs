@@ -18,7 +18,6 @@ use std::rc::Rc;
 use std::time::Duration;
 
 use anyhow::{Context, Result};
-use tokio_serial::SerialPortBuilderExt;
 use tracing::{error, info, warn};
 use vigil_bus::clock::monotonic_ns;
 use vigil_bus::{
@@ -29,11 +28,11 @@ use vigil_record::RawRecorder;
 
 use crate::recording::{METADATA_RUN, RichRecorder, run_metadata};
 
-use crate::config::{Config, LinkSection, Port};
+use crate::config::{Config, Port};
 use crate::outputs::gdl90_out::Gdl90Udp;
 use crate::outputs::live_view::{Tee, View};
 use crate::outputs::mavlink_out::MavlinkUdp;
-use crate::runtime::reader;
+use crate::runtime::serial::{PortSink, SerialPort, port_task, secs};
 use crate::{Outputs, Service};
 
 /// The bus publishers of every topic: the [`Outputs`] of `vigil run` (and of anything else that
@@ -112,50 +111,6 @@ pub fn run(config: Config, ports: Vec<Port>, duration: Option<f64>) -> Result<()
     rt.block_on(live(config, ports, duration))
 }
 
-fn secs(s: f64) -> Duration {
-    Duration::from_secs_f64(s.max(1e-3))
-}
-
-/// Reads one port forever, reopening it with exponential backoff.
-async fn port_task(i: usize, port: Port, link: LinkSection, ctx: Rc<RefCell<Ctx>>) {
-    let initial = secs(link.reconnect_initial_s);
-    let mut delay = initial;
-    loop {
-        let path = port.path.to_string_lossy().into_owned();
-        match tokio_serial::new(&path, port.baud).open_native_async() {
-            Ok(mut serial) => {
-                delay = initial;
-                ctx.borrow_mut().opened(i);
-                if let Some(setup) = port.setup {
-                    // What the device sends during the session goes to the service afterwards,
-                    // each read with its own receive time.
-                    let mut during: Vec<(u64, Vec<u8>)> = Vec::new();
-                    let mut forward = |b: Vec<u8>| during.push((monotonic_ns(), b));
-                    crate::runtime::setup::run(&port.device, setup, &mut serial, &mut forward)
-                        .await;
-                    for (t, b) in during {
-                        ctx.borrow_mut().chunk(i, t, &b);
-                    }
-                }
-                let chunk = |t: u64, b: &[u8]| ctx.borrow_mut().chunk(i, t, b);
-                let reason = match reader::detach(serial) {
-                    Err(e) => format!("cannot take the descriptor: {e}"),
-                    Ok(file) if port.read_interval_ns > 0 => {
-                        let every = Duration::from_nanos(port.read_interval_ns);
-                        let epoch = ctx.borrow().epoch;
-                        reader::read_paced(file, every, epoch, chunk).await
-                    }
-                    Ok(file) => reader::read_on_arrival(file, chunk).await,
-                };
-                ctx.borrow_mut().closed(i, &reason);
-            }
-            Err(e) => ctx.borrow_mut().closed(i, &format!("cannot open: {e}")),
-        }
-        tokio::time::sleep(delay).await;
-        delay = (delay * 2).min(secs(link.reconnect_max_s));
-    }
-}
-
 /// Where `vigil run` sends its outputs: the bus first, then the optional live view and the
 /// optional MAVLink and GDL90 traffic outputs (off the safety path).
 type LiveOutputs = Tee<BusOutputs, Tee<Option<View>, Tee<Option<MavlinkUdp>, Option<Gdl90Udp>>>>;
@@ -210,6 +165,24 @@ impl Ctx {
         }
     }
 
+    fn flush(&mut self) {
+        self.record_tap();
+        if let Some(rec) = &mut self.recorder {
+            let r = rec.flush();
+            self.recorded(r);
+        }
+    }
+}
+
+impl PortSink for Ctx {
+    fn chunk(&mut self, i: usize, t: u64, bytes: &[u8]) {
+        Ctx::chunk(self, i, t, bytes);
+    }
+
+    fn epoch(&self) -> tokio::time::Instant {
+        self.epoch
+    }
+
     fn opened(&mut self, i: usize) {
         self.service.handle_link(i, true, monotonic_ns());
         self.closed_logged[i] = false;
@@ -224,14 +197,6 @@ impl Ctx {
                 self.ports[i].device
             );
             self.closed_logged[i] = true;
-        }
-    }
-
-    fn flush(&mut self) {
-        self.record_tap();
-        if let Some(rec) = &mut self.recorder {
-            let r = rec.flush();
-            self.recorded(r);
         }
     }
 }
@@ -394,7 +359,7 @@ async fn live(config: Config, mut ports: Vec<Port>, duration: Option<f64>) -> Re
         );
         tasks.push(tokio::task::spawn_local(port_task(
             i,
-            p.clone(),
+            SerialPort::from(p),
             config.link,
             ctx.clone(),
         )));

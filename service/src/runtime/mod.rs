@@ -6,4 +6,6 @@
 pub mod live;
 pub mod reader;
 pub mod realtime;
+pub mod record;
+pub mod serial;
 pub mod setup;
