@@ -647,6 +647,29 @@ impl Config {
     /// Checks every value; returns the ports with protocol and baud resolved, or the first
     /// invalid key.
     pub fn validate(&self) -> Result<Vec<Port>, ConfigError> {
+        // The order of the checks is the order of the sections in the example: the first error
+        // found is the one reported.
+        self.validate_bus()?;
+        self.bridge.validate()?;
+        self.validate_outputs()?;
+        self.validate_port_count()?;
+        let ports = (0..self.ports.len())
+            .map(|i| self.validate_port(i))
+            .collect::<Result<Vec<_>, _>>()?;
+        self.validate_periods()?;
+        self.live_view.validate(live_view::AVAILABLE)?;
+        self.realtime.validate()?;
+        self.monitor.validate().map_err(|e| {
+            invalid(
+                format!("monitor.{}", e.key),
+                format!("{} (got {})", e.expected, e.value),
+            )
+        })?;
+        Ok(ports)
+    }
+
+    /// `[bus]`: a node name, a prefix iceoryx2 accepts in a service name.
+    fn validate_bus(&self) -> Result<(), ConfigError> {
         if self.bus.node_name.is_empty() {
             return Err(invalid("bus.node_name", "must not be empty"));
         }
@@ -662,7 +685,11 @@ impl Config {
             ));
         }
         positive("bus.cleanup_period_s", self.bus.cleanup_period_s)?;
-        self.bridge.validate()?;
+        Ok(())
+    }
+
+    /// `[outputs]`: addresses that parse, a MAVLink system id that is not the broadcast id.
+    fn validate_outputs(&self) -> Result<(), ConfigError> {
         let m = &self.outputs.mavlink;
         if m.enabled() && m.address.parse::<std::net::SocketAddr>().is_err() {
             return Err(invalid(
@@ -686,6 +713,11 @@ impl Config {
                 "1..=255 (0 is MAVLink's broadcast id)",
             ));
         }
+        Ok(())
+    }
+
+    /// `[[ports]]`: at least one, no more than the integrity report can describe.
+    fn validate_port_count(&self) -> Result<(), ConfigError> {
         if self.ports.is_empty() {
             return Err(invalid("ports", "at least one port is needed"));
         }
@@ -698,114 +730,136 @@ impl Config {
                 ),
             ));
         }
-        let mut ports = Vec::with_capacity(self.ports.len());
-        for (i, p) in self.ports.iter().enumerate() {
-            let key = |k: &str| format!("ports[{i}].{k}");
-            let name_ok = !p.device.is_empty()
-                && p.device.len() <= vigil_bus::payload::integrity::DEVICE_NAME_LEN
-                && p.device
-                    .bytes()
-                    .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
-            if !name_ok {
-                return Err(invalid(
-                    key("device"),
-                    "1 to 16 letters, digits, '-' or '_'",
-                ));
-            }
-            if self.ports[..i].iter().any(|q| q.device == p.device) {
-                return Err(invalid(
-                    key("device"),
-                    format!("{:?} appears twice", p.device),
-                ));
-            }
-            if p.path.as_os_str().is_empty() {
-                return Err(invalid(key("path"), "must not be empty"));
-            }
-            let Some(protocol) = Protocol::resolve(&p.protocol, &p.device) else {
-                let names: Vec<&str> = Protocol::ALL.iter().map(|p| p.name()).collect();
-                return Err(invalid(
-                    key("protocol"),
-                    format!(
-                        "must be one of {} (or empty for a device named bahrs, watson, vn200 \
-                         or ttmrf)",
-                        names.join(", ")
-                    ),
-                ));
-            };
-            let baud = if p.baud == 0 {
-                protocol.default_baud()
-            } else {
-                p.baud
-            };
-            if !BAUD_RATES.contains(&baud) {
-                let list: Vec<String> = BAUD_RATES.iter().map(u32::to_string).collect();
-                return Err(invalid(
-                    key("baud"),
-                    format!("must be one of {} (got {baud})", list.join(", ")),
-                ));
-            }
-            let c = &self.configure;
-            let setup = match protocol {
-                Protocol::Vn200 if c.vn200_binary_outputs => Some(Setup::Vn200 {
-                    rate_divisor: (VN200_IMU_HZ / c.vn200_rate_hz.max(1)) as u16,
-                }),
-                Protocol::TtmrfText | Protocol::TtmrfHex if c.ttmrf_protocol => {
-                    Some(Setup::Ttmrf {
-                        decoded: c.ttmrf_decoded,
-                        gnss_nmea: c.ttmrf_gnss_nmea,
-                        run_baud: baud,
-                    })
-                }
-                _ => None,
-            };
-            let interval_ms = p
-                .read_interval_ms
-                .unwrap_or(protocol.default_read_interval_ms());
-            // Half the line discipline's 4 KiB buffer (`N_TTY_BUF_SIZE`, the reader's buffer) per
-            // interval at the port's baud rate: the rest is room for a late drain, so the line is
-            // never throttled.
-            let max_ms =
-                crate::runtime::reader::READ_BYTES as f64 / 2.0 * 10.0 / f64::from(baud) * 1e3;
-            if !(interval_ms.is_finite() && (0.0..=max_ms).contains(&interval_ms)) {
-                return Err(invalid(
-                    key("read_interval_ms"),
-                    format!(
-                        "must be 0 to {:.1} ms at {baud} baud (2 KiB of input), got {interval_ms}",
-                        (max_ms * 10.0).floor() / 10.0
-                    ),
-                ));
-            }
-            if interval_ms > 0.0 && !protocol.pacing_allowed() {
-                return Err(invalid(
-                    key("read_interval_ms"),
-                    format!(
-                        "must be 0 for {}: it is read as its bytes arrive (its times would \
-                         carry the wait unmodelled)",
-                        protocol.name()
-                    ),
-                ));
-            }
-            ports.push(Port {
-                device: p.device.clone(),
-                path: p.path.clone(),
-                baud,
-                protocol,
-                setup,
-                read_interval_ns: (interval_ms * 1e6).round() as u64,
-                latency_timer_ns: match p.latency_timer_ms {
-                    None => None,
-                    Some(ms) if ms.is_finite() && (0.0..=255.0).contains(&ms) => {
-                        Some((ms * 1e6).round() as u64)
-                    }
-                    Some(_) => {
-                        return Err(invalid(
-                            key("latency_timer_ms"),
-                            "0 (no adapter timer) or 1..=255 ms (the FTDI range)",
-                        ));
-                    }
-                },
-            });
+        Ok(())
+    }
+
+    /// `ports[i]`: its name, path, protocol and baud rate, then the set-up and read interval that
+    /// follow from them.
+    fn validate_port(&self, i: usize) -> Result<Port, ConfigError> {
+        let p = &self.ports[i];
+        let key = |k: &str| format!("ports[{i}].{k}");
+        let name_ok = !p.device.is_empty()
+            && p.device.len() <= vigil_bus::payload::integrity::DEVICE_NAME_LEN
+            && p.device
+                .bytes()
+                .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
+        if !name_ok {
+            return Err(invalid(
+                key("device"),
+                "1 to 16 letters, digits, '-' or '_'",
+            ));
         }
+        if self.ports[..i].iter().any(|q| q.device == p.device) {
+            return Err(invalid(
+                key("device"),
+                format!("{:?} appears twice", p.device),
+            ));
+        }
+        if p.path.as_os_str().is_empty() {
+            return Err(invalid(key("path"), "must not be empty"));
+        }
+        let Some(protocol) = Protocol::resolve(&p.protocol, &p.device) else {
+            let names: Vec<&str> = Protocol::ALL.iter().map(|p| p.name()).collect();
+            return Err(invalid(
+                key("protocol"),
+                format!(
+                    "must be one of {} (or empty for a device named bahrs, watson, vn200 \
+                     or ttmrf)",
+                    names.join(", ")
+                ),
+            ));
+        };
+        let baud = if p.baud == 0 {
+            protocol.default_baud()
+        } else {
+            p.baud
+        };
+        if !BAUD_RATES.contains(&baud) {
+            let list: Vec<String> = BAUD_RATES.iter().map(u32::to_string).collect();
+            return Err(invalid(
+                key("baud"),
+                format!("must be one of {} (got {baud})", list.join(", ")),
+            ));
+        }
+        Ok(Port {
+            device: p.device.clone(),
+            path: p.path.clone(),
+            baud,
+            protocol,
+            setup: self.setup_of(protocol, baud),
+            read_interval_ns: self.read_interval_ns(i, p, protocol, baud)?,
+            latency_timer_ns: match p.latency_timer_ms {
+                None => None,
+                Some(ms) if ms.is_finite() && (0.0..=255.0).contains(&ms) => {
+                    Some((ms * 1e6).round() as u64)
+                }
+                Some(_) => {
+                    return Err(invalid(
+                        key("latency_timer_ms"),
+                        "0 (no adapter timer) or 1..=255 ms (the FTDI range)",
+                    ));
+                }
+            },
+        })
+    }
+
+    /// The device set-up a port of `protocol` at `baud` gets from `[configure]`.
+    fn setup_of(&self, protocol: Protocol, baud: u32) -> Option<Setup> {
+        let c = &self.configure;
+        match protocol {
+            Protocol::Vn200 if c.vn200_binary_outputs => Some(Setup::Vn200 {
+                rate_divisor: (VN200_IMU_HZ / c.vn200_rate_hz.max(1)) as u16,
+            }),
+            Protocol::TtmrfText | Protocol::TtmrfHex if c.ttmrf_protocol => Some(Setup::Ttmrf {
+                decoded: c.ttmrf_decoded,
+                gnss_nmea: c.ttmrf_gnss_nmea,
+                run_baud: baud,
+            }),
+            _ => None,
+        }
+    }
+
+    /// `ports[i].read_interval_ms` (or the protocol's default), checked against what the port's
+    /// buffer holds at `baud` and against the protocol's pacing rule, in ns.
+    fn read_interval_ns(
+        &self,
+        i: usize,
+        p: &PortConfig,
+        protocol: Protocol,
+        baud: u32,
+    ) -> Result<u64, ConfigError> {
+        let key = |k: &str| format!("ports[{i}].{k}");
+        let interval_ms = p
+            .read_interval_ms
+            .unwrap_or(protocol.default_read_interval_ms());
+        // Half the line discipline's 4 KiB buffer (`N_TTY_BUF_SIZE`, the reader's buffer) per
+        // interval at the port's baud rate: the rest is room for a late drain, so the line is
+        // never throttled.
+        let max_ms = crate::runtime::reader::READ_BYTES as f64 / 2.0 * 10.0 / f64::from(baud) * 1e3;
+        if !(interval_ms.is_finite() && (0.0..=max_ms).contains(&interval_ms)) {
+            return Err(invalid(
+                key("read_interval_ms"),
+                format!(
+                    "must be 0 to {:.1} ms at {baud} baud (2 KiB of input), got {interval_ms}",
+                    (max_ms * 10.0).floor() / 10.0
+                ),
+            ));
+        }
+        if interval_ms > 0.0 && !protocol.pacing_allowed() {
+            return Err(invalid(
+                key("read_interval_ms"),
+                format!(
+                    "must be 0 for {}: it is read as its bytes arrive (its times would \
+                     carry the wait unmodelled)",
+                    protocol.name()
+                ),
+            ));
+        }
+        Ok((interval_ms * 1e6).round() as u64)
+    }
+
+    /// `[configure]`, `[record]`, `[pipeline]`, `[link]`, `[status]`: rates and periods.
+    fn validate_periods(&self) -> Result<(), ConfigError> {
         let rate = self.configure.vn200_rate_hz;
         if rate == 0 || !VN200_IMU_HZ.is_multiple_of(rate) || VN200_IMU_HZ / rate < 2 {
             return Err(invalid(
@@ -841,15 +895,7 @@ impl Config {
         }
         positive("status.period_s", self.status.period_s)?;
         positive("status.integrity_period_s", self.status.integrity_period_s)?;
-        self.live_view.validate(live_view::AVAILABLE)?;
-        self.realtime.validate()?;
-        self.monitor.validate().map_err(|e| {
-            invalid(
-                format!("monitor.{}", e.key),
-                format!("{} (got {})", e.expected, e.value),
-            )
-        })?;
-        Ok(ports)
+        Ok(())
     }
 }
 
