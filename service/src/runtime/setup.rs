@@ -270,11 +270,6 @@ mod tests {
     use vigil_drivers::ttmrf::at::SettingId;
 
     #[test]
-    fn vn200_masks_are_what_the_simulated_vn200_sends() {
-        assert_eq!(VN200_MASKS, vigil_sim::device::vn200::default_masks());
-    }
-
-    #[test]
     fn ttmrf_settings_select_the_text_protocol_everywhere() {
         let s = ttmrf_settings(TtText::Csv, false);
         let get = |id: SettingId| s.iter().find(|x| x.id() == id).map(Setting::value);
