@@ -12,6 +12,8 @@
 //!   message with the stream offset of its first byte ([`Located`]) so the transport can stamp it
 //!   with the host receive time of that byte.
 //! - [`decode_slice`]: decode a byte slice without tokio.
+//! - [`protocol`]: the one table of wire protocols (names, default bauds, device families) and
+//!   [`protocol::PortDecoder`], which dispatches a port's bytes to its protocol's codec.
 //!
 #![deny(missing_docs)]
 
@@ -22,6 +24,7 @@ pub mod traffic;
 
 pub mod bahrs;
 pub mod modes;
+pub mod protocol;
 pub mod ttmrf;
 pub mod vn200;
 pub mod watson;

@@ -2,95 +2,28 @@
 //! through `Codec`, so each message comes with `Located::offset`) and stamps every decoded message
 //! with the host receive time of the chunk that held its first byte.
 //!
-//! The decoder of a port is chosen by its channel's `protocol` metadata (`bahrs-2.0`,
-//! `watson-ahrs-e304`, `vn200-icd`, `ttmrf-text`, `ttmrf-mavlink`, `ttmrf-gdl90`,
-//! `ttmrf-asterix`), else by the device name. A TT-Multi-RF port recorded with a binary decoded
+//! The decoder of a port is chosen once, when its first chunk arrives, by the drivers' protocol
+//! table ([`Protocol::resolve`] of its channel's `protocol` metadata, else of the device name) and
+//! runs as a [`PortDecoder`]. A TT-Multi-RF port recorded with a binary decoded
 //! protocol is read by that protocol's decoder alone: AT lines on it (state messages after a
 //! reset) are skipped bytes in its counters, and a port switched between text and binary
 //! protocols by AT commands during the recording decodes only the protocol it started with. `index` counts decoded
 //! messages per device (it equals the truth's `index` while nothing of that device was lost or
 //! damaged); `offset` equals the truth's `rx_offset` for every intact message. The TT-Multi-RF
 //! text port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read
-//! by the drivers' [`MixedDecoder`], which yields both in stream order. Ports of unknown protocols
+//! by the drivers' [`MixedDecoder`](vigil_drivers::ttmrf::mixed::MixedDecoder), which yields both in stream order. Ports of unknown protocols
 //! are counted, not decoded.
 
 use std::collections::{BTreeMap, VecDeque};
 
 use bytes::BytesMut;
-use serde::{Serialize, Serializer};
-use tokio_util::codec::Decoder as _;
-use vigil_drivers::ttmrf::asterix::{AsterixDecoder, AsterixMessage};
-use vigil_drivers::ttmrf::gdl90::{Gdl90Decoder, Gdl90Message, TrafficAltitude};
-use vigil_drivers::ttmrf::mavlink::{MavlinkDecoder, MavlinkMessage};
-use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
-use vigil_drivers::ttmrf::raw::{RawFrame, RxMeta, encode_hex_string};
-use vigil_drivers::ttmrf::text::TextMessage;
-use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
-use vigil_drivers::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
+use serde::Serialize;
+use vigil_drivers::DecodeStats;
+use vigil_drivers::protocol::{PortDecoder, PortFrame, Protocol};
 
-/// A decoded message of any device.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum Message<'a> {
-    /// BAHRS protocol 2.0.
-    Bahrs(&'a bahrs::Message),
-    /// Watson AHRS-E304 line.
-    Watson(&'a watson::Line),
-    /// VN-200 binary or ASCII message.
-    Vn200(&'a Vn200Message),
-    /// TT-Multi-RF decoded message: text (CSV, JSON, NMEA, AT) or binary (MAVLink, GDL90,
-    /// ASTERIX).
-    Ttmrf(TtmrfMessage<'a>),
-    /// TT-Multi-RF raw frame (HEX line), written as a [`RawLine`].
-    #[serde(serialize_with = "raw_line")]
-    TtmrfRaw(&'a RawFrame),
-}
-
-/// A TT-Multi-RF decoded-protocol message.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum TtmrfMessage<'a> {
-    /// CSV, JSON, NMEA or AT.
-    Text(&'a TextMessage),
-    /// MAVLink ADSB_VEHICLE / COLLISION.
-    Mavlink(&'a MavlinkMessage),
-    /// GDL90.
-    Gdl90(&'a Gdl90Message),
-    /// ASTERIX CAT021 / CAT023 record.
-    Asterix(&'a AsterixMessage),
-}
-
-fn raw_line<S: Serializer>(f: &&RawFrame, s: S) -> Result<S::Ok, S::Error> {
-    RawLine::of(f).serialize(s)
-}
-
-/// A raw frame of the TT-Multi-RF port as replay writes it: the frame's bytes in hex and the
-/// receiver's metadata (the Mode S content is the Mode S decoder's job).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RawLine {
-    /// "mode_s", "mode_ac" or "uat".
-    pub raw: &'static str,
-    /// Frame bytes, upper-case hex (Mode A/C: the four octal digits as two bytes).
-    pub frame_hex: String,
-    /// Receive metadata (signal, TS1s, TS24h).
-    pub meta: RxMeta,
-}
-
-impl RawLine {
-    /// The output form of a raw frame.
-    pub fn of(f: &RawFrame) -> Self {
-        let (raw, bytes, meta) = match f {
-            RawFrame::ModeS(m) => ("mode_s", m.data().to_vec(), m.meta),
-            RawFrame::ModeAc(m) => ("mode_ac", m.code.0.to_be_bytes().to_vec(), m.meta),
-            RawFrame::Uat(u) => ("uat", u.bytes.clone(), u.meta),
-        };
-        Self {
-            raw,
-            frame_hex: encode_hex_string(&bytes),
-            meta,
-        }
-    }
-}
+/// The decoded-message forms, now the drivers' ([`vigil_drivers::protocol`]); re-exported so
+/// replay's users keep their imports.
+pub use vigil_drivers::protocol::{Message, RawLine, TtmrfMessage};
 
 /// One decoded message with its place in the recording.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -124,68 +57,19 @@ pub enum PortSummary {
     },
 }
 
-/// Wraps a driver's message type into [`Message`].
-trait Wrap {
-    fn wrap(&self) -> Message<'_>;
-}
-
-impl Wrap for bahrs::Message {
-    fn wrap(&self) -> Message<'_> {
-        Message::Bahrs(self)
-    }
-}
-
-impl Wrap for watson::Line {
-    fn wrap(&self) -> Message<'_> {
-        Message::Watson(self)
-    }
-}
-
-impl Wrap for Vn200Message {
-    fn wrap(&self) -> Message<'_> {
-        Message::Vn200(self)
-    }
-}
-
-impl Wrap for MixedMessage {
-    fn wrap(&self) -> Message<'_> {
-        match self {
-            MixedMessage::Text(t) => Message::Ttmrf(TtmrfMessage::Text(t)),
-            MixedMessage::Raw(f) => Message::TtmrfRaw(f),
-        }
-    }
-}
-
-impl Wrap for MavlinkMessage {
-    fn wrap(&self) -> Message<'_> {
-        Message::Ttmrf(TtmrfMessage::Mavlink(self))
-    }
-}
-
-impl Wrap for Gdl90Message {
-    fn wrap(&self) -> Message<'_> {
-        Message::Ttmrf(TtmrfMessage::Gdl90(self))
-    }
-}
-
-impl Wrap for AsterixMessage {
-    fn wrap(&self) -> Message<'_> {
-        Message::Ttmrf(TtmrfMessage::Asterix(self))
-    }
-}
-
-struct Port<D: DeviceDecoder> {
-    codec: Codec<D>,
+/// A decoded port: its decoder, its unconsumed bytes and the receive times of its chunks.
+struct Port {
+    decoder: PortDecoder,
     buf: BytesMut,
     chunks: VecDeque<(u64, u64)>,
     fed: u64,
     index: u64,
 }
 
-impl<D: DeviceDecoder> Port<D> {
-    fn new(decoder: D) -> Self {
+impl Port {
+    fn new(protocol: Protocol) -> Self {
         Self {
-            codec: Codec(decoder),
+            decoder: PortDecoder::new(protocol),
             buf: BytesMut::with_capacity(1 << 12),
             chunks: VecDeque::new(),
             fed: 0,
@@ -194,11 +78,11 @@ impl<D: DeviceDecoder> Port<D> {
     }
 
     /// Receive time of the chunk holding stream offset `offset` (offsets only grow).
-    fn t_host_of(&mut self, offset: u64) -> u64 {
-        while self.chunks.len() > 1 && self.chunks[1].0 <= offset {
-            self.chunks.pop_front();
+    fn t_host_of(chunks: &mut VecDeque<(u64, u64)>, offset: u64) -> u64 {
+        while chunks.len() > 1 && chunks[1].0 <= offset {
+            chunks.pop_front();
         }
-        self.chunks.front().map_or(0, |c| c.1)
+        chunks.front().map_or(0, |c| c.1)
     }
 
     fn run<E>(
@@ -206,29 +90,26 @@ impl<D: DeviceDecoder> Port<D> {
         device: &str,
         eof: bool,
         f: &mut impl FnMut(Decoded<'_>) -> Result<(), E>,
-    ) -> Result<(), E>
-    where
-        D::Message: Wrap,
-    {
-        loop {
-            let next = if eof {
-                self.codec.decode_eof(&mut self.buf)
-            } else {
-                self.codec.decode(&mut self.buf)
-            };
-            // `Codec` never returns an error.
-            let Ok(Some(l)) = next else { return Ok(()) };
-            let t_host_ns = self.t_host_of(l.offset);
-            let index = self.index;
-            self.index += 1;
+    ) -> Result<(), E> {
+        let Self {
+            decoder,
+            buf,
+            chunks,
+            index,
+            ..
+        } = self;
+        decoder.decode(buf, eof, &mut |m: PortFrame| {
+            let t_host_ns = Self::t_host_of(chunks, m.offset);
+            let i = *index;
+            *index += 1;
             f(Decoded {
                 device,
-                index,
-                offset: l.offset,
+                index: i,
+                offset: m.offset,
                 t_host_ns,
-                message: l.message.wrap(),
-            })?;
-        }
+                message: m.message.as_message(),
+            })
+        })
     }
 
     fn push(&mut self, t_host_ns: u64, bytes: &[u8]) {
@@ -239,13 +120,7 @@ impl<D: DeviceDecoder> Port<D> {
 }
 
 enum AnyPort {
-    Bahrs(Port<bahrs::Decoder>),
-    Watson(Port<watson::Decoder>),
-    Vn200(Box<Port<Vn200Decoder>>),
-    Ttmrf(Box<Port<MixedDecoder>>),
-    TtmrfMavlink(Box<Port<MavlinkDecoder>>),
-    TtmrfGdl90(Box<Port<Gdl90Decoder>>),
-    TtmrfAsterix(Box<Port<AsterixDecoder>>),
+    Decoded(Box<Port>),
     NoDecoder { chunks: u64, bytes: u64 },
 }
 
@@ -272,30 +147,9 @@ impl Replayer {
         f: &mut impl FnMut(Decoded<'_>) -> Result<(), E>,
     ) -> Result<(), E> {
         if !self.ports.contains_key(device) {
-            let port = match (protocol, device) {
-                ("bahrs-2.0", _) | ("", "bahrs") => {
-                    AnyPort::Bahrs(Port::new(bahrs::Decoder::new()))
-                }
-                ("watson-ahrs-e304", _) | ("", "watson") => {
-                    AnyPort::Watson(Port::new(watson::Decoder::new()))
-                }
-                ("vn200-icd", _) | ("", "vn200") => {
-                    AnyPort::Vn200(Box::new(Port::new(Vn200Decoder::new())))
-                }
-                ("ttmrf-text", _) | ("", "ttmrf") => {
-                    AnyPort::Ttmrf(Box::new(Port::new(MixedDecoder::new())))
-                }
-                ("ttmrf-mavlink", _) => {
-                    AnyPort::TtmrfMavlink(Box::new(Port::new(MavlinkDecoder::new())))
-                }
-                // The model sends pressure altitude in Traffic Reports (barometric priority).
-                ("ttmrf-gdl90", _) => AnyPort::TtmrfGdl90(Box::new(Port::new(Gdl90Decoder::new(
-                    TrafficAltitude::Pressure,
-                )))),
-                ("ttmrf-asterix", _) => {
-                    AnyPort::TtmrfAsterix(Box::new(Port::new(AsterixDecoder::default())))
-                }
-                _ => AnyPort::NoDecoder {
+            let port = match Protocol::resolve(protocol, device) {
+                Some(p) => AnyPort::Decoded(Box::new(Port::new(p))),
+                None => AnyPort::NoDecoder {
                     chunks: 0,
                     bytes: 0,
                 },
@@ -306,31 +160,7 @@ impl Replayer {
             return Ok(());
         };
         match port {
-            AnyPort::Bahrs(p) => {
-                p.push(t_host_ns, bytes);
-                p.run(device, false, f)
-            }
-            AnyPort::Watson(p) => {
-                p.push(t_host_ns, bytes);
-                p.run(device, false, f)
-            }
-            AnyPort::Vn200(p) => {
-                p.push(t_host_ns, bytes);
-                p.run(device, false, f)
-            }
-            AnyPort::Ttmrf(p) => {
-                p.push(t_host_ns, bytes);
-                p.run(device, false, f)
-            }
-            AnyPort::TtmrfMavlink(p) => {
-                p.push(t_host_ns, bytes);
-                p.run(device, false, f)
-            }
-            AnyPort::TtmrfGdl90(p) => {
-                p.push(t_host_ns, bytes);
-                p.run(device, false, f)
-            }
-            AnyPort::TtmrfAsterix(p) => {
+            AnyPort::Decoded(p) => {
                 p.push(t_host_ns, bytes);
                 p.run(device, false, f)
             }
@@ -346,13 +176,7 @@ impl Replayer {
     /// yet). Used by `vigil run` for its periodic integrity report while the stream goes on.
     pub fn stats(&self, device: &str) -> Option<DecodeStats> {
         match self.ports.get(device)? {
-            AnyPort::Bahrs(p) => Some(*p.codec.0.stats()),
-            AnyPort::Watson(p) => Some(*p.codec.0.stats()),
-            AnyPort::Vn200(p) => Some(*p.codec.0.stats()),
-            AnyPort::Ttmrf(p) => Some(*p.codec.0.stats()),
-            AnyPort::TtmrfMavlink(p) => Some(*p.codec.0.stats()),
-            AnyPort::TtmrfGdl90(p) => Some(*p.codec.0.stats()),
-            AnyPort::TtmrfAsterix(p) => Some(*p.codec.0.stats()),
+            AnyPort::Decoded(p) => Some(p.decoder.stats()),
             AnyPort::NoDecoder { .. } => None,
         }
     }
@@ -365,33 +189,9 @@ impl Replayer {
         let mut out = BTreeMap::new();
         for (device, port) in &mut self.ports {
             let s = match port {
-                AnyPort::Bahrs(p) => {
+                AnyPort::Decoded(p) => {
                     p.run(device, true, f)?;
-                    PortSummary::Decoded(*p.codec.0.stats())
-                }
-                AnyPort::Watson(p) => {
-                    p.run(device, true, f)?;
-                    PortSummary::Decoded(*p.codec.0.stats())
-                }
-                AnyPort::Vn200(p) => {
-                    p.run(device, true, f)?;
-                    PortSummary::Decoded(*p.codec.0.stats())
-                }
-                AnyPort::Ttmrf(p) => {
-                    p.run(device, true, f)?;
-                    PortSummary::Decoded(*p.codec.0.stats())
-                }
-                AnyPort::TtmrfMavlink(p) => {
-                    p.run(device, true, f)?;
-                    PortSummary::Decoded(*p.codec.0.stats())
-                }
-                AnyPort::TtmrfGdl90(p) => {
-                    p.run(device, true, f)?;
-                    PortSummary::Decoded(*p.codec.0.stats())
-                }
-                AnyPort::TtmrfAsterix(p) => {
-                    p.run(device, true, f)?;
-                    PortSummary::Decoded(*p.codec.0.stats())
+                    PortSummary::Decoded(p.decoder.stats())
                 }
                 AnyPort::NoDecoder { chunks, bytes } => PortSummary::NoDecoder {
                     no_decoder: true,
@@ -408,7 +208,7 @@ impl Replayer {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vigil_drivers::bahrs::SyncPulseTime;
+    use vigil_drivers::bahrs::{self, SyncPulseTime};
 
     #[test]
     fn messages_get_the_receive_time_of_their_first_byte() {
@@ -436,6 +236,7 @@ mod tests {
             r.feed("bahrs", "", 100 * (i as u64 + 1), c, &mut f)
                 .unwrap();
         }
+        // Not one of the table's names (exact names only): counted, not decoded.
         r.feed("vn200", "vn200-binary", 400, &[1, 2, 3], &mut f)
             .unwrap();
         let summary = r.finish(&mut f).unwrap();
@@ -486,5 +287,22 @@ mod tests {
             (s.frames_decoded, s.bytes_consumed),
             (3, bytes.len() as u64)
         );
+    }
+
+    #[test]
+    fn a_ttmrf_hex_port_is_decoded() {
+        // Before the drivers' protocol table this protocol had no decoder in replay (issue 19).
+        let mut r = Replayer::new();
+        let mut got = Vec::new();
+        let mut f = |d: Decoded<'_>| -> Result<(), ()> {
+            got.push((d.offset, serde_json::to_value(d.message).unwrap()));
+            Ok(())
+        };
+        r.feed("adsb", "ttmrf-hex", 5, b"*5D4B18FFFC710B;\r\n", &mut f)
+            .unwrap();
+        r.finish(&mut f).unwrap();
+        assert_eq!(got.len(), 1);
+        assert_eq!(got[0].0, 0);
+        assert_eq!(got[0].1["frame_hex"], "5D4B18FFFC710B");
     }
 }

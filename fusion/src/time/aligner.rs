@@ -32,34 +32,16 @@ use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
 use super::vn200::{Vn200Aligner, Vn200AlignerConfig, Vn200Times};
 use super::{Aligned, AlignedTime, ClockStatus, NotAligned, Reads, Rx, TimeSource};
 
-/// The devices of the installation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Device {
-    /// BAHRS (MCU clock disciplined by the VN-200 PPS).
-    Bahrs,
-    /// Watson AHRS-E304 (host clock).
-    Watson,
-    /// VN-200 (native GPS time).
-    Vn200,
-    /// TT-Multi-RF (UTC time of day, PPS stamps or host clock).
-    Ttmrf,
+/// The devices of the installation: the device families of the drivers' protocol table
+/// (`vigil_drivers::protocol`), re-exported here so the aligner's users keep their import.
+pub use vigil_drivers::protocol::Device;
+
+/// The aligner's per-device slot (the family's index in [`Device::ALL`]).
+trait Slot {
+    fn slot(self) -> usize;
 }
 
-impl Device {
-    /// Every device, in report order.
-    pub const ALL: [Device; 4] = [Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf];
-
-    /// The device (port) name used in recordings and the truth file.
-    pub fn name(self) -> &'static str {
-        match self {
-            Device::Bahrs => "bahrs",
-            Device::Watson => "watson",
-            Device::Vn200 => "vn200",
-            Device::Ttmrf => "ttmrf",
-        }
-    }
-
+impl Slot for Device {
     fn slot(self) -> usize {
         self as usize
     }

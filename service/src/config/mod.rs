@@ -48,111 +48,36 @@ pub const BAUD_RATES: [u32; 9] = [
     4800, 9600, 19_200, 38_400, 57_600, 115_200, 230_400, 460_800, 921_600,
 ];
 
-/// The wire protocol of a port: selects the decoder and the device kind.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Protocol {
-    /// BAHRS protocol 2.0 (binary).
-    Bahrs,
-    /// Watson AHRS-E304 text lines.
-    Watson,
-    /// VN-200 ICD 1.3 (binary and ASCII).
-    Vn200,
-    /// TT-Multi-RF text outputs (CSV, JSON, NMEA, ... in auto mode) and raw HEX lines.
-    TtmrfText,
-    /// TT-Multi-RF raw HEX lines only.
-    TtmrfHex,
-    /// TT-Multi-RF decoded output in MAVLink 2.
-    TtmrfMavlink,
-    /// TT-Multi-RF decoded output in GDL90 (barometric altitude priority).
-    TtmrfGdl90,
-    /// TT-Multi-RF decoded output in ASTERIX CAT021/023.
-    TtmrfAsterix,
+/// The wire protocol of a port: the drivers' protocol table (names, default bauds, device
+/// families, decoders), re-exported for the configuration's users.
+pub use vigil_drivers::protocol::Protocol;
+
+/// Service policy: how often a port of `protocol` is read by default, ms; 0: as its bytes arrive.
+/// Decision: the TT-Multi-RF and the BAHRS are drained every 10 ms (together, see
+/// [`crate::runtime::reader`]). At full rates their ~3200 reads a second were more than half of
+/// `vigil run`'s wake-ups. The TT-Multi-RF's traffic is published once a second (10 ms is
+/// 2.5 m at a 250 m/s closing speed) and its JSON and raw HEX carry their own times; the
+/// BAHRS's samples carry its MCU time and its cross-checks are not latency-bound. The aligner
+/// adds the wait to the host-timed outputs' sigma. The VN-200 (the latency-critical
+/// attitude) and the Watson (host-timed at 0.8 ms sigma, 16 reads a second) are read on
+/// arrival.
+pub const fn default_read_interval_ms(protocol: Protocol) -> f64 {
+    match protocol {
+        Protocol::Watson | Protocol::Vn200 => 0.0,
+        Protocol::Bahrs
+        | Protocol::TtmrfText
+        | Protocol::TtmrfHex
+        | Protocol::TtmrfMavlink
+        | Protocol::TtmrfGdl90
+        | Protocol::TtmrfAsterix => 10.0,
+    }
 }
 
-impl Protocol {
-    /// Every protocol.
-    pub const ALL: [Protocol; 8] = [
-        Protocol::Bahrs,
-        Protocol::Watson,
-        Protocol::Vn200,
-        Protocol::TtmrfText,
-        Protocol::TtmrfHex,
-        Protocol::TtmrfMavlink,
-        Protocol::TtmrfGdl90,
-        Protocol::TtmrfAsterix,
-    ];
-
-    /// The protocol's name in the configuration and in recordings' channel metadata (the names
-    /// `vigil replay` selects decoders by).
-    pub const fn name(self) -> &'static str {
-        match self {
-            Protocol::Bahrs => "bahrs-2.0",
-            Protocol::Watson => "watson-ahrs-e304",
-            Protocol::Vn200 => "vn200-icd",
-            Protocol::TtmrfText => "ttmrf-text",
-            Protocol::TtmrfHex => "ttmrf-hex",
-            Protocol::TtmrfMavlink => "ttmrf-mavlink",
-            Protocol::TtmrfGdl90 => "ttmrf-gdl90",
-            Protocol::TtmrfAsterix => "ttmrf-asterix",
-        }
-    }
-
-    /// The device's usual baud rate (the simulator's defaults).
-    pub const fn default_baud(self) -> u32 {
-        match self {
-            Protocol::Bahrs => 115_200,
-            Protocol::Watson => 9600,
-            Protocol::Vn200
-            | Protocol::TtmrfText
-            | Protocol::TtmrfHex
-            | Protocol::TtmrfMavlink
-            | Protocol::TtmrfGdl90
-            | Protocol::TtmrfAsterix => 921_600,
-        }
-    }
-
-    /// How often a port of this protocol is read by default, ms; 0: as its bytes arrive.
-    /// Decision: the TT-Multi-RF and the BAHRS are drained every 10 ms (together, see
-    /// [`crate::runtime::reader`]). At full rates their ~3200 reads a second were more than half of
-    /// `vigil run`'s wake-ups. The TT-Multi-RF's traffic is published once a second (10 ms is
-    /// 2.5 m at a 250 m/s closing speed) and its JSON and raw HEX carry their own times; the
-    /// BAHRS's samples carry its MCU time and its cross-checks are not latency-bound. The aligner
-    /// adds the wait to the host-timed outputs' sigma. The VN-200 (the latency-critical
-    /// attitude) and the Watson (host-timed at 0.8 ms sigma, 16 reads a second) are read on
-    /// arrival.
-    pub const fn default_read_interval_ms(self) -> f64 {
-        match self {
-            Protocol::Watson | Protocol::Vn200 => 0.0,
-            Protocol::Bahrs
-            | Protocol::TtmrfText
-            | Protocol::TtmrfHex
-            | Protocol::TtmrfMavlink
-            | Protocol::TtmrfGdl90
-            | Protocol::TtmrfAsterix => 10.0,
-        }
-    }
-
-    /// Whether a port of this protocol may be paced: not the VN-200, the host clock's
-    /// reference (its wait would shift every host-timed sample) and the latency-critical
-    /// attitude.
-    pub const fn pacing_allowed(self) -> bool {
-        !matches!(self, Protocol::Vn200)
-    }
-
-    /// The protocol of a port: named explicitly, or (empty) implied by the standard device
-    /// names `bahrs`, `watson`, `vn200`, `ttmrf`.
-    pub fn resolve(protocol: &str, device: &str) -> Option<Protocol> {
-        if protocol.is_empty() {
-            return match device {
-                "bahrs" => Some(Protocol::Bahrs),
-                "watson" => Some(Protocol::Watson),
-                "vn200" => Some(Protocol::Vn200),
-                "ttmrf" => Some(Protocol::TtmrfText),
-                _ => None,
-            };
-        }
-        Protocol::ALL.into_iter().find(|p| p.name() == protocol)
-    }
+/// Service policy: whether a port of `protocol` may be paced: not the VN-200, the host clock's
+/// reference (its wait would shift every host-timed sample) and the latency-critical
+/// attitude.
+pub const fn pacing_allowed(protocol: Protocol) -> bool {
+    !matches!(protocol, Protocol::Vn200)
 }
 
 /// `[bus]`: the iceoryx2 publication.
@@ -193,7 +118,7 @@ pub struct PortConfig {
     #[serde(default)]
     pub protocol: String,
     /// Read the port every this many ms instead of as its bytes arrive, ms; absent: the
-    /// protocol's default ([`Protocol::default_read_interval_ms`]).
+    /// protocol's default ([`default_read_interval_ms`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub read_interval_ms: Option<f64>,
     /// The port's USB adapter latency timer, ms (an FTDI chip holds a partial USB packet until
@@ -831,7 +756,7 @@ impl Config {
         let key = |k: &str| format!("ports[{i}].{k}");
         let interval_ms = p
             .read_interval_ms
-            .unwrap_or(protocol.default_read_interval_ms());
+            .unwrap_or(default_read_interval_ms(protocol));
         // Half the line discipline's 4 KiB buffer (`N_TTY_BUF_SIZE`, the reader's buffer) per
         // interval at the port's baud rate: the rest is room for a late drain, so the line is
         // never throttled.
@@ -845,7 +770,7 @@ impl Config {
                 ),
             ));
         }
-        if interval_ms > 0.0 && !protocol.pacing_allowed() {
+        if interval_ms > 0.0 && !pacing_allowed(protocol) {
             return Err(invalid(
                 key("read_interval_ms"),
                 format!(

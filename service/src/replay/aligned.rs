@@ -6,13 +6,11 @@
 //! `time_source`, `status` (unlocked / locking / locked / coasting) for aligned samples, or
 //! `not_aligned` (the reason) with the three time fields null. Every message comes out once.
 //!
-//! BAHRS and Watson are decoded by `vigil_sim::replay::Replayer`; the VN-200 (binary and ASCII)
-//! and TT-Multi-RF ports are decoded here, where each message's wire length is known (channel
-//! protocol `vn200*`, `ttmrf-hex*`, `ttmrf-mavlink`, `ttmrf-gdl90`, `ttmrf-asterix`, other
-//! `ttmrf*`: the text port with interleaved HEX lines, `ttmrf::mixed`; else the device name
-//! `vn200` / `ttmrf`). Each message's receive time is that of the read holding its last byte
-//! ([`ChunkClock`]); its wire length comes from re-encoding it (BAHRS, Watson) or from the decoder's
-//! offsets (the start of the next message bounds it; see `Port`).
+//! Every port is decoded by the drivers' [`PortDecoder`], chosen once per port by the protocol
+//! table ([`Protocol::resolve`] of the channel's `protocol` metadata, else of the device name;
+//! exact names, see `vigil_drivers::protocol`). Each message's receive time is that of the read
+//! holding its last byte ([`ChunkClock`]); its wire length comes from re-encoding it (BAHRS,
+//! Watson) or from the decoder's consumed count (VN-200, TT-Multi-RF; see [`PortFrame`]).
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -20,20 +18,13 @@ use std::io::Write;
 use anyhow::Result;
 use bytes::BytesMut;
 use serde::Serialize;
-use tokio_util::codec::Decoder as _;
-use vigil_drivers::ttmrf::asterix::AsterixDecoder;
-use vigil_drivers::ttmrf::gdl90::{Gdl90Decoder, TrafficAltitude};
-use vigil_drivers::ttmrf::mavlink::MavlinkDecoder;
-use vigil_drivers::ttmrf::mixed::{MixedDecoder, MixedMessage};
-use vigil_drivers::ttmrf::raw::hex::HexDecoder;
-use vigil_drivers::vn200::Vn200Decoder;
-use vigil_drivers::{Codec, DecodeStats, DeviceDecoder};
+use vigil_drivers::DecodeStats;
+use vigil_drivers::protocol::{PortDecoder, PortFrame, PortMessage, Protocol};
 use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Device, Sample};
 use vigil_fusion::time::host_timed::ChunkClock;
 use vigil_fusion::time::{ClockStatus, NotAligned, TimeSource};
-use vigil_record::Recorded;
-use vigil_record::read_recording_from;
-use vigil_sim::replay::{Decoded, Message, PortSummary, Replayer};
+use vigil_record::{Recorded, read_recording_from};
+use vigil_sim::replay::PortSummary;
 
 use crate::replay::ReplaySummary;
 
@@ -78,72 +69,98 @@ impl AlignedLine {
 /// Decoded samples of one port: (sample, start offset, wire length).
 type Samples = Vec<(Sample, u64, usize)>;
 
-/// A port decoded here: its decoder and buffer.
-struct Port<D: DeviceDecoder> {
-    codec: Codec<D>,
-    buf: BytesMut,
+/// How a port is read.
+enum Decoding {
+    /// A protocol of the table: its decoder and the received bytes it has not consumed yet.
+    Decoded(Box<PortDecoder>, BytesMut),
+    /// Not a protocol vigil decodes: counted, not decoded.
+    NoDecoder { chunks: u64, bytes: u64 },
 }
 
-impl<D: DeviceDecoder> Port<D> {
-    fn new(d: D) -> Self {
-        Self {
-            codec: Codec(d),
-            buf: BytesMut::with_capacity(1 << 12),
-        }
-    }
-
-    /// Decodes what `bytes` completes; returns (start offset, wire length, message) of every
-    /// message, as soon as the decoder has it. Its wire length is what the decoder consumed from
-    /// the message's start (its end is the decoder's consumed count), so its receive time is
-    /// that of its own last byte. (An earlier version held each message back until the next
-    /// one's start bounded its length: one message period of latency on every VN-200 and
-    /// TT-Multi-RF message, 2.5 ms at 400 Hz.)
-    fn feed(&mut self, bytes: &[u8], eof: bool) -> Vec<(u64, usize, D::Message)> {
-        self.buf.extend_from_slice(bytes);
-        let mut out = Vec::new();
-        loop {
-            let next = if eof {
-                self.codec.decode_eof(&mut self.buf)
-            } else {
-                self.codec.decode(&mut self.buf)
-            };
-            let Ok(Some(l)) = next else { break };
-            let end = self.codec.0.stats().bytes_consumed;
-            let len = end.saturating_sub(l.offset).max(1);
-            out.push((
-                l.offset,
-                usize::try_from(len).unwrap_or(usize::MAX),
-                l.message,
-            ));
-        }
-        out
-    }
-}
-
-enum OwnPort {
-    Vn200(Box<Port<Vn200Decoder>>),
-    /// The TT-Multi-RF text port, with raw HEX lines interleaved when raw output is on (manual:
-    /// both go out on the same UART).
-    TtMixed(Box<Port<MixedDecoder>>),
-    TtHex(Port<HexDecoder>),
-    TtMavlink(Box<Port<MavlinkDecoder>>),
-    TtGdl90(Box<Port<Gdl90Decoder>>),
-    TtAsterix(Box<Port<AsterixDecoder>>),
-}
-
-/// One recorded port: its name, its receive clock and, for VN-200 / TT-Multi-RF, its decoder.
+/// One recorded port: its name, its receive clock and its decoder.
 struct DevicePort {
     name: String,
     clock: ChunkClock,
-    /// `None`: decoded by the Replayer (BAHRS, Watson).
-    own: Option<OwnPort>,
+    decoding: Decoding,
 }
 
-/// The aligned replay: the Replayer for BAHRS / Watson, own ports for VN-200 / TT-Multi-RF, one
-/// [`Aligner`].
+impl DevicePort {
+    /// Decodes what `bytes` completes (`eof`: and what is left at the end of the stream).
+    fn samples(&mut self, bytes: &[u8], eof: bool) -> Samples {
+        let mut out = Samples::new();
+        match &mut self.decoding {
+            Decoding::Decoded(d, buf) => {
+                buf.extend_from_slice(bytes);
+                let _ = d.decode(buf, eof, &mut |m| -> Result<(), ()> {
+                    out.push(sample(m));
+                    Ok(())
+                });
+            }
+            Decoding::NoDecoder { chunks, bytes: n } => {
+                if !eof {
+                    *chunks += 1;
+                    *n += bytes.len() as u64;
+                }
+            }
+        }
+        out
+    }
+
+    /// The port's decoder counters, `None` without a decoder.
+    fn stats(&self) -> Option<DecodeStats> {
+        match &self.decoding {
+            Decoding::Decoded(d, _) => Some(d.stats()),
+            Decoding::NoDecoder { .. } => None,
+        }
+    }
+
+    /// The port's line in the replay summary.
+    fn summary(&self) -> PortSummary {
+        match &self.decoding {
+            Decoding::Decoded(d, _) => PortSummary::Decoded(d.stats()),
+            Decoding::NoDecoder { chunks, bytes } => PortSummary::NoDecoder {
+                no_decoder: true,
+                chunks: *chunks,
+                bytes: *bytes,
+            },
+        }
+    }
+
+    /// Whether the port's stream is finished in the first group at the end (see
+    /// [`AlignedReplay::finish`]): BAHRS, Watson and undecoded ports.
+    fn finishes_first(&self) -> bool {
+        match &self.decoding {
+            Decoding::Decoded(d, _) => {
+                matches!(d.protocol().device(), Device::Bahrs | Device::Watson)
+            }
+            Decoding::NoDecoder { .. } => true,
+        }
+    }
+}
+
+/// A decoded message as a [`Sample`] with its start offset and wire length.
+///
+/// Decision: the BAHRS and Watson lengths are their messages re-encoded, as when these two went
+/// through the simulator's `Replayer` (which reported start offsets only); kept so every aligned
+/// time stays as it was. The others use the decoder's consumed count.
+fn sample(m: PortFrame) -> (Sample, u64, usize) {
+    let wire = usize::try_from(m.wire_len).unwrap_or(usize::MAX);
+    let (s, len) = match m.message {
+        PortMessage::Bahrs(b) => (Sample::Bahrs(b), b.to_frame().len()),
+        PortMessage::Watson(l) => (Sample::Watson(l), l.to_bytes().len()),
+        PortMessage::Vn200(v) => (Sample::Vn200(Box::new(v)), wire),
+        PortMessage::TtmrfText(t) => (Sample::TtText(Box::new(t)), wire),
+        PortMessage::TtmrfRaw(r) => (Sample::TtRaw(Box::new(r)), wire),
+        PortMessage::TtmrfMavlink(x) => (Sample::TtMavlink(Box::new(x)), wire),
+        PortMessage::TtmrfGdl90(x) => (Sample::TtGdl90(Box::new(x)), wire),
+        PortMessage::TtmrfAsterix(x) => (Sample::TtAsterix(Box::new(x)), wire),
+    };
+    (s, m.offset, len)
+}
+
+/// The aligned replay: one [`PortDecoder`] per port, one [`Aligner`].
 pub struct AlignedReplay {
     aligner: Aligner,
-    replayer: Replayer,
     /// Every port seen, in order of first appearance. A recording has a handful, so one linear
     /// scan per chunk finds it (it replaced five map lookups by name per chunk, about 4 % of a
     /// fused replay's instructions).
@@ -161,28 +178,8 @@ impl AlignedReplay {
     pub fn new() -> Self {
         Self {
             aligner: Aligner::new(AlignerConfig::default()),
-            replayer: Replayer::new(),
             ports: Vec::new(),
         }
-    }
-
-    fn own_port(protocol: &str, device: &str) -> Option<OwnPort> {
-        Some(match protocol {
-            p if p.starts_with("vn200") || (p.is_empty() && device == "vn200") => {
-                OwnPort::Vn200(Box::new(Port::new(Vn200Decoder::new())))
-            }
-            p if p.starts_with("ttmrf-hex") => OwnPort::TtHex(Port::new(HexDecoder::new())),
-            "ttmrf-mavlink" => OwnPort::TtMavlink(Box::new(Port::new(MavlinkDecoder::new()))),
-            // Barometric priority (the GDL90 definition; the simulator's setting).
-            "ttmrf-gdl90" => OwnPort::TtGdl90(Box::new(Port::new(Gdl90Decoder::new(
-                TrafficAltitude::Pressure,
-            )))),
-            "ttmrf-asterix" => OwnPort::TtAsterix(Box::new(Port::new(AsterixDecoder::default()))),
-            p if p.starts_with("ttmrf") || (p.is_empty() && device == "ttmrf") => {
-                OwnPort::TtMixed(Box::new(Port::new(MixedDecoder::new())))
-            }
-            _ => return None,
-        })
     }
 
     /// Feeds one read chunk; hands every finalised sample to `f`.
@@ -197,17 +194,7 @@ impl AlignedReplay {
         let i = self.port_index(device, protocol);
         let port = &mut self.ports[i];
         port.clock.push(t_host_ns as i64, bytes.len());
-        let mut samples: Samples = Vec::new();
-        if let Some(p) = &mut port.own {
-            samples = own_samples(p, bytes, false);
-        } else {
-            let mut collect = |d: Decoded<'_>| -> Result<()> {
-                samples.extend(replayer_sample(&d));
-                Ok(())
-            };
-            self.replayer
-                .feed(device, protocol, t_host_ns, bytes, &mut collect)?;
-        }
+        let samples = port.samples(bytes, false);
         self.align(i, samples, f)
     }
 
@@ -217,24 +204,28 @@ impl AlignedReplay {
         if let Some(i) = self.ports.iter().position(|p| p.name == device) {
             return i;
         }
+        let decoding = match Protocol::resolve(protocol, device) {
+            Some(p) => Decoding::Decoded(
+                Box::new(PortDecoder::new(p)),
+                BytesMut::with_capacity(1 << 12),
+            ),
+            None => Decoding::NoDecoder {
+                chunks: 0,
+                bytes: 0,
+            },
+        };
         self.ports.push(DevicePort {
             name: device.to_string(),
             clock: ChunkClock::default(),
-            own: Self::own_port(protocol, device),
+            decoding,
         });
         self.ports.len() - 1
     }
 
-    /// The aligner's device kind of port `device` with wire `protocol` (the protocol's prefix,
-    /// or, without a protocol, the device name), if it is one of the four.
+    /// The aligner's device kind of port `device` with wire `protocol` (the family of its
+    /// protocol in the drivers' table), if it is one vigil decodes.
     fn device_kind(device: &str, protocol: &str) -> Option<Device> {
-        let named =
-            |kind: &str| protocol.starts_with(kind) || (protocol.is_empty() && device == kind);
-        ["bahrs", "watson", "vn200", "ttmrf"]
-            .into_iter()
-            .zip([Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf])
-            .find(|(k, _)| named(k))
-            .map(|(_, d)| d)
+        Protocol::resolve(protocol, device).map(Protocol::device)
     }
 
     /// Port `device` (wire `protocol`) is read every `interval_ns` (0: as its bytes arrive): the
@@ -283,40 +274,28 @@ impl AlignedReplay {
     /// The decoder counters of `device` so far (as [`AlignedReplay::finish`] reports them), or
     /// `None` for a port without a decoder or not seen yet.
     pub fn port_stats(&self, device: &str) -> Option<DecodeStats> {
-        match self.ports.iter().find(|p| p.name == device) {
-            Some(DevicePort { own: Some(p), .. }) => Some(p.stats()),
-            _ => self.replayer.stats(device),
-        }
+        self.ports.iter().find(|p| p.name == device)?.stats()
     }
 
-    /// Ends every stream, releases what the aligner holds, and returns the Replayer's counters
-    /// (ports decoded here are listed with their decoder counters).
+    /// Ends every stream, releases what the aligner holds, and returns every port's counters.
+    ///
+    /// The ports' remaining messages are aligned in this order (the order of the time when BAHRS
+    /// and Watson went through the simulator's `Replayer`, kept so the outputs stay identical):
+    /// first the BAHRS and Watson ports by name, then the others by name.
     pub fn finish(
         &mut self,
         f: &mut impl FnMut(&AlignedSample) -> Result<()>,
     ) -> Result<BTreeMap<String, PortSummary>> {
-        let mut rest: Vec<(String, Samples)> = Vec::new();
-        let mut collect = |d: Decoded<'_>| -> Result<()> {
-            rest.push((
-                d.device.to_string(),
-                replayer_sample(&d).into_iter().collect(),
-            ));
-            Ok(())
-        };
-        let mut summary = self.replayer.finish(&mut collect)?;
-        // Own ports in name order, as the map they were once kept in gave them.
-        let mut own: Vec<&mut DevicePort> =
-            self.ports.iter_mut().filter(|p| p.own.is_some()).collect();
-        own.sort_by(|a, b| a.name.cmp(&b.name));
-        for port in own {
-            let Some(p) = &mut port.own else { continue };
-            rest.push((port.name.clone(), own_samples(p, &[], true)));
-            summary.insert(port.name.clone(), PortSummary::Decoded(p.stats()));
-        }
-        for (device, samples) in rest {
-            if let Some(i) = self.ports.iter().position(|p| p.name == device) {
-                self.align(i, samples, f)?;
-            }
+        let mut order: Vec<usize> = (0..self.ports.len()).collect();
+        order.sort_by(|&a, &b| {
+            let (a, b) = (&self.ports[a], &self.ports[b]);
+            (!a.finishes_first(), &a.name).cmp(&(!b.finishes_first(), &b.name))
+        });
+        let mut summary = BTreeMap::new();
+        for i in order {
+            let rest = self.ports[i].samples(&[], true);
+            summary.insert(self.ports[i].name.clone(), self.ports[i].summary());
+            self.align(i, rest, f)?;
         }
         for s in self.aligner.flush() {
             f(&s)?;
@@ -341,58 +320,6 @@ impl AlignedReplay {
             }
         }
         Ok(())
-    }
-}
-
-/// A Replayer message as a [`Sample`] with its start offset and wire length (re-encoded).
-///
-/// VN-200 and TT-Multi-RF ports never reach the Replayer here: they are decoded by this module's
-/// own ports ([`AlignedReplay::own_port`]), which know each message's wire length (the Replayer
-/// reports only start offsets, and the receive time is that of the message's last byte).
-fn replayer_sample(d: &Decoded<'_>) -> Option<(Sample, u64, usize)> {
-    match d.message {
-        Message::Bahrs(m) => Some((Sample::Bahrs(*m), d.offset, m.to_frame().len())),
-        Message::Watson(l) => Some((Sample::Watson(*l), d.offset, l.to_bytes().len())),
-        Message::Vn200(_) | Message::Ttmrf(_) | Message::TtmrfRaw(_) => None,
-    }
-}
-
-fn own_samples(p: &mut OwnPort, bytes: &[u8], eof: bool) -> Vec<(Sample, u64, usize)> {
-    fn map<D: DeviceDecoder>(
-        p: &mut Port<D>,
-        bytes: &[u8],
-        eof: bool,
-        f: impl Fn(D::Message) -> Sample,
-    ) -> Samples {
-        p.feed(bytes, eof)
-            .into_iter()
-            .map(|(o, n, m)| (f(m), o, n))
-            .collect()
-    }
-    match p {
-        OwnPort::Vn200(p) => map(p, bytes, eof, |m| Sample::Vn200(Box::new(m))),
-        OwnPort::TtMixed(p) => map(p, bytes, eof, |m| match m {
-            MixedMessage::Text(t) => Sample::TtText(Box::new(t)),
-            MixedMessage::Raw(r) => Sample::TtRaw(Box::new(r)),
-        }),
-        OwnPort::TtHex(p) => map(p, bytes, eof, |m| Sample::TtRaw(Box::new(m))),
-        OwnPort::TtMavlink(p) => map(p, bytes, eof, |m| Sample::TtMavlink(Box::new(m))),
-        OwnPort::TtGdl90(p) => map(p, bytes, eof, |m| Sample::TtGdl90(Box::new(m))),
-        OwnPort::TtAsterix(p) => map(p, bytes, eof, |m| Sample::TtAsterix(Box::new(m))),
-    }
-}
-
-impl OwnPort {
-    /// The port's decoder counters.
-    fn stats(&self) -> DecodeStats {
-        match self {
-            OwnPort::Vn200(p) => *p.codec.0.stats(),
-            OwnPort::TtMixed(p) => *p.codec.0.stats(),
-            OwnPort::TtHex(p) => *p.codec.0.stats(),
-            OwnPort::TtMavlink(p) => *p.codec.0.stats(),
-            OwnPort::TtGdl90(p) => *p.codec.0.stats(),
-            OwnPort::TtAsterix(p) => *p.codec.0.stats(),
-        }
     }
 }
 

@@ -110,6 +110,9 @@ fn read_intervals_go_to_the_device_kind_of_the_protocol() {
         // The VN-200's wait is not modelled; unknown ports have no aligner.
         ("vn200", "vn200-icd", None),
         ("gyro", "", None),
+        // Exact protocol names only (drivers' protocol table): a name that merely starts like a
+        // TT-Multi-RF one is no protocol vigil decodes.
+        ("ttmrf", "ttmrf-beast", None),
     ];
     for (device, protocol, kind) in cases {
         assert_eq!(
@@ -118,4 +121,30 @@ fn read_intervals_go_to_the_device_kind_of_the_protocol() {
             "{device} {protocol}"
         );
     }
+}
+
+#[test]
+fn a_port_of_an_unknown_protocol_is_counted_not_decoded() {
+    // Two reads of a channel whose protocol only starts like the VN-200's (before the protocol
+    // table the aligned replay decoded it as one; the decoded replay did not).
+    let mut r = AlignedReplay::new();
+    let mut n = 0;
+    let mut f = |_: &AlignedSample| -> Result<()> {
+        n += 1;
+        Ok(())
+    };
+    r.feed("vn200", "vn200-binary", 1, &[0xFA, 1, 2], &mut f)
+        .unwrap();
+    r.feed("vn200", "vn200-binary", 2, &[3, 4], &mut f).unwrap();
+    assert_eq!(r.port_stats("vn200"), None);
+    let summary = r.finish(&mut f).unwrap();
+    assert_eq!(n, 0);
+    assert_eq!(
+        summary["vn200"],
+        PortSummary::NoDecoder {
+            no_decoder: true,
+            chunks: 2,
+            bytes: 5
+        }
+    );
 }

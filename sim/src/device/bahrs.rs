@@ -30,6 +30,8 @@ use vigil_drivers::bahrs::{
     Message, Navigation, NavigationHealth, SoftwareVersion, SyncPulseTime,
 };
 
+use vigil_drivers::protocol::Protocol;
+
 use super::{DeviceModel, Emission, FaultSchedule};
 use crate::rng::Rng;
 use crate::scenario::{Axis, BahrsConfig, HealthSignal};
@@ -479,7 +481,7 @@ impl DeviceModel for BahrsModel {
     }
 
     fn protocol(&self) -> &'static str {
-        "bahrs-2.0"
+        Protocol::Bahrs.name()
     }
 
     fn baud(&self) -> u32 {

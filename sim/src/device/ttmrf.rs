@@ -64,6 +64,8 @@ use vigil_drivers::ttmrf::raw::{ModeSFrame, RawFrame, RxMeta, beast, hex};
 use vigil_drivers::ttmrf::asterix::common::DataSource;
 use vigil_drivers::ttmrf::at::{DecodedProtocol, RawProtocol, SettingId};
 
+use vigil_drivers::protocol::Protocol;
+
 use super::ttmrf_binary::{self, Binary, Target, carries};
 use super::{DeviceModel, Emission, FaultSchedule};
 use crate::rng::Rng;
@@ -192,11 +194,12 @@ pub fn raw_protocol_of(name: &str) -> RawProtocol {
 /// The recording channel protocol of a port whose decoded protocol is `name` at start.
 pub fn channel_protocol(name: &str) -> &'static str {
     match name {
-        "mavlink" => "ttmrf-mavlink",
-        "gdl90" => "ttmrf-gdl90",
-        "asterix" => "ttmrf-asterix",
-        _ => "ttmrf-text",
+        "mavlink" => Protocol::TtmrfMavlink,
+        "gdl90" => Protocol::TtmrfGdl90,
+        "asterix" => Protocol::TtmrfAsterix,
+        _ => Protocol::TtmrfText,
     }
+    .name()
 }
 
 impl TtmrfModel {

@@ -44,6 +44,8 @@ use vigil_drivers::vn200::binary::{
 };
 use vigil_drivers::vn200::status::{InsStatus, TimeStatus};
 
+use vigil_drivers::protocol::Protocol;
+
 use super::{DeviceModel, Emission, FaultSchedule};
 use crate::rng::Rng;
 use crate::scenario::Vn200Config;
@@ -495,7 +497,7 @@ impl DeviceModel for Vn200Model {
     }
 
     fn protocol(&self) -> &'static str {
-        "vn200-icd"
+        Protocol::Vn200.name()
     }
 
     fn baud(&self) -> u32 {

@@ -17,6 +17,8 @@
 use serde_json::json;
 use vigil_drivers::watson::{Kind, Line};
 
+use vigil_drivers::protocol::Protocol;
+
 use super::{DeviceModel, Emission, FaultSchedule};
 use crate::rng::Rng;
 use crate::scenario::WatsonConfig;
@@ -62,7 +64,7 @@ impl DeviceModel for WatsonModel {
     }
 
     fn protocol(&self) -> &'static str {
-        "watson-ahrs-e304"
+        Protocol::Watson.name()
     }
 
     fn baud(&self) -> u32 {

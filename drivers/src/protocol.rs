@@ -1,0 +1,421 @@
+//! The one protocol table: every wire protocol vigil decodes, its name in configurations and
+//! recordings, its default baud, its device family, and [`PortDecoder`], which dispatches a
+//! port's bytes to that protocol's codec.
+//!
+//! # How to add a protocol
+//!
+//! 1. Add a variant to [`Protocol`] and to [`Protocol::ALL`].
+//! 2. Add one match arm to each table function of this file: [`Protocol::name`],
+//!    [`Protocol::default_baud`], [`Protocol::device`], [`PortDecoder::new`] (with a new
+//!    [`PortDecoder`] variant holding its `Codec<...>`), [`PortDecoder::protocol`],
+//!    [`PortDecoder::decode`] and [`PortDecoder::stats`]; if the decoder yields a message type
+//!    not yet in [`PortMessage`], add it there and to [`PortMessage::as_message`] / [`Message`].
+//! 3. The compiler then lists whatever else must decide about it (exhaustive matches in the
+//!    service's policy and conversions). Nothing else selects decoders by string: the name is
+//!    parsed once, by [`Protocol::resolve`], when a port is configured or a recorded channel is
+//!    first seen.
+//!
+//! Decision (resolution of a recorded channel's `protocol` metadata, issue 19): names are matched
+//! exactly, and an empty name falls back to the four standard device names (`bahrs`, `watson`,
+//! `vn200`, `ttmrf`). Before this table, `vigil replay --emit aligned`/`fused` matched prefixes
+//! (`vn200*`, `ttmrf-hex*`, other `ttmrf*`) while `--emit decoded` and the configuration matched
+//! exactly. Exact matching won: every recording vigil and its simulator write carries one of the
+//! [`Protocol::name`]s (they are written from this table), the configuration already refuses other
+//! names, and a prefix guess would decode a channel named, say, `vn200-binary-v3` with a decoder
+//! that may not be its own, where an unknown name stays visible (the port is counted, not
+//! decoded). `ttmrf-hex` is now decoded by `--emit decoded` as well (it was counted as a port
+//! without decoder there, while the aligned path decoded it).
+
+use bytes::BytesMut;
+use serde::{Serialize, Serializer};
+use tokio_util::codec::Decoder as _;
+
+use crate::ttmrf::asterix::{AsterixDecoder, AsterixMessage};
+use crate::ttmrf::gdl90::{Gdl90Decoder, Gdl90Message, TrafficAltitude};
+use crate::ttmrf::mavlink::{MavlinkDecoder, MavlinkMessage};
+use crate::ttmrf::mixed::{MixedDecoder, MixedMessage};
+use crate::ttmrf::raw::hex::HexDecoder;
+use crate::ttmrf::raw::{RawFrame, RxMeta, encode_hex_string};
+use crate::ttmrf::text::TextMessage;
+use crate::vn200::{Vn200Decoder, Vn200Message};
+use crate::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
+
+/// The wire protocol of a port: selects the decoder and the device family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Protocol {
+    /// BAHRS protocol 2.0 (binary).
+    Bahrs,
+    /// Watson AHRS-E304 text lines.
+    Watson,
+    /// VN-200 ICD 1.3 (binary and ASCII).
+    Vn200,
+    /// TT-Multi-RF text outputs (CSV, JSON, NMEA, ... in auto mode) and raw HEX lines.
+    TtmrfText,
+    /// TT-Multi-RF raw HEX lines only.
+    TtmrfHex,
+    /// TT-Multi-RF decoded output in MAVLink 2.
+    TtmrfMavlink,
+    /// TT-Multi-RF decoded output in GDL90 (barometric altitude priority).
+    TtmrfGdl90,
+    /// TT-Multi-RF decoded output in ASTERIX CAT021/023.
+    TtmrfAsterix,
+}
+
+/// The device families of the installation (one clock model each in the aligner).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Device {
+    /// BAHRS (MCU clock disciplined by the VN-200 PPS).
+    Bahrs,
+    /// Watson AHRS-E304 (host clock).
+    Watson,
+    /// VN-200 (native GPS time).
+    Vn200,
+    /// TT-Multi-RF (UTC time of day, PPS stamps or host clock).
+    Ttmrf,
+}
+
+impl Device {
+    /// Every device, in report order.
+    pub const ALL: [Device; 4] = [Device::Bahrs, Device::Watson, Device::Vn200, Device::Ttmrf];
+
+    /// The device (port) name used in recordings and the truth file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Device::Bahrs => "bahrs",
+            Device::Watson => "watson",
+            Device::Vn200 => "vn200",
+            Device::Ttmrf => "ttmrf",
+        }
+    }
+}
+
+impl Protocol {
+    /// Every protocol.
+    pub const ALL: [Protocol; 8] = [
+        Protocol::Bahrs,
+        Protocol::Watson,
+        Protocol::Vn200,
+        Protocol::TtmrfText,
+        Protocol::TtmrfHex,
+        Protocol::TtmrfMavlink,
+        Protocol::TtmrfGdl90,
+        Protocol::TtmrfAsterix,
+    ];
+
+    /// The protocol's name in the configuration and in recordings' channel metadata (the names
+    /// `vigil replay` selects decoders by).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Protocol::Bahrs => "bahrs-2.0",
+            Protocol::Watson => "watson-ahrs-e304",
+            Protocol::Vn200 => "vn200-icd",
+            Protocol::TtmrfText => "ttmrf-text",
+            Protocol::TtmrfHex => "ttmrf-hex",
+            Protocol::TtmrfMavlink => "ttmrf-mavlink",
+            Protocol::TtmrfGdl90 => "ttmrf-gdl90",
+            Protocol::TtmrfAsterix => "ttmrf-asterix",
+        }
+    }
+
+    /// The device's usual baud rate, bit/s (the simulator's defaults). The Watson's is the only
+    /// one its document fixes (9600); the VN-200 and the TT-Multi-RF run at 921 600 (a rate both
+    /// documents list; the VN-200's factory 115 200 cannot carry its 400 Hz outputs); the BAHRS
+    /// document names no rate (115 200 is the installation's).
+    pub const fn default_baud(self) -> u32 {
+        match self {
+            Protocol::Bahrs => 115_200,
+            Protocol::Watson => 9600,
+            Protocol::Vn200
+            | Protocol::TtmrfText
+            | Protocol::TtmrfHex
+            | Protocol::TtmrfMavlink
+            | Protocol::TtmrfGdl90
+            | Protocol::TtmrfAsterix => 921_600,
+        }
+    }
+
+    /// The device family speaking this protocol.
+    pub const fn device(self) -> Device {
+        match self {
+            Protocol::Bahrs => Device::Bahrs,
+            Protocol::Watson => Device::Watson,
+            Protocol::Vn200 => Device::Vn200,
+            Protocol::TtmrfText
+            | Protocol::TtmrfHex
+            | Protocol::TtmrfMavlink
+            | Protocol::TtmrfGdl90
+            | Protocol::TtmrfAsterix => Device::Ttmrf,
+        }
+    }
+
+    /// The protocol of a port or recorded channel: `protocol` is one of the [`Protocol::name`]s
+    /// exactly, or empty, and then the standard device names `bahrs`, `watson`, `vn200`, `ttmrf`
+    /// imply it. `None`: not a protocol vigil decodes (see the module's decision on exact names).
+    pub fn resolve(protocol: &str, device: &str) -> Option<Protocol> {
+        if protocol.is_empty() {
+            return match device {
+                "bahrs" => Some(Protocol::Bahrs),
+                "watson" => Some(Protocol::Watson),
+                "vn200" => Some(Protocol::Vn200),
+                "ttmrf" => Some(Protocol::TtmrfText),
+                _ => None,
+            };
+        }
+        Protocol::ALL.into_iter().find(|p| p.name() == protocol)
+    }
+}
+
+/// A decoded message of any protocol, owned (what [`PortDecoder`] yields; the aligner takes it
+/// without a copy).
+///
+/// Decision: not boxed (clippy's `large_enum_variant`): a `PortMessage` lives only from the
+/// decoder to the caller's callback, where it is either serialised in place (`--emit decoded`,
+/// no allocation per message) or moved into the aligner's boxed sample (one allocation, as
+/// before this table).
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, PartialEq)]
+pub enum PortMessage {
+    /// BAHRS protocol 2.0.
+    Bahrs(bahrs::Message),
+    /// Watson AHRS-E304 line.
+    Watson(watson::Line),
+    /// VN-200 binary or ASCII message.
+    Vn200(Vn200Message),
+    /// TT-Multi-RF text output (CSV, JSON, NMEA, AT).
+    TtmrfText(TextMessage),
+    /// TT-Multi-RF raw frame (HEX line).
+    TtmrfRaw(RawFrame),
+    /// TT-Multi-RF MAVLink ADSB_VEHICLE / COLLISION.
+    TtmrfMavlink(MavlinkMessage),
+    /// TT-Multi-RF GDL90.
+    TtmrfGdl90(Gdl90Message),
+    /// TT-Multi-RF ASTERIX CAT021 / CAT023 record.
+    TtmrfAsterix(AsterixMessage),
+}
+
+impl PortMessage {
+    /// The borrowed, serialisable form (the JSON of `vigil replay --emit decoded`).
+    pub fn as_message(&self) -> Message<'_> {
+        match self {
+            PortMessage::Bahrs(m) => Message::Bahrs(m),
+            PortMessage::Watson(m) => Message::Watson(m),
+            PortMessage::Vn200(m) => Message::Vn200(m),
+            PortMessage::TtmrfText(m) => Message::Ttmrf(TtmrfMessage::Text(m)),
+            PortMessage::TtmrfRaw(m) => Message::TtmrfRaw(m),
+            PortMessage::TtmrfMavlink(m) => Message::Ttmrf(TtmrfMessage::Mavlink(m)),
+            PortMessage::TtmrfGdl90(m) => Message::Ttmrf(TtmrfMessage::Gdl90(m)),
+            PortMessage::TtmrfAsterix(m) => Message::Ttmrf(TtmrfMessage::Asterix(m)),
+        }
+    }
+}
+
+impl From<MixedMessage> for PortMessage {
+    fn from(m: MixedMessage) -> Self {
+        match m {
+            MixedMessage::Text(t) => PortMessage::TtmrfText(t),
+            MixedMessage::Raw(f) => PortMessage::TtmrfRaw(f),
+        }
+    }
+}
+
+/// A decoded message of any device, borrowed (its serde form is the decoded replay's JSON).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Message<'a> {
+    /// BAHRS protocol 2.0.
+    Bahrs(&'a bahrs::Message),
+    /// Watson AHRS-E304 line.
+    Watson(&'a watson::Line),
+    /// VN-200 binary or ASCII message.
+    Vn200(&'a Vn200Message),
+    /// TT-Multi-RF decoded message: text (CSV, JSON, NMEA, AT) or binary (MAVLink, GDL90,
+    /// ASTERIX).
+    Ttmrf(TtmrfMessage<'a>),
+    /// TT-Multi-RF raw frame (HEX line), written as a [`RawLine`].
+    #[serde(serialize_with = "raw_line")]
+    TtmrfRaw(&'a RawFrame),
+}
+
+/// A TT-Multi-RF decoded-protocol message.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum TtmrfMessage<'a> {
+    /// CSV, JSON, NMEA or AT.
+    Text(&'a TextMessage),
+    /// MAVLink ADSB_VEHICLE / COLLISION.
+    Mavlink(&'a MavlinkMessage),
+    /// GDL90.
+    Gdl90(&'a Gdl90Message),
+    /// ASTERIX CAT021 / CAT023 record.
+    Asterix(&'a AsterixMessage),
+}
+
+fn raw_line<S: Serializer>(f: &&RawFrame, s: S) -> Result<S::Ok, S::Error> {
+    RawLine::of(f).serialize(s)
+}
+
+/// A raw frame of the TT-Multi-RF port as replay writes it: the frame's bytes in hex and the
+/// receiver's metadata (the Mode S content is the Mode S decoder's job).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RawLine {
+    /// "mode_s", "mode_ac" or "uat".
+    pub raw: &'static str,
+    /// Frame bytes, upper-case hex (Mode A/C: the four octal digits as two bytes).
+    pub frame_hex: String,
+    /// Receive metadata (signal, TS1s, TS24h).
+    pub meta: RxMeta,
+}
+
+impl RawLine {
+    /// The output form of a raw frame.
+    pub fn of(f: &RawFrame) -> Self {
+        let (raw, bytes, meta) = match f {
+            RawFrame::ModeS(m) => ("mode_s", m.data().to_vec(), m.meta),
+            RawFrame::ModeAc(m) => ("mode_ac", m.code.0.to_be_bytes().to_vec(), m.meta),
+            RawFrame::Uat(u) => ("uat", u.bytes.clone(), u.meta),
+        };
+        Self {
+            raw,
+            frame_hex: encode_hex_string(&bytes),
+            meta,
+        }
+    }
+}
+
+/// One message out of a [`PortDecoder`], with its place in the port's stream.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PortFrame {
+    /// Offset of its first byte in the port's received stream (bytes fed since the start).
+    pub offset: u64,
+    /// Its wire length, bytes: what the decoder consumed from its first byte to its end (at
+    /// least 1), so `offset + wire_len` is the stream offset just past its last byte.
+    pub wire_len: u64,
+    /// The message.
+    pub message: PortMessage,
+}
+
+/// The decoder of one port: one variant per [`Protocol`], each holding its codec. Built once per
+/// port ([`PortDecoder::new`]); decoding dispatches by one match, no strings, no lookups.
+pub enum PortDecoder {
+    /// [`Protocol::Bahrs`].
+    Bahrs(Codec<bahrs::Decoder>),
+    /// [`Protocol::Watson`].
+    Watson(Codec<watson::Decoder>),
+    /// [`Protocol::Vn200`].
+    Vn200(Box<Codec<Vn200Decoder>>),
+    /// [`Protocol::TtmrfText`]: text lines and raw HEX lines interleaved, in stream order.
+    TtmrfText(Box<Codec<MixedDecoder>>),
+    /// [`Protocol::TtmrfHex`].
+    TtmrfHex(Box<Codec<HexDecoder>>),
+    /// [`Protocol::TtmrfMavlink`].
+    TtmrfMavlink(Box<Codec<MavlinkDecoder>>),
+    /// [`Protocol::TtmrfGdl90`].
+    TtmrfGdl90(Box<Codec<Gdl90Decoder>>),
+    /// [`Protocol::TtmrfAsterix`].
+    TtmrfAsterix(Box<Codec<AsterixDecoder>>),
+}
+
+impl PortDecoder {
+    /// The decoder of `protocol`, at the start of its stream.
+    pub fn new(protocol: Protocol) -> Self {
+        match protocol {
+            Protocol::Bahrs => PortDecoder::Bahrs(Codec(bahrs::Decoder::new())),
+            Protocol::Watson => PortDecoder::Watson(Codec(watson::Decoder::new())),
+            Protocol::Vn200 => PortDecoder::Vn200(Box::new(Codec(Vn200Decoder::new()))),
+            Protocol::TtmrfText => PortDecoder::TtmrfText(Box::new(Codec(MixedDecoder::new()))),
+            Protocol::TtmrfHex => PortDecoder::TtmrfHex(Box::new(Codec(HexDecoder::new()))),
+            Protocol::TtmrfMavlink => {
+                PortDecoder::TtmrfMavlink(Box::new(Codec(MavlinkDecoder::new())))
+            }
+            // The simulator's module sends pressure altitude in Traffic Reports (barometric
+            // priority, the GDL90 definition).
+            Protocol::TtmrfGdl90 => PortDecoder::TtmrfGdl90(Box::new(Codec(Gdl90Decoder::new(
+                TrafficAltitude::Pressure,
+            )))),
+            Protocol::TtmrfAsterix => {
+                PortDecoder::TtmrfAsterix(Box::new(Codec(AsterixDecoder::default())))
+            }
+        }
+    }
+
+    /// The protocol this decoder reads.
+    pub fn protocol(&self) -> Protocol {
+        match self {
+            PortDecoder::Bahrs(_) => Protocol::Bahrs,
+            PortDecoder::Watson(_) => Protocol::Watson,
+            PortDecoder::Vn200(_) => Protocol::Vn200,
+            PortDecoder::TtmrfText(_) => Protocol::TtmrfText,
+            PortDecoder::TtmrfHex(_) => Protocol::TtmrfHex,
+            PortDecoder::TtmrfMavlink(_) => Protocol::TtmrfMavlink,
+            PortDecoder::TtmrfGdl90(_) => Protocol::TtmrfGdl90,
+            PortDecoder::TtmrfAsterix(_) => Protocol::TtmrfAsterix,
+        }
+    }
+
+    /// Decodes every message `buf` completes (removing its bytes) and hands each to `f`, in
+    /// stream order. `buf` holds the port's received bytes not yet consumed (append each read to
+    /// it); `eof`: no more bytes will come, so what is left is decoded or counted as skipped.
+    /// Stops at the first error of `f`.
+    pub fn decode<E>(
+        &mut self,
+        buf: &mut BytesMut,
+        eof: bool,
+        f: &mut impl FnMut(PortFrame) -> Result<(), E>,
+    ) -> Result<(), E> {
+        match self {
+            PortDecoder::Bahrs(c) => run(c, buf, eof, PortMessage::Bahrs, f),
+            PortDecoder::Watson(c) => run(c, buf, eof, PortMessage::Watson, f),
+            PortDecoder::Vn200(c) => run(c, buf, eof, PortMessage::Vn200, f),
+            PortDecoder::TtmrfText(c) => run(c, buf, eof, PortMessage::from, f),
+            PortDecoder::TtmrfHex(c) => run(c, buf, eof, PortMessage::TtmrfRaw, f),
+            PortDecoder::TtmrfMavlink(c) => run(c, buf, eof, PortMessage::TtmrfMavlink, f),
+            PortDecoder::TtmrfGdl90(c) => run(c, buf, eof, PortMessage::TtmrfGdl90, f),
+            PortDecoder::TtmrfAsterix(c) => run(c, buf, eof, PortMessage::TtmrfAsterix, f),
+        }
+    }
+
+    /// The decoder's counters so far.
+    pub fn stats(&self) -> DecodeStats {
+        match self {
+            PortDecoder::Bahrs(c) => *c.0.stats(),
+            PortDecoder::Watson(c) => *c.0.stats(),
+            PortDecoder::Vn200(c) => *c.0.stats(),
+            PortDecoder::TtmrfText(c) => *c.0.stats(),
+            PortDecoder::TtmrfHex(c) => *c.0.stats(),
+            PortDecoder::TtmrfMavlink(c) => *c.0.stats(),
+            PortDecoder::TtmrfGdl90(c) => *c.0.stats(),
+            PortDecoder::TtmrfAsterix(c) => *c.0.stats(),
+        }
+    }
+}
+
+/// The decode loop of one codec: each message with its offset and wire length (the decoder's
+/// consumed count past its start).
+fn run<D: DeviceDecoder, E>(
+    codec: &mut Codec<D>,
+    buf: &mut BytesMut,
+    eof: bool,
+    wrap: impl Fn(D::Message) -> PortMessage,
+    f: &mut impl FnMut(PortFrame) -> Result<(), E>,
+) -> Result<(), E> {
+    loop {
+        let next = if eof {
+            codec.decode_eof(buf)
+        } else {
+            codec.decode(buf)
+        };
+        // `Codec` never returns an error.
+        let Ok(Some(l)) = next else { return Ok(()) };
+        let end = codec.0.stats().bytes_consumed;
+        f(PortFrame {
+            offset: l.offset,
+            wire_len: end.saturating_sub(l.offset).max(1),
+            message: wrap(l.message),
+        })?;
+    }
+}
+
+#[cfg(test)]
+#[path = "protocol_tests.rs"]
+mod tests;
