@@ -1,17 +1,17 @@
 //! Simulating and replaying `nominal` (all four devices: BAHRS, Watson, VN-200 at 200 Hz,
 //! TT-Multi-RF JSON with raw HEX frames; 5 intruders) as a
 //! multiple of real time. Goals: simulation (MCAP with truth, in memory) >= 200x, replay (read the
-//! MCAP, decode every chunk through `vigil_sim::replay::Replayer` and write JSON Lines to a null
+//! MCAP, decode every chunk through `vigil_drivers::replay::Replayer` and write JSON Lines to a null
 //! sink, exactly as `vigil replay` does) >= 1000x. Each iteration covers 60 simulated seconds: the
 //! multiple of real time is 60 s divided by the reported time.
 
 use std::io::{Cursor, Write};
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use vigil_drivers::replay::{Decoded, Replayer};
 use vigil_record::{Recorded, read_recording};
 use vigil_sim::Simulator;
 use vigil_sim::record::McapSink;
-use vigil_sim::replay::{Decoded, Replayer};
 use vigil_sim::scenario::builtin;
 
 const SECONDS: i64 = 60;

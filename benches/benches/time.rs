@@ -4,13 +4,13 @@
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
+use vigil_drivers::replay::{Decoded, Message, Replayer};
 use vigil_drivers::vn200::Vn200Message;
 use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup};
 use vigil_drivers::vn200::status::InsStatus;
 use vigil_fusion::time::Rx;
 use vigil_fusion::time::aligner::{Aligner, AlignerConfig, Sample};
 use vigil_fusion::time::host_timed::{ChunkClock, tx_ns};
-use vigil_sim::replay::{Decoded, Message, Replayer};
 use vigil_sim::scenario::builtin;
 use vigil_sim::{MemorySink, Simulator};
 

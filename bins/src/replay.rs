@@ -32,10 +32,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
+use vigil_drivers::replay::{Decoded, Replayer};
 use vigil_record::Recorded;
 use vigil_record::{read_recording_from, recorded_span_from};
 use vigil_service::replay::ReplaySummary;
-use vigil_sim::replay::{Decoded, Replayer};
 
 use crate::progress::ProgressBar;
 

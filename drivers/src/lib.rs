@@ -25,6 +25,7 @@ pub mod traffic;
 pub mod bahrs;
 pub mod modes;
 pub mod protocol;
+pub mod replay;
 pub mod ttmrf;
 pub mod vn200;
 pub mod watson;

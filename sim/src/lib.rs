@@ -8,9 +8,8 @@
 //! - [`device`]: the [`device::DeviceModel`] trait and the BAHRS and Watson models;
 //! - [`link`]: baud-rate pacing, host read chunking and latency, link faults;
 //! - [`engine`]: the run loop ([`Simulator`]) feeding a [`Sink`];
-//! - [`record`]: the MCAP sink (the recording format itself is `vigil_record`);
-//! - [`replay`]: a recording's chunks through the drivers' decoders, each message stamped with
-//!   the receive time of its first byte.
+//! - [`record`]: the MCAP sink (the recording format itself is `vigil_record`; decoding a
+//!   recording is `vigil_drivers::replay`).
 //!
 //! Everything is a deterministic function of (scenario, seed): no clock, no environment, no
 //! unseeded randomness.
@@ -32,7 +31,6 @@ pub mod geo;
 pub mod link;
 pub mod magnetic;
 pub mod record;
-pub mod replay;
 pub mod rng;
 pub mod scenario;
 pub mod trajectory;

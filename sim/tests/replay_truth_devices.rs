@@ -8,8 +8,8 @@ mod common;
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use vigil_drivers::replay::{Message, Replayer};
 use vigil_drivers::vn200::Vn200Decoder;
-use vigil_sim::replay::{Message, Replayer};
 use vigil_sim::scenario::{BUILTIN_NAMES, builtin};
 use vigil_sim::{MemorySink, Simulator};
 
@@ -116,7 +116,7 @@ fn replayer_decodes_every_vn200_and_ttmrf_text_message() {
     let info = sink.info.as_ref().unwrap();
     let mut r = Replayer::new();
     let mut got: BTreeMap<(String, u64), &'static str> = BTreeMap::new();
-    let mut f = |d: vigil_sim::replay::Decoded<'_>| -> Result<(), ()> {
+    let mut f = |d: vigil_drivers::replay::Decoded<'_>| -> Result<(), ()> {
         let kind = match d.message {
             Message::Vn200(_) => "vn200",
             Message::Ttmrf(_) => "ttmrf",

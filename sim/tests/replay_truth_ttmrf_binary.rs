@@ -3,15 +3,15 @@
 //! `replay::Replayer` to exactly the messages the truth lists (at the truth's `rx_offset`,
 //! byte-identical when re-encoded), minus those a link fault corrupted (counted). AT lines (the
 //! state messages of a power cycle) are not decoded on a binary port: the binary decoder counts
-//! them as skipped bytes (see `vigil_sim::replay`), so they are left out of the comparison.
+//! them as skipped bytes (see `vigil_drivers::replay`), so they are left out of the comparison.
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use bytes::BytesMut;
 use tokio_util::codec::Encoder;
+use vigil_drivers::replay::{Decoded, Message, PortSummary, Replayer, TtmrfMessage};
 use vigil_drivers::ttmrf::gdl90;
 use vigil_drivers::ttmrf::mavlink::MavlinkEncoder;
-use vigil_sim::replay::{Decoded, Message, PortSummary, Replayer, TtmrfMessage};
 use vigil_sim::scenario::{BUILTIN_NAMES, builtin};
 use vigil_sim::{MemorySink, Simulator};
 

@@ -66,8 +66,8 @@ fn regression_20_rich_recording_is_on_the_utc_timeline_with_schemas() {
         .devices
         .values()
         .map(|d| match d {
-            vigil_sim::replay::PortSummary::Decoded(_) => 0,
-            vigil_sim::replay::PortSummary::NoDecoder { chunks, .. } => *chunks,
+            vigil_drivers::replay::PortSummary::Decoded(_) => 0,
+            vigil_drivers::replay::PortSummary::NoDecoder { chunks, .. } => *chunks,
         })
         .sum::<u64>();
     assert_eq!(in_raw, 0, "every port decoded");

@@ -558,7 +558,7 @@ impl Decoded {
             Sample::Watson(m) => serde_json::to_value(m),
             Sample::Vn200(m) => serde_json::to_value(m),
             Sample::TtText(m) => serde_json::to_value(m),
-            Sample::TtRaw(m) => serde_json::to_value(vigil_sim::replay::RawLine::of(m)),
+            Sample::TtRaw(m) => serde_json::to_value(vigil_drivers::replay::RawLine::of(m)),
             Sample::TtMavlink(m) => serde_json::to_value(m),
             Sample::TtGdl90(m) => serde_json::to_value(m),
             Sample::TtAsterix(m) => serde_json::to_value(m),

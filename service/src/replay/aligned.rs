@@ -20,11 +20,11 @@ use bytes::BytesMut;
 use serde::Serialize;
 use vigil_drivers::DecodeStats;
 use vigil_drivers::protocol::{PortDecoder, PortFrame, PortMessage, Protocol};
+use vigil_drivers::replay::PortSummary;
 use vigil_fusion::time::aligner::{AlignedSample, Aligner, AlignerConfig, Device, Sample};
 use vigil_fusion::time::host_timed::ChunkClock;
 use vigil_fusion::time::{ClockStatus, NotAligned, TimeSource};
 use vigil_record::{Recorded, read_recording_from};
-use vigil_sim::replay::PortSummary;
 
 use crate::replay::ReplaySummary;
 

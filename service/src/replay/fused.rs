@@ -27,10 +27,10 @@ use std::io::{Read, Write};
 use anyhow::Result;
 use serde_json::json;
 use vigil_bus::AlertPayload;
+use vigil_drivers::replay::PortSummary;
 use vigil_fusion::pipeline::Fused;
 use vigil_record::Recorded;
 use vigil_record::read_recording_from;
-use vigil_sim::replay::PortSummary;
 
 use crate::config::{Config, Port, Protocol};
 use crate::recording::messages::{ActiveAlert, state_name};

@@ -12,7 +12,7 @@ pub mod rich;
 use std::collections::BTreeMap;
 
 use serde::Serialize;
-use vigil_sim::replay::PortSummary;
+use vigil_drivers::replay::PortSummary;
 
 /// Summary of a replay (written to stderr as JSON).
 #[derive(Debug, Serialize)]

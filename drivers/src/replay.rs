@@ -1,29 +1,28 @@
-//! Replay core: feeds a recording's raw chunks through the drivers' decoders (`DeviceDecoder`
-//! through `Codec`, so each message comes with `Located::offset`) and stamps every decoded message
-//! with the host receive time of the chunk that held its first byte.
+//! Replay core: the raw chunks of any number of ports (a recording's, the simulator's) through
+//! their [`PortDecoder`]s, each decoded message stamped with the host receive time of the chunk
+//! that held its first byte. Sans-IO: chunks and their times are passed in.
 //!
-//! The decoder of a port is chosen once, when its first chunk arrives, by the drivers' protocol
-//! table ([`Protocol::resolve`] of its channel's `protocol` metadata, else of the device name) and
-//! runs as a [`PortDecoder`]. A TT-Multi-RF port recorded with a binary decoded
-//! protocol is read by that protocol's decoder alone: AT lines on it (state messages after a
-//! reset) are skipped bytes in its counters, and a port switched between text and binary
-//! protocols by AT commands during the recording decodes only the protocol it started with. `index` counts decoded
-//! messages per device (it equals the truth's `index` while nothing of that device was lost or
-//! damaged); `offset` equals the truth's `rx_offset` for every intact message. The TT-Multi-RF
-//! text port carries text (CSV, JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read
-//! by the drivers' [`MixedDecoder`](vigil_drivers::ttmrf::mixed::MixedDecoder), which yields both in stream order. Ports of unknown protocols
-//! are counted, not decoded.
+//! The decoder of a port is chosen once, when its first chunk arrives, by the protocol table
+//! ([`Protocol::resolve`] of its channel's `protocol` metadata, else of the device name). A
+//! TT-Multi-RF port recorded with a binary decoded protocol is read by that protocol's decoder
+//! alone: AT lines on it (state messages after a reset) are skipped bytes in its counters, and a
+//! port switched between text and binary protocols by AT commands during the recording decodes
+//! only the protocol it started with. `index` counts decoded messages per device (it equals the
+//! simulator truth's `index` while nothing of that device was lost or damaged); `offset` equals
+//! the truth's `rx_offset` for every intact message. The TT-Multi-RF text port carries text (CSV,
+//! JSON, NMEA, AT) and raw Mode S HEX lines interleaved: it is read by the
+//! [`MixedDecoder`](crate::ttmrf::mixed::MixedDecoder), which yields both in stream order. Ports
+//! of unknown protocols are counted, not decoded.
 
 use std::collections::{BTreeMap, VecDeque};
 
 use bytes::BytesMut;
 use serde::Serialize;
-use vigil_drivers::DecodeStats;
-use vigil_drivers::protocol::{PortDecoder, PortFrame, Protocol};
 
-/// The decoded-message forms, now the drivers' ([`vigil_drivers::protocol`]); re-exported so
-/// replay's users keep their imports.
-pub use vigil_drivers::protocol::{Message, RawLine, TtmrfMessage};
+use crate::DecodeStats;
+use crate::protocol::{PortDecoder, PortFrame, Protocol};
+
+pub use crate::protocol::{Message, RawLine, TtmrfMessage};
 
 /// One decoded message with its place in the recording.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -208,7 +207,7 @@ impl Replayer {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vigil_drivers::bahrs::{self, SyncPulseTime};
+    use crate::bahrs::{self, SyncPulseTime};
 
     #[test]
     fn messages_get_the_receive_time_of_their_first_byte() {
