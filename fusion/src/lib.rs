@@ -5,6 +5,7 @@
 
 pub mod attitude;
 pub mod geometry;
+pub mod ingest;
 pub mod magnetic;
 pub mod ownship;
 pub mod pipeline;

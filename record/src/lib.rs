@@ -2,7 +2,7 @@
 //! log time = host monotonic receive time), optional JSON channels (truth, decoded, fused) and
 //! metadata records, and the reader that hands a recording back as port chunks in receive order.
 //!
-//! - [`write`]: [`RawRecorder`], the one writer of every vigil recording (the simulator's
+//! - [`mod@write`]: [`RawRecorder`], the one writer of every vigil recording (the simulator's
 //!   `McapSink`, `vigil record`, `vigil run`'s recording);
 //! - [`read`]: [`read_recording_from`] streams any recording, damaged or truncated ones included,
 //!   one chunk in memory at a time; [`Recorded`] is one message read back.

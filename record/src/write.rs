@@ -50,8 +50,8 @@ pub fn raw_topic(device: &str) -> String {
     format!("/{device}/raw")
 }
 
-/// An MCAP writer with one raw channel per device port (used by the simulator's [`McapSink`] and
-/// by live recording).
+/// An MCAP writer with one raw channel per device port (used by the simulator's `McapSink`, by
+/// `vigil record` and by `vigil run`'s recording).
 pub struct RawRecorder<W: Write + Seek> {
     writer: Writer<W>,
     port_channels: Vec<u16>,
@@ -67,7 +67,7 @@ impl<W: Write + Seek> RawRecorder<W> {
 
     /// As [`RawRecorder::new`], with each port's read interval, ns (0 or absent: read as the
     /// bytes arrive), kept as channel metadata `read_interval_ns` when not 0 so that a replay
-    /// models the wait as the live service did ([`Recorded::Raw::read_interval_ns`]).
+    /// models the wait as the live service did (`Recorded::Raw::read_interval_ns`).
     pub fn with_read_intervals(
         w: W,
         ports: &[(&str, &str, u32)],
@@ -100,7 +100,7 @@ impl<W: Write + Seek> RawRecorder<W> {
 
     /// As [`RawRecorder::add_port`], with the port's USB adapter latency timer, ns (0: none
     /// known), kept as channel metadata `latency_timer_ns` when not 0 so that a replay models
-    /// the adapter as the live service did ([`Recorded::Raw::latency_timer_ns`]).
+    /// the adapter as the live service did (`Recorded::Raw::latency_timer_ns`).
     pub fn add_port_with_adapter(
         &mut self,
         device: &str,

@@ -3,7 +3,7 @@
 //! [`Service`] is the whole processing path as a plain struct, sans-IO in the style of
 //! quinn-proto: no tokio, no ports, no clock. Time is an argument of every call:
 //! - [`Service::handle_chunk`] takes one read chunk of a port with its host monotonic receive time
-//!   and runs it through [`AlignedReplay`] (decode, align) -> [`Pipeline`] (fuse) -> [`convert`]
+//!   and runs it through [`Ingest`] (decode, align) -> [`Pipeline`] (fuse) -> [`convert`]
 //!   -> [`Outputs`] (publish), feeding the [`Monitor`] with every payload published;
 //! - [`Service::handle_link`] tells it a port opened or closed;
 //! - [`Service::handle_timeout`] publishes the `integrity` report and the monitor's alerts due at
@@ -42,9 +42,9 @@ use vigil_fusion::time::aligner::AlignedSample;
 use vigil_monitor::{Monitor, MonitorParams};
 
 use crate::recording::{Tapped, identity, messages::active_set};
-use crate::replay::aligned::AlignedReplay;
 use config::Port;
 use convert::PortReport;
+use vigil_fusion::ingest::Ingest;
 
 /// Where the service's payloads go (the bus in `vigil run`; a collector in tests).
 pub trait Outputs {
@@ -118,7 +118,7 @@ impl PortState {
 /// The processing path of `vigil run` (see the module documentation).
 pub struct Service {
     ports: Vec<PortState>,
-    replay: AlignedReplay,
+    replay: Ingest,
     pipeline: Pipeline,
     monitor: Monitor,
     fused: Vec<Fused>,
@@ -150,7 +150,7 @@ impl Service {
         monitor: MonitorParams,
         silence_s: f64,
     ) -> Result<Self> {
-        let mut replay = AlignedReplay::new();
+        let mut replay = Ingest::new();
         for p in ports {
             let _ = replay.set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
             // Issue 18 point 2: the configured baud reaches the aligner.

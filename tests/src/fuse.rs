@@ -1,9 +1,9 @@
 //! A scenario simulated in memory whose raw chunks go through the same path as `vigil replay
-//! --emit fused` (decoders, [`AlignedReplay`], [`Pipeline`]), without the service's monitor.
+//! --emit fused` (decoders, [`Ingest`], [`Pipeline`]), without the service's monitor.
 
+use vigil_fusion::ingest::Ingest;
 use vigil_fusion::magnetic::Wmm;
 use vigil_fusion::pipeline::{Fused, Pipeline, PipelineConfig};
-use vigil_service::replay::aligned::AlignedReplay;
 use vigil_sim::{Chunk, PortInfo, RunInfo, Simulator, Sink, SinkError, TruthRecord};
 
 const S: i64 = 1_000_000_000;
@@ -11,7 +11,7 @@ const S: i64 = 1_000_000_000;
 /// Feeds every chunk through alignment and fusion and hands each output to `f`.
 struct FuseSink<F: FnMut(&Fused)> {
     ports: Vec<PortInfo>,
-    replay: AlignedReplay,
+    replay: Ingest,
     pipeline: Pipeline,
     buf: Vec<Fused>,
     f: F,
@@ -37,7 +37,7 @@ impl<F: FnMut(&Fused)> Sink for FuseSink<F> {
         self.replay
             .feed(p.device, p.protocol, c.t_host_ns, &c.bytes, &mut |s| {
                 pipeline.handle(s, buf);
-                Ok(())
+                Ok::<(), std::convert::Infallible>(())
             })
             .expect("feed");
         self.drain();
@@ -59,7 +59,7 @@ pub fn run_scenario(
     let mut sim = Simulator::new(scenario, seed).unwrap();
     let mut sink = FuseSink {
         ports: Vec::new(),
-        replay: AlignedReplay::new(),
+        replay: Ingest::new(),
         pipeline: Pipeline::new(PipelineConfig::default(), Box::new(Wmm)).unwrap(),
         buf: Vec::new(),
         f,
@@ -69,7 +69,7 @@ pub fn run_scenario(
     sink.replay
         .finish(&mut |s| {
             pipeline.handle(s, buf);
-            Ok(())
+            Ok::<(), std::convert::Infallible>(())
         })
         .unwrap();
     sink.pipeline.finish(&mut sink.buf);

@@ -1,6 +1,6 @@
 //! The fused outputs on the simulator's scenarios (issue 8 and 9, "Done when"): each scenario is
 //! simulated in memory and its raw chunks go through the same path as `vigil replay --emit
-//! fused` (decoders, [`AlignedReplay`], [`Pipeline`]); the outputs are checked against the
+//! fused` (decoders, [`Ingest`], [`Pipeline`]); the outputs are checked against the
 //! scenario's fault schedule and geometry, worked out by hand in the comments or computed from the
 //! simulator's truth states.
 

@@ -1,7 +1,7 @@
 //! The optional live view of `vigil run` for the Foxglove/Lichtblick tools (issue 10, "bins/":
 //! "an optional, feature-gated live view ... bound to localhost, off the safety path"): its
 //! configuration section `[live_view]` (`crate::config::live_view`) and the switch between a build with the cargo feature
-//! `foxglove` (the view of [`crate::outputs::foxglove_view`]) and one without (no view).
+//! `foxglove` (the view of `crate::outputs::foxglove_view`) and one without (no view).
 //!
 //! Decision: `live_view.enabled = true` in a build without the feature is refused at start
 //! (configuration validation, key `live_view.enabled`) rather than warned about and ignored: an

@@ -5,7 +5,7 @@
 //! allow it), reopening it with exponential backoff when it fails to open or disappears (the
 //! [`Service`] reports it disconnected meanwhile). Everything runs on one thread: each read
 //! chunk, stamped with the host monotonic time of the read, goes straight from its port task into
-//! the shared [`Ctx`] (recorded in MCAP when configured, flushed at least once a second, then fed
+//! the shared `Ctx` (recorded in MCAP when configured, flushed at least once a second, then fed
 //! to the [`Service`]) with no queue or task switch between the read and the publication. The
 //! main loop ticks the integrity report and the monitor, logs a one-line status periodically,
 //! and stops cleanly on SIGINT or SIGTERM (recording finalised).

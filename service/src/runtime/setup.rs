@@ -16,7 +16,7 @@
 //! used as it is: a configuration problem never stops the service.
 //!
 //! Decision: only the text decoded protocols (CSV, JSON) are offered for the TT-Multi-RF, because
-//! the live path decodes its port as text plus raw HEX (`AlignedReplay`'s own port); the binary
+//! the live path decodes its port as text plus raw HEX (`Ingest`'s own port); the binary
 //! protocols (MAVLink, GDL90, ASTERIX) share the UART with no framing the text decoder skips.
 
 use std::time::Duration;
