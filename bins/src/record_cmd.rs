@@ -22,6 +22,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Deserialize;
+use vigil_drivers::protocol::Protocol;
 use vigil_service::config::LinkSection;
 use vigil_service::runtime::record::{RecordPort, record};
 use vigil_service::runtime::serial::SerialPort;
@@ -84,6 +85,18 @@ fn load(path: &PathBuf) -> Result<Config> {
                 p.device
             );
         }
+        // A protocol is recorded as given and selects the decoder in `vigil replay`, which
+        // matches names exactly: a misspelt one would leave the port undecoded, so it is refused
+        // here. Empty is allowed (the device name then picks the decoder, or none).
+        if !p.protocol.is_empty() && Protocol::resolve(&p.protocol, &p.device).is_none() {
+            let names: Vec<&str> = Protocol::ALL.iter().map(|p| p.name()).collect();
+            bail!(
+                "{}: ports[{i}].protocol: {:?} is not one of {} (or leave it out)",
+                path.display(),
+                p.protocol,
+                names.join(", ")
+            );
+        }
     }
     Ok(c)
 }
@@ -116,4 +129,33 @@ pub fn run(args: &RecordArgs) -> Result<()> {
         serde_json::json!({ "kind": "summary", "bytes": bytes })
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load_text(name: &str, text: &str) -> Result<Config> {
+        let dir = std::env::temp_dir().join(format!("vigil-record-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let r = load(&path);
+        let _ = std::fs::remove_file(&path);
+        r
+    }
+
+    #[test]
+    fn a_protocol_must_be_one_of_the_table_or_absent() {
+        let port = |protocol: &str| {
+            format!("[[ports]]\ndevice = \"imu\"\npath = \"/dev/null\"\nbaud = 115200\n{protocol}")
+        };
+        let e = load_text("bad.toml", &port("protocol = \"bahrs-2\"\n")).unwrap_err();
+        assert!(e.to_string().contains("ports[0].protocol"), "{e}");
+        assert!(e.to_string().contains("bahrs-2.0"), "{e}");
+        let c = load_text("good.toml", &port("protocol = \"bahrs-2.0\"\n")).unwrap();
+        assert_eq!(c.ports[0].protocol, "bahrs-2.0");
+        // No protocol: recorded as is (an unknown device is then counted, not decoded).
+        assert!(load_text("none.toml", &port("")).is_ok());
+    }
 }
