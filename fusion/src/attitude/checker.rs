@@ -504,25 +504,23 @@ impl AttitudeChecker {
             .update(b.inertial.as_ref(), &vn, t, horizon, self.k_axis, &p)
     }
 
+    /// The VN-200 at `t`: its attitude slerped between the samples around `t` (held from the
+    /// last one when none follows), gated (source, stale, frozen, not finite) and unmounted;
+    /// whether it is healthy (the magnetic rule needs that); and its vertical channel inputs.
     fn prepare_vn200(&self, t: i64) -> (Prepared, bool, Vn200Vertical) {
         let p = &self.params;
         let horizon = self.horizon_ns(p.vn200_period_s);
         let (prev, next) = bracket(&self.vn, t, |x| x.0.t_gps_ns);
-        let none = |g: GateReason| {
-            (
-                Prepared::missing(g),
-                false,
-                Vn200Vertical {
-                    vel_down_mps: None,
-                    alt_m: None,
-                    vel_u_mps: None,
-                    pos_u_m: None,
-                    gate: Some(g),
-                },
-            )
-        };
         let Some(&(s0, f0)) = prev else {
-            return none(GateReason::NoData);
+            let g = GateReason::NoData;
+            let vertical = Vn200Vertical {
+                vel_down_mps: None,
+                alt_m: None,
+                vel_u_mps: None,
+                pos_u_m: None,
+                gate: Some(g),
+            };
+            return (Prepared::missing(g), false, vertical);
         };
         let age_ns = t.saturating_sub(s0.t_gps_ns);
         let held_s = if next.is_none() {
@@ -569,32 +567,7 @@ impl AttitudeChecker {
                 p.vn200_default_sigma.tilt_deg * DEG,
             ]);
         let healthy = gates::vn200_healthy(&s0);
-        // Vertical: linear interpolation of down velocity and altitude.
-        let lerp = |a: Option<f64>, b: Option<f64>| match (a, b, lin) {
-            (Some(a), Some(b), Some((_, u))) => Some(a + (b - a) * u),
-            (Some(a), _, None) => Some(a),
-            _ => None,
-        };
-        let s1 = lin.map(|x| x.0);
-        let vert_gate = if !s0.ins_status.position_valid() {
-            Some(GateReason::InsModeNoAttitude)
-        } else if s0.ins_status.imu_error() {
-            Some(GateReason::InsErrorBits)
-        } else if age_ns > horizon {
-            Some(GateReason::Stale)
-        } else {
-            None
-        };
-        let vertical = Vn200Vertical {
-            vel_down_mps: lerp(
-                s0.vel_ned_mps.map(|v| v[2]),
-                s1.and_then(|s| s.vel_ned_mps).map(|v| v[2]),
-            ),
-            alt_m: lerp(s0.lla.map(|l| l[2]), s1.and_then(|s| s.lla).map(|l| l[2])),
-            vel_u_mps: s0.vel_u_mps,
-            pos_u_m: s0.pos_u_m,
-            gate: vert_gate,
-        };
+        let vertical = vn200_vertical(&s0, lin, age_ns > horizon);
         (
             Prepared {
                 values: Some(values),
@@ -720,6 +693,41 @@ fn declination_record(d: Declination) -> DeclinationRecord {
         sigma_deg: d.sigma_rad / DEG,
         horizontal_nt: d.horizontal_nt,
         zone: d.zone,
+    }
+}
+
+/// The VN-200's vertical channel inputs at the comparison time: down velocity and altitude
+/// interpolated linearly towards the next sample (`next`: it and the fraction of the way to it;
+/// held without one), gated by the INS status of the sample before and by staleness.
+fn vn200_vertical(
+    s0: &Vn200Sample,
+    next: Option<(Vn200Sample, f64)>,
+    stale: bool,
+) -> Vn200Vertical {
+    let lerp = |a: Option<f64>, b: Option<f64>| match (a, b, next) {
+        (Some(a), Some(b), Some((_, u))) => Some(a + (b - a) * u),
+        (Some(a), _, None) => Some(a),
+        _ => None,
+    };
+    let s1 = next.map(|x| x.0);
+    let gate = if !s0.ins_status.position_valid() {
+        Some(GateReason::InsModeNoAttitude)
+    } else if s0.ins_status.imu_error() {
+        Some(GateReason::InsErrorBits)
+    } else if stale {
+        Some(GateReason::Stale)
+    } else {
+        None
+    };
+    Vn200Vertical {
+        vel_down_mps: lerp(
+            s0.vel_ned_mps.map(|v| v[2]),
+            s1.and_then(|s| s.vel_ned_mps).map(|v| v[2]),
+        ),
+        alt_m: lerp(s0.lla.map(|l| l[2]), s1.and_then(|s| s.lla).map(|l| l[2])),
+        vel_u_mps: s0.vel_u_mps,
+        pos_u_m: s0.pos_u_m,
+        gate,
     }
 }
 
