@@ -93,8 +93,18 @@ fn unit_values(p: &AttitudePayload, axis: usize) -> String {
 }
 
 /// Attitude rules: miscompare per axis, unit isolated, unit health, voted attitude invalid, INS
-/// not tracking.
+/// not tracking (one function per rule; each pushes its alerts to `out`).
 pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
+    attitude_miscompare(p, params, out);
+    unit_isolated(p, params, out);
+    unit_health(p, params, out);
+    attitude_invalid(p, params, out);
+    ins_not_tracking(p, params, out);
+}
+
+/// One alert per axis with a failed pair, naming the failed pairs and each unit's value; "not
+/// isolated" when the cross-check could not say which unit is wrong.
+fn attitude_miscompare(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
     for axis in [AXIS_ROLL, AXIS_PITCH, AXIS_HEADING] {
         let failed: Vec<&str> = (0..3)
             .filter(|&pair| p.pair_verdicts[pair][axis] == VERDICT_FAIL)
@@ -124,6 +134,11 @@ pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
             reason,
         );
     }
+}
+
+/// The unit the cross-check isolated, with its values against the voted attitude; an unknown
+/// unit code is named as such rather than dropped.
+fn unit_isolated(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
     if p.isolation == ISOLATION_ISOLATED {
         let u = usize::from(p.isolated_unit);
         let values = p
@@ -156,6 +171,11 @@ pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
             reason,
         );
     }
+}
+
+/// One alert per unit whose health flag is set: for the BAHRS its own integrity-risk
+/// declaration (with its values), for the others the fault flags.
+fn unit_health(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
     for (i, u) in p.units.iter().enumerate() {
         if u.fault_flags & FAULT_HEALTH == 0 {
             continue;
@@ -178,6 +198,10 @@ pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
         let id = Rule::UnitHealth.alert_id(i as u32);
         push(out, params, Rule::UnitHealth, id, SEVERITY_CAUTION, reason);
     }
+}
+
+/// The voted attitude is unusable (severity warning), with every unit's fault flags.
+fn attitude_invalid(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
     if p.valid == 0 {
         let mut reason = String::from("voted attitude unusable; unit fault flags");
         for (i, u) in p.units.iter().enumerate() {
@@ -193,6 +217,10 @@ pub(crate) fn attitude(p: &AttitudePayload, params: &MonitorParams, out: &mut Ac
             reason,
         );
     }
+}
+
+/// The VN-200 INS reports its attitude invalid (INS mode or error bits).
+fn ins_not_tracking(p: &AttitudePayload, params: &MonitorParams, out: &mut Active) {
     let vn = &p.units[usize::from(UNIT_VN200)];
     if vn.fault_flags & FAULT_INVALID != 0 {
         let reason = format!(

@@ -131,146 +131,164 @@ impl Lifecycle {
     }
 
     /// Evaluates at GPS time `t_ns` with the condition `cond` (`None`: absent). Returns the state
-    /// change to publish, if any.
+    /// change to publish, if any. One step per phase (see the diagram in the module
+    /// documentation); the reason of a present condition is kept for the clearing texts.
     pub fn step(
         &mut self,
         t_ns: i64,
         cond: Option<&Condition>,
         timing: &RuleTiming,
     ) -> Option<Change> {
-        let delay = timing.raise_delay_ns();
-        let held = |since: i64| t_ns.saturating_sub(since) >= delay;
         if let Some(c) = cond {
             self.last_reason.clone_from(&c.reason);
         }
-        match (self.phase, cond) {
-            (Phase::Inactive, None) => None,
-            (Phase::Inactive, Some(c)) => {
-                self.phase = Phase::Pending { since_ns: t_ns };
-                if held(t_ns) {
-                    self.raise(t_ns, c)
-                } else {
-                    None
-                }
-            }
-            (Phase::Pending { .. }, None) => {
-                // A blip shorter than the raise delay: nothing was published.
-                self.phase = Phase::Inactive;
-                None
-            }
-            (Phase::Pending { since_ns }, Some(c)) => {
-                if held(since_ns) {
-                    self.raise(t_ns, c)
-                } else {
-                    None
-                }
-            }
-            (
-                Phase::Raised {
-                    raised_ns,
-                    severity,
-                    ..
-                },
-                Some(c),
-            ) => {
-                self.phase = Phase::Raised {
-                    raised_ns,
-                    severity: c.severity,
-                    absent_since_ns: None,
-                };
-                (c.severity != severity).then(|| Change {
-                    state: STATE_RAISED,
-                    severity: c.severity,
-                    raised_gps_ns: raised_ns,
-                    reason: c.reason.clone(),
-                })
-            }
-            (
-                Phase::Raised {
-                    raised_ns,
-                    severity,
-                    absent_since_ns,
-                },
-                None,
-            ) => {
-                let since = absent_since_ns.unwrap_or(t_ns);
-                if t_ns.saturating_sub(since) < timing.clear_hysteresis_ns() {
-                    self.phase = Phase::Raised {
-                        raised_ns,
-                        severity,
-                        absent_since_ns: Some(since),
-                    };
-                    return None;
-                }
-                if timing.latch {
-                    self.phase = Phase::Latched {
-                        raised_ns,
-                        severity,
-                        pending_since_ns: None,
-                    };
-                    self.ack_requested = false;
-                    Some(Change {
-                        state: STATE_LATCHED,
-                        severity,
-                        raised_gps_ns: raised_ns,
-                        reason: format!("latched until acknowledged: {}", self.last_reason),
-                    })
-                } else {
-                    self.phase = Phase::Inactive;
-                    Some(Change {
-                        state: STATE_CLEARED,
-                        severity,
-                        raised_gps_ns: raised_ns,
-                        reason: format!("cleared: {}", self.last_reason),
-                    })
-                }
-            }
-            (
-                Phase::Latched {
-                    raised_ns,
-                    severity,
-                    pending_since_ns,
-                },
-                cond,
-            ) => {
-                if self.ack_requested {
-                    self.ack_requested = false;
-                    // The condition may already be back: its raise delay starts now.
-                    self.phase = match cond {
-                        Some(_) => Phase::Pending { since_ns: t_ns },
-                        None => Phase::Inactive,
-                    };
-                    return Some(Change {
-                        state: STATE_CLEARED,
-                        severity,
-                        raised_gps_ns: raised_ns,
-                        reason: format!("acknowledged: {}", self.last_reason),
-                    });
-                }
-                match cond {
-                    None => {
-                        self.phase = Phase::Latched {
-                            raised_ns,
-                            severity,
-                            pending_since_ns: None,
-                        };
-                        None
-                    }
-                    Some(c) => {
-                        let since = pending_since_ns.unwrap_or(t_ns);
-                        if held(since) {
-                            self.raise(t_ns, c)
-                        } else {
-                            self.phase = Phase::Latched {
-                                raised_ns,
-                                severity,
-                                pending_since_ns: Some(since),
-                            };
-                            None
-                        }
-                    }
-                }
-            }
+        match self.phase {
+            Phase::Inactive | Phase::Pending { .. } => self.step_not_raised(t_ns, cond, timing),
+            Phase::Raised {
+                raised_ns,
+                severity,
+                absent_since_ns,
+            } => match cond {
+                Some(c) => self.step_raised_held(raised_ns, severity, c),
+                None => self.step_raised_absent(t_ns, raised_ns, severity, absent_since_ns, timing),
+            },
+            Phase::Latched {
+                raised_ns,
+                severity,
+                pending_since_ns,
+            } => self.step_latched(t_ns, raised_ns, severity, pending_since_ns, cond, timing),
+        }
+    }
+
+    /// Not raised (inactive or pending): the first evaluation that sees the condition starts the
+    /// raise delay, and the alert raises once the condition has held for it. An absence before
+    /// then is a blip shorter than the raise delay: nothing was published, back to inactive.
+    fn step_not_raised(
+        &mut self,
+        t_ns: i64,
+        cond: Option<&Condition>,
+        timing: &RuleTiming,
+    ) -> Option<Change> {
+        let Some(c) = cond else {
+            self.phase = Phase::Inactive;
+            return None;
+        };
+        let since_ns = match self.phase {
+            Phase::Pending { since_ns } => since_ns,
+            _ => t_ns,
+        };
+        self.phase = Phase::Pending { since_ns };
+        if held(t_ns, since_ns, timing) {
+            self.raise(t_ns, c)
+        } else {
+            None
+        }
+    }
+
+    /// Raised and the condition still holds: any absence so far is forgotten, and a change of
+    /// severity is published at once as another RAISED (keeping the first raise time).
+    fn step_raised_held(&mut self, raised_ns: i64, severity: u8, c: &Condition) -> Option<Change> {
+        self.phase = Phase::Raised {
+            raised_ns,
+            severity: c.severity,
+            absent_since_ns: None,
+        };
+        (c.severity != severity).then(|| Change {
+            state: STATE_RAISED,
+            severity: c.severity,
+            raised_gps_ns: raised_ns,
+            reason: c.reason.clone(),
+        })
+    }
+
+    /// Raised and the condition absent: it stays raised until the condition has been absent for
+    /// the clear hysteresis, then clears, or latches (LATCHED, waiting for an acknowledgement)
+    /// when the rule latches.
+    fn step_raised_absent(
+        &mut self,
+        t_ns: i64,
+        raised_ns: i64,
+        severity: u8,
+        absent_since_ns: Option<i64>,
+        timing: &RuleTiming,
+    ) -> Option<Change> {
+        let since = absent_since_ns.unwrap_or(t_ns);
+        if t_ns.saturating_sub(since) < timing.clear_hysteresis_ns() {
+            self.phase = Phase::Raised {
+                raised_ns,
+                severity,
+                absent_since_ns: Some(since),
+            };
+            return None;
+        }
+        if timing.latch {
+            self.phase = Phase::Latched {
+                raised_ns,
+                severity,
+                pending_since_ns: None,
+            };
+            self.ack_requested = false;
+            Some(Change {
+                state: STATE_LATCHED,
+                severity,
+                raised_gps_ns: raised_ns,
+                reason: format!("latched until acknowledged: {}", self.last_reason),
+            })
+        } else {
+            self.phase = Phase::Inactive;
+            Some(Change {
+                state: STATE_CLEARED,
+                severity,
+                raised_gps_ns: raised_ns,
+                reason: format!("cleared: {}", self.last_reason),
+            })
+        }
+    }
+
+    /// Latched: an acknowledgement clears it (CLEARED; a condition already back starts its raise
+    /// delay now). Otherwise a condition back for the raise delay raises it again; an absent one
+    /// restarts that delay.
+    fn step_latched(
+        &mut self,
+        t_ns: i64,
+        raised_ns: i64,
+        severity: u8,
+        pending_since_ns: Option<i64>,
+        cond: Option<&Condition>,
+        timing: &RuleTiming,
+    ) -> Option<Change> {
+        if self.ack_requested {
+            self.ack_requested = false;
+            // The condition may already be back: its raise delay starts now.
+            self.phase = match cond {
+                Some(_) => Phase::Pending { since_ns: t_ns },
+                None => Phase::Inactive,
+            };
+            return Some(Change {
+                state: STATE_CLEARED,
+                severity,
+                raised_gps_ns: raised_ns,
+                reason: format!("acknowledged: {}", self.last_reason),
+            });
+        }
+        let Some(c) = cond else {
+            self.phase = Phase::Latched {
+                raised_ns,
+                severity,
+                pending_since_ns: None,
+            };
+            return None;
+        };
+        let since = pending_since_ns.unwrap_or(t_ns);
+        if held(t_ns, since, timing) {
+            self.raise(t_ns, c)
+        } else {
+            self.phase = Phase::Latched {
+                raised_ns,
+                severity,
+                pending_since_ns: Some(since),
+            };
+            None
         }
     }
 
@@ -287,6 +305,11 @@ impl Lifecycle {
             reason: c.reason.clone(),
         })
     }
+}
+
+/// Whether a condition seen since `since_ns` has held for the raise delay at `t_ns` (GPS ns).
+fn held(t_ns: i64, since_ns: i64, timing: &RuleTiming) -> bool {
+    t_ns.saturating_sub(since_ns) >= timing.raise_delay_ns()
 }
 
 #[cfg(test)]

@@ -202,6 +202,8 @@ impl SimModule {
         self.state = to;
     }
 
+    /// One line from the host: parsed, counted, checked against the state, then executed. A line
+    /// it cannot take is ignored in RUN and answered with `AT+ERROR` in the other states.
     fn command(&mut self, line: &[u8]) {
         let Ok(text) = std::str::from_utf8(line) else {
             return;
@@ -222,25 +224,13 @@ impl SimModule {
             }
             return;
         }
+        self.execute(cmd);
+    }
+
+    /// Executes a command the current state accepts.
+    fn execute(&mut self, cmd: AtCommand) {
         match cmd {
-            AtCommand::Config(ConfigMode::Run) => {
-                self.send(AtResponse::Ok);
-                self.stored = self.working.clone();
-                self.enter(ModuleState::Run);
-                self.config_mode = ConfigMode::Run;
-            }
-            AtCommand::Config(mode) => {
-                if self.state == ModuleState::Run {
-                    self.send(AtResponse::Ok);
-                    self.locked = true; // 5.2.3: "This command also sets lock."
-                    self.config_mode = mode;
-                    self.working = self.stored.clone();
-                    self.enter(ModuleState::Configuration);
-                } else {
-                    self.config_mode = mode;
-                    self.send(AtResponse::Ok);
-                }
-            }
+            AtCommand::Config(mode) => self.config(mode),
             AtCommand::ConfigQuery => {
                 let v = if self.state == ModuleState::Configuration {
                     self.config_mode as u8
@@ -265,27 +255,8 @@ impl SimModule {
             AtCommand::FirmwareVersionQuery => {
                 self.value("FIRMWARE_VERSION", self.firmware.clone())
             }
-            AtCommand::Settings => {
-                let lines: Vec<_> = self
-                    .working
-                    .iter()
-                    .map(|(k, v)| (k.clone(), v.clone()))
-                    .collect();
-                for (k, v) in lines {
-                    self.value(&k, v);
-                }
-            }
-            AtCommand::Help => {
-                for id in SettingId::ALL {
-                    let line = format!(
-                        "AT+{}={} [{}]",
-                        id.name(),
-                        self.working[id.name()],
-                        id.spec().doc
-                    );
-                    self.send(AtResponse::Text { text: line });
-                }
-            }
+            AtCommand::Settings => self.list_settings(),
+            AtCommand::Help => self.help(),
             AtCommand::SettingsDefault => {
                 for id in SettingId::ALL {
                     if let Some(d) = id.spec().default {
@@ -298,19 +269,7 @@ impl SimModule {
                 let v = self.working.get(id.name()).cloned().unwrap_or_default();
                 self.value(id.name(), v);
             }
-            AtCommand::Describe(id) => {
-                let s = id.spec();
-                for line in [
-                    format!("Setting: {}", s.name),
-                    format!("Description: {}", s.doc),
-                    "Access: Read Write".to_owned(),
-                    "Type: Integer decimal".to_owned(),
-                    format!("Range (min.): {}", s.min),
-                    format!("Range (max.): {}", s.max),
-                ] {
-                    self.send(AtResponse::Text { text: line });
-                }
-            }
+            AtCommand::Describe(id) => self.describe(id),
             AtCommand::Write(setting) => {
                 if self.faults.stuck_setting != Some(setting.id()) {
                     self.working
@@ -318,19 +277,7 @@ impl SimModule {
                 }
                 self.send(AtResponse::Ok);
             }
-            AtCommand::Other(body) => match body.split_once('=') {
-                Some((name, v)) if self.working.contains_key(name) => {
-                    self.working.insert(name.to_owned(), v.to_owned());
-                    self.send(AtResponse::Ok);
-                }
-                _ => match body.strip_suffix('?') {
-                    Some(name) if self.working.contains_key(name) => {
-                        let v = self.working[name].clone();
-                        self.value(name, v);
-                    }
-                    _ => self.error("Unknown command"),
-                },
-            },
+            AtCommand::Other(body) => self.other(&body),
             AtCommand::Reboot => {
                 self.stored = self.working.clone();
                 self.power_cycle();
@@ -340,6 +287,86 @@ impl SimModule {
                 self.config_mode = ConfigMode::Run;
                 self.enter(ModuleState::Bootloader);
             }
+        }
+    }
+
+    /// `AT+CONFIG=n`. `AT+CONFIG=0` saves the working settings and returns to RUN. From RUN,
+    /// 1 or 2 enters CONFIGURATION with the stored settings and sets the lock (5.2.3: "This
+    /// command also sets lock."); in CONFIGURATION it only changes the mode.
+    fn config(&mut self, mode: ConfigMode) {
+        if mode == ConfigMode::Run {
+            self.send(AtResponse::Ok);
+            self.stored = self.working.clone();
+            self.enter(ModuleState::Run);
+            self.config_mode = ConfigMode::Run;
+        } else if self.state == ModuleState::Run {
+            self.send(AtResponse::Ok);
+            self.locked = true; // 5.2.3: "This command also sets lock."
+            self.config_mode = mode;
+            self.working = self.stored.clone();
+            self.enter(ModuleState::Configuration);
+        } else {
+            self.config_mode = mode;
+            self.send(AtResponse::Ok);
+        }
+    }
+
+    /// `AT+SETTINGS?`: every working setting as `AT+NAME=value`.
+    fn list_settings(&mut self) {
+        let lines: Vec<_> = self
+            .working
+            .iter()
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect();
+        for (k, v) in lines {
+            self.value(&k, v);
+        }
+    }
+
+    /// `AT+HELP`: one line per documented setting, with its value and description.
+    fn help(&mut self) {
+        for id in SettingId::ALL {
+            let line = format!(
+                "AT+{}={} [{}]",
+                id.name(),
+                self.working[id.name()],
+                id.spec().doc
+            );
+            self.send(AtResponse::Text { text: line });
+        }
+    }
+
+    /// `AT+NAME=?`: the setting's description block.
+    fn describe(&mut self, id: SettingId) {
+        let s = id.spec();
+        for line in [
+            format!("Setting: {}", s.name),
+            format!("Description: {}", s.doc),
+            "Access: Read Write".to_owned(),
+            "Type: Integer decimal".to_owned(),
+            format!("Range (min.): {}", s.min),
+            format!("Range (max.): {}", s.max),
+        ] {
+            self.send(AtResponse::Text { text: line });
+        }
+    }
+
+    /// Any other `AT+...` text: a write or a read of a setting outside the tables that the
+    /// module holds (such as `ADSB_TX_ICAO`), taken without a range check; anything else is an
+    /// unknown command.
+    fn other(&mut self, body: &str) {
+        match body.split_once('=') {
+            Some((name, v)) if self.working.contains_key(name) => {
+                self.working.insert(name.to_owned(), v.to_owned());
+                self.send(AtResponse::Ok);
+            }
+            _ => match body.strip_suffix('?') {
+                Some(name) if self.working.contains_key(name) => {
+                    let v = self.working[name].clone();
+                    self.value(name, v);
+                }
+                _ => self.error("Unknown command"),
+            },
         }
     }
 }

@@ -29,12 +29,14 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 use serde::Serialize;
 
+use super::airborne_position::AirbornePosition;
 use super::cpr::{self, CprFrame};
 use super::df::{Content, ModeS, Parity};
 use super::ident::Callsign;
 use super::me::Me;
 use super::nic::nic;
 use super::squawk::Squawk;
+use super::surface::SurfacePosition;
 use crate::traffic::{AddressType, Link, Protocol, SourceTime, TrafficFlags, TrafficReport};
 use crate::ttmrf::raw::RxMeta;
 
@@ -261,56 +263,33 @@ impl Tracker {
     }
 
     /// Feeds one decoded frame with its receive metadata.
+    ///
+    /// The steps: the sender's table key; a frame accepted but not tracked (coarse TIS-B,
+    /// management); an address-parity reply, which only updates an aircraft already known; then
+    /// for a frame with verified parity, the aircraft's entry (created, evicting when full), the
+    /// ME contents applied to it, and the traffic report when it moved.
     pub fn update(&mut self, msg: &ModeS, meta: &RxMeta) -> Update {
         self.seq += 1;
         let seq = self.seq;
         let t = meta.time_s();
-        let mut up = Update::default();
-        let (key, addr_type) = match msg.content {
-            Content::Extended { ca_cf, .. } if msg.df == 18 => match ca_cf {
-                0 => (msg.icao, AddressType::Icao),
-                1 => (msg.icao | 1 << 24, AddressType::NonIcao),
-                2 | 6 => (msg.icao | 2 << 24, AddressType::TisbIcao),
-                _ => (msg.icao | 3 << 24, AddressType::TisbOther),
-            },
-            _ => (msg.icao, AddressType::Icao),
+        let accepted = Update {
+            accepted: true,
+            ..Update::default()
         };
+        let (key, addr_type) = track_key(msg);
         if msg.df == 18 && msg.content == Content::NotDecoded {
             // Coarse TIS-B / management: the address field may be a track number, so it must
             // not vouch for AP replies; accepted (parity checked) but not tracked.
-            up.accepted = true;
-            return up;
+            return accepted;
         }
         if msg.parity == Parity::AddressParity {
-            let Some(a) = self.table.get_mut(&key) else {
-                return up;
-            };
-            a.last_seq = seq;
-            if let Content::Surveillance {
-                altitude_ft,
-                squawk,
-                callsign,
-                ..
-            } = msg.content
-            {
-                if altitude_ft.is_some() {
-                    a.altitude_baro_ft = altitude_ft;
-                }
-                if squawk.is_some() {
-                    a.squawk = squawk;
-                }
-                if callsign.is_some() {
-                    a.callsign = callsign;
-                }
-            }
-            up.accepted = true;
-            return up;
+            return self.update_known(key, seq, msg);
         }
         let cfg = self.cfg;
         let a = self.entry(key);
         a.last_seq = seq;
         a.address_type = addr_type;
-        up.accepted = true;
+        let mut up = accepted;
         let me = match msg.content {
             Content::Extended { me, ca_cf, .. } => {
                 if msg.df == 17 {
@@ -324,39 +303,69 @@ impl Tracker {
             }
             _ => return up,
         };
-        let mut moved = false;
+        let moved = Self::apply_me(&cfg, a, me, t, &mut up);
+        // A report never carries a stale position: the last position must be no older than
+        // `local_max_age_s` (always true without receive times).
+        let fresh = a
+            .last_pos
+            .is_some_and(|l| Self::within_static(l.t, t, cfg.local_max_age_s));
+        if cfg.emit_reports && moved && fresh {
+            up.report = Some(report(key, a, msg, meta));
+        }
+        if up.cpr_rejected {
+            self.cpr_rejections += 1;
+        }
+        up
+    }
+
+    /// An address-parity reply: its parity is checked against an address already in the table
+    /// (heard with verified parity), so an unknown one is not accepted and creates nothing; a
+    /// known one updates its altitude, squawk and callsign.
+    fn update_known(&mut self, key: u32, seq: u64, msg: &ModeS) -> Update {
+        let Some(a) = self.table.get_mut(&key) else {
+            return Update::default();
+        };
+        a.last_seq = seq;
+        if let Content::Surveillance {
+            altitude_ft,
+            squawk,
+            callsign,
+            ..
+        } = msg.content
+        {
+            if altitude_ft.is_some() {
+                a.altitude_baro_ft = altitude_ft;
+            }
+            if squawk.is_some() {
+                a.squawk = squawk;
+            }
+            if callsign.is_some() {
+                a.callsign = callsign;
+            }
+        }
+        Update {
+            accepted: true,
+            ..Update::default()
+        }
+    }
+
+    /// Applies an extended squitter's ME field to aircraft `a` (at receive time `t`, s); returns
+    /// whether its position or velocity changed (what a traffic report is emitted for). A field
+    /// the message leaves unknown keeps the aircraft's previous value.
+    fn apply_me(
+        cfg: &TrackerConfig,
+        a: &mut Aircraft,
+        me: Me,
+        t: Option<f64>,
+        up: &mut Update,
+    ) -> bool {
         match me {
             Me::Identification(id) => {
                 a.callsign = Some(id.callsign);
                 a.category = Some(id.emitter_category());
             }
-            Me::AirbornePosition(p) => {
-                if p.altitude_baro_ft.is_some() {
-                    a.altitude_baro_ft = p.altitude_baro_ft;
-                }
-                if p.altitude_gnss_ft.is_some() {
-                    a.altitude_gnss_ft = p.altitude_gnss_ft;
-                }
-                a.on_ground = false;
-                let version = a.version.unwrap_or(0);
-                let n = nic(p.typecode, version, a.nic_a, version == 2 && p.nic_b, false);
-                up.nic = Some(n);
-                a.nic = Some(n);
-                moved = Self::position(&cfg, a, p.cpr, false, t, &mut up);
-            }
-            Me::SurfacePosition(s) => {
-                a.on_ground = true;
-                if let Some(b) = s.speed {
-                    a.groundspeed_kt = Some(b.min_kt);
-                }
-                if s.track_deg.is_some() {
-                    a.track_deg = s.track_deg;
-                }
-                let n = nic(s.typecode, a.version.unwrap_or(0), a.nic_a, false, a.nic_c);
-                up.nic = Some(n);
-                a.nic = Some(n);
-                moved = Self::position(&cfg, a, s.cpr, true, t, &mut up);
-            }
+            Me::AirbornePosition(p) => return Self::airborne_position(cfg, a, p, t, up),
+            Me::SurfacePosition(s) => return Self::surface_position(cfg, a, s, t, up),
             Me::Velocity(v) => {
                 a.nac_v = Some(v.nac_v);
                 if v.groundspeed_kt.is_some() {
@@ -367,7 +376,7 @@ impl Tracker {
                     a.heading_deg = v.heading_deg;
                 }
                 a.vertical_rate_fpm = v.vertical_rate_fpm;
-                moved = true;
+                return true;
             }
             Me::Status(s) => {
                 if s.emergency.is_some() {
@@ -397,18 +406,53 @@ impl Tracker {
             }
             Me::Other { .. } => {}
         }
-        // A report never carries a stale position: the last position must be no older than
-        // `local_max_age_s` (always true without receive times).
-        let fresh = a
-            .last_pos
-            .is_some_and(|l| Self::within_static(l.t, t, cfg.local_max_age_s));
-        if cfg.emit_reports && moved && fresh {
-            up.report = Some(report(key, a, msg, meta));
+        false
+    }
+
+    /// An airborne position message: altitudes, NIC (from the type code and the supplements of
+    /// the aircraft's version; NIC-B only in version 2), then the CPR position. Returns whether a
+    /// position was decoded.
+    fn airborne_position(
+        cfg: &TrackerConfig,
+        a: &mut Aircraft,
+        p: AirbornePosition,
+        t: Option<f64>,
+        up: &mut Update,
+    ) -> bool {
+        if p.altitude_baro_ft.is_some() {
+            a.altitude_baro_ft = p.altitude_baro_ft;
         }
-        if up.cpr_rejected {
-            self.cpr_rejections += 1;
+        if p.altitude_gnss_ft.is_some() {
+            a.altitude_gnss_ft = p.altitude_gnss_ft;
         }
-        up
+        a.on_ground = false;
+        let version = a.version.unwrap_or(0);
+        let n = nic(p.typecode, version, a.nic_a, version == 2 && p.nic_b, false);
+        up.nic = Some(n);
+        a.nic = Some(n);
+        Self::position(cfg, a, p.cpr, false, t, up)
+    }
+
+    /// A surface position message: ground speed and track, NIC (with the NIC-C supplement),
+    /// then the CPR position. Returns whether a position was decoded.
+    fn surface_position(
+        cfg: &TrackerConfig,
+        a: &mut Aircraft,
+        s: SurfacePosition,
+        t: Option<f64>,
+        up: &mut Update,
+    ) -> bool {
+        a.on_ground = true;
+        if let Some(b) = s.speed {
+            a.groundspeed_kt = Some(b.min_kt);
+        }
+        if s.track_deg.is_some() {
+            a.track_deg = s.track_deg;
+        }
+        let n = nic(s.typecode, a.version.unwrap_or(0), a.nic_a, false, a.nic_c);
+        up.nic = Some(n);
+        a.nic = Some(n);
+        Self::position(cfg, a, s.cpr, true, t, up)
     }
 
     /// Tries to decode a position from a CPR frame; returns true when one was found.
@@ -540,6 +584,21 @@ impl Tracker {
 
 /// Great-circle distance between two (lat_deg, lon_deg) points on a sphere of the WGS-84
 /// mean radius, m (good to 0.5 %, plenty for plausibility checks).
+/// The table key of the frame's sender and its address type: the 24-bit address, with the
+/// address type of a DF 18 (CF field) in bits 24-25 so that a non-ICAO or TIS-B address never
+/// merges with the ICAO aircraft of the same number.
+fn track_key(msg: &ModeS) -> (u32, AddressType) {
+    match msg.content {
+        Content::Extended { ca_cf, .. } if msg.df == 18 => match ca_cf {
+            0 => (msg.icao, AddressType::Icao),
+            1 => (msg.icao | 1 << 24, AddressType::NonIcao),
+            2 | 6 => (msg.icao | 2 << 24, AddressType::TisbIcao),
+            _ => (msg.icao | 3 << 24, AddressType::TisbOther),
+        },
+        _ => (msg.icao, AddressType::Icao),
+    }
+}
+
 fn distance_m(a: (f64, f64), b: (f64, f64)) -> f64 {
     const R: f64 = 6_371_008.8;
     let (p1, p2) = (a.0.to_radians(), b.0.to_radians());

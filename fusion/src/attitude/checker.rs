@@ -32,8 +32,15 @@ use super::vertical::{VerticalChannel, VerticalRecord, Vn200Vertical};
 use super::vote::vote;
 use crate::magnetic::{Declination, DeclinationModel, MagneticZone};
 
+#[path = "check_isolation.rs"]
+mod check_isolation;
+#[path = "check_pairs.rs"]
+mod check_pairs;
 #[path = "prompt.rs"]
 mod prompt;
+
+use check_isolation::{FaultSummary, raw_isolation};
+use check_pairs::PairInputs;
 
 const DEG: f64 = std::f64::consts::PI / 180.0;
 /// History kept per unit, samples (bounded memory).
@@ -303,297 +310,56 @@ impl AttitudeChecker {
 
     /// One comparison step at the BAHRS sample `b` against the buffered VN-200 and Watson
     /// samples (`frozen`: the BAHRS frozen detector's verdict for `b`).
+    ///
+    /// The steps, in order: (1) the time step since the previous check and the declination;
+    /// (2) each unit at `b`'s time, ready to compare (interpolated, unmounted, true heading,
+    /// gated); (3) every pair on every axis and each pair's joint test (`check_pairs`);
+    /// (4) the isolation those verdicts point at, then (5) its transitions from the previous
+    /// outcome and the fault flags (`check_isolation`); (6) the vote over the units left; (7) the
+    /// vertical and inertial channels and the coverage of the check.
     pub fn compare_at(&mut self, b: &BahrsSample, frozen: bool) -> AttitudeRecord {
-        let p = self.params;
         let t = b.t_gps_ns;
-        let dt_s = match self.last_t_ns {
-            Some(t0) if t > t0 => (t.saturating_sub(t0) as f64 * 1e-9).min(1.0),
-            _ => p.bahrs_period_s,
-        };
-        self.last_t_ns = Some(t);
+        let dt_s = self.advance_clock(t);
         let decl = self.declination(t);
+
         let (mag_gate, rz, d_rad) = magnetic_frame(decl);
         let bahrs = self.prepare_bahrs(b, frozen, &rz, mag_gate, d_rad);
-
-        // VN-200.
         let (vn, vn_healthy, vn_vertical) = self.prepare_vn200(t);
-        // Watson.
         let watson = self.prepare_watson(t, &rz, mag_gate);
-
-        // Timing term: Euler rates from the first unit that has body rates.
-        let euler = [bahrs.rates, vn.rates, watson.rates]
-            .into_iter()
-            .flatten()
-            .next()
-            .map(|r| euler_rates(r, b.roll_rad, b.pitch_rad))
-            .unwrap_or([0.0; 3]);
-        let decl_var = decl.map(|d| d.sigma_rad * d.sigma_rad).unwrap_or(0.0);
-        let mount = [
-            p.mounting_bahrs.sigma_deg * DEG,
-            p.mounting_vn200.sigma_deg * DEG,
-            p.mounting_watson.sigma_deg * DEG,
-        ];
         let units = [&bahrs, &vn, &watson];
-        let pair_units = [(0, 1), (0, 2), (1, 2)];
-        let mut pair_records = [[None; 3]; 3];
-        let mut joint_records = [None; 3];
-        for (pi, &(ia, ib)) in pair_units.iter().enumerate() {
-            let (ua, ub) = (units[ia], units[ib]);
-            let mut zs = [None; 3];
-            for (ai, axis) in Axis::ALL.into_iter().enumerate() {
-                let st = &mut self.pairs[pi][ai];
-                let open = ua.gates[ai].is_none() && ub.gates[ai].is_none();
-                let (Some(va), Some(vb), true) = (ua.values, ub.values, open) else {
-                    pair_records[pi][ai] = Some(AxisPair {
-                        verdict: PairVerdict::NotCompared,
-                        comparison: None,
-                        stat_exceeded: false,
-                        fixed_exceeded: false,
-                        stat_fault: st.stat.fault,
-                        fixed_fault: st.fixed.fault,
-                        cusum: st.stat.cusum,
-                    });
-                    continue;
-                };
-                if st
-                    .last_compared_ns
-                    .is_some_and(|t0| t.saturating_sub(t0) as f64 * 1e-9 > p.reset_after_gap_s)
-                {
-                    st.stat.reset();
-                    st.fixed.reset();
-                }
-                st.last_compared_ns = Some(t);
-                // Exactly one magnetic unit in the pair: the declination error shows.
-                let one_magnetic = (ia == 1) != (ib == 1);
-                let ts = (ua.sigma_ns.powi(2) + ub.sigma_ns.powi(2)).sqrt() * 1e-9;
-                let var = VarianceTerms {
-                    a: ua.var[ai],
-                    b: ub.var[ai],
-                    mounting: mount[ia].powi(2) + mount[ib].powi(2),
-                    rate_radps: euler[ai],
-                    timing_sigma_s: ts,
-                    declination: if axis == Axis::Heading && one_magnetic {
-                        decl_var
-                    } else {
-                        0.0
-                    },
-                };
-                let bank = 0.5 * (va[0] + vb[0]);
-                let c = compare_axis(&p, axis, va[ai], vb[ai], &var, self.k_axis, bank);
-                // The CUSUM gets z clamped to the threshold: it is the slow-drift detector, and a
-                // glitch of a sample or two must not declare through it. It then declares no
-                // sooner than limit / (k - slack) samples (25 at the defaults, 0.5 s at 50 Hz).
-                let zc = c.z.clamp(-self.k_axis, self.k_axis);
-                let sf = st.stat.update(c.stat_ratio, zc, dt_s, &p.persistence);
-                let ff = st.fixed.update(c.fixed_ratio, 0.0, dt_s, &p.persistence);
-                zs[ai] = Some(c.z);
-                pair_records[pi][ai] = Some(AxisPair {
-                    verdict: if sf || ff {
-                        PairVerdict::Fail
-                    } else {
-                        PairVerdict::Pass
-                    },
-                    comparison: Some(c),
-                    stat_exceeded: c.stat_ratio > 1.0,
-                    fixed_exceeded: c.fixed_ratio > 1.0,
-                    stat_fault: sf,
-                    fixed_fault: ff,
-                    cusum: st.stat.cusum,
-                });
-            }
-            joint_records[pi] = Some(match zs {
-                [Some(a), Some(b2), Some(c)] => {
-                    let chi2 = a * a + b2 * b2 + c * c;
-                    let ratio = chi2 / self.k_joint;
-                    let f = self.joint[pi].update(ratio, 0.0, dt_s, &p.persistence);
-                    JointTest {
-                        chi2: Some(chi2),
-                        ratio: Some(ratio),
-                        verdict: if f {
-                            PairVerdict::Fail
-                        } else {
-                            PairVerdict::Pass
-                        },
-                    }
-                }
-                _ => JointTest {
-                    chi2: None,
-                    ratio: None,
-                    verdict: PairVerdict::NotCompared,
-                },
-            });
-        }
-        let pr = |pi: usize| {
-            let a = |ai: usize| pair_records[pi][ai].unwrap_or_else(not_compared_pair);
-            PairRecord {
-                roll: a(0),
-                pitch: a(1),
-                heading: a(2),
-                joint: joint_records[pi].unwrap_or(JointTest {
-                    chi2: None,
-                    ratio: None,
-                    verdict: PairVerdict::NotCompared,
-                }),
-            }
-        };
-        let pairs = PairsRecord {
-            bahrs_vn200: pr(0),
-            bahrs_watson: pr(1),
-            vn200_watson: pr(2),
-        };
-        let verdicts = |f: &dyn Fn(&PairRecord) -> PairVerdict| Pairs {
-            bahrs_vn200: f(&pairs.bahrs_vn200),
-            bahrs_watson: f(&pairs.bahrs_watson),
-            vn200_watson: f(&pairs.vn200_watson),
-        };
-        let raw = IsolationRecord {
-            roll: isolate(&verdicts(&|r| r.roll.verdict), false, vn_healthy),
-            pitch: isolate(&verdicts(&|r| r.pitch.verdict), false, vn_healthy),
-            heading: isolate(&verdicts(&|r| r.heading.verdict), true, vn_healthy),
-            joint: Isolation::NoFault,
-        };
-        // The joint test includes the heading: when the heading alone is a magnetic disturbance,
-        // the same rule keeps the joint test from isolating a healthy VN-200, and a joint failure
-        // of a pair with the VN-200 that the heading explains is the disturbance too (roll and
-        // pitch keep their own per-axis tests, so a tilt fault is still caught there).
-        let magnetic = raw.heading == Isolation::MagneticDisturbance;
-        let joint = match isolate(&verdicts(&|r| r.joint.verdict), magnetic, vn_healthy) {
-            Isolation::DetectedNotIsolated | Isolation::Isolated(Unit::Vn200)
-                if magnetic
-                    && pairs.bahrs_watson.joint.verdict != PairVerdict::Fail
-                    && (pairs.bahrs_vn200.joint.verdict == PairVerdict::Fail
-                        || pairs.vn200_watson.joint.verdict == PairVerdict::Fail) =>
-            {
-                Isolation::MagneticDisturbance
-            }
-            other => other,
-        };
-        let raw = IsolationRecord { joint, ..raw };
-        // Transitions. Onset: a single failed pair waits (bounded) for another exceeding pair of
-        // the axis to settle. End of a magnetic disturbance or of an isolated unit's fault: its
-        // failed pairs clear one by one (each after its own hysteresis); while every failed pair
-        // is only clearing (no longer exceeding), the axis keeps its classification instead of
-        // becoming "detected, not isolated" for the last pair's hysteresis.
-        let exceeding = |verdict: PairVerdict, f: &dyn Fn(&PairRecord) -> (PairVerdict, bool)| {
-            [&pairs.bahrs_vn200, &pairs.bahrs_watson, &pairs.vn200_watson]
-                .into_iter()
-                .any(|r| f(r) == (verdict, true))
-        };
-        let axis = |ai: usize| {
-            move |r: &PairRecord| {
-                let a = [&r.roll, &r.pitch, &r.heading][ai];
-                (a.verdict, a.stat_exceeded || a.fixed_exceeded)
-            }
-        };
-        let joint_of = |r: &PairRecord| (r.joint.verdict, r.joint.ratio.is_some_and(|x| x > 1.0));
-        let settle_ns = (p.isolation_settle_s * 1e9) as i64;
-        let mut transition =
-            |slot: usize, iso: Isolation, f: &dyn Fn(&PairRecord) -> (PairVerdict, bool)| {
-                let prev = self.prev_isolation[slot];
-                // Settling only at an onset: a fault already declared is not withdrawn by it.
-                let out = if iso == Isolation::DetectedNotIsolated
-                    && prev != Isolation::DetectedNotIsolated
-                    && exceeding(PairVerdict::Pass, f)
-                {
-                    let since = *self.settle_since[slot].get_or_insert(t);
-                    if t.saturating_sub(since) < settle_ns {
-                        Isolation::Settling
-                    } else {
-                        iso
-                    }
-                } else if matches!(iso, Isolation::DetectedNotIsolated | Isolation::Isolated(_))
-                    && matches!(
-                        prev,
-                        Isolation::MagneticDisturbance | Isolation::Isolated(_)
-                    )
-                    && iso != prev
-                    && !exceeding(PairVerdict::Fail, f)
-                {
-                    // Recovery: the failed pairs clear one by one; while none of them is
-                    // exceeding any more, the classification they led to stands.
-                    prev
-                } else {
-                    iso
-                };
-                if iso != Isolation::DetectedNotIsolated {
-                    self.settle_since[slot] = None;
-                }
-                self.prev_isolation[slot] = out;
-                out
-            };
-        let isolation = IsolationRecord {
-            roll: transition(0, raw.roll, &axis(0)),
-            pitch: transition(1, raw.pitch, &axis(1)),
-            heading: transition(2, raw.heading, &axis(2)),
-            joint: transition(3, raw.joint, &joint_of),
-        };
-        let all = [
-            isolation.roll,
-            isolation.pitch,
-            isolation.heading,
-            isolation.joint,
-        ];
-        let mut isolated: Option<Unit> = None;
-        let mut multiple = false;
-        let mut fault = false;
-        for i in all {
-            match i {
-                Isolation::NoFault
-                | Isolation::NotCompared
-                | Isolation::MagneticDisturbance
-                | Isolation::Settling => {}
-                Isolation::DetectedNotIsolated => fault = true,
-                Isolation::MultipleFault => {
-                    fault = true;
-                    multiple = true;
-                }
-                Isolation::Isolated(u) => {
-                    fault = true;
-                    match isolated {
-                        Some(v) if v != u => multiple = true,
-                        _ => isolated = Some(u),
-                    }
-                }
-            }
-        }
-        if multiple {
-            isolated = None;
-        }
+
+        let pairs = self.compare_pairs(&PairInputs {
+            t,
+            dt_s,
+            units,
+            euler_radps: timing_rates(units, b),
+            decl_var: decl.map(|d| d.sigma_rad * d.sigma_rad).unwrap_or(0.0),
+        });
+
+        let raw = raw_isolation(&pairs, vn_healthy);
+        let isolation = self.settle_isolation(t, raw, &pairs);
+        let faults = FaultSummary::of(&isolation);
+
         // The vote: units open on the axis and not isolated on it.
-        let voted = vote_units(
-            [&bahrs, &vn, &watson],
-            [isolation.roll, isolation.pitch, isolation.heading],
-        );
+        let voted = vote_units(units, [isolation.roll, isolation.pitch, isolation.heading]);
+
+        let p = self.params;
         let vertical = self.vertical.update(b, &vn_vertical, dt_s, self.k_axis, &p);
         let inertial = self.compare_inertial(b, t);
-        let coverage = self.check_coverage(t, [&bahrs, &vn, &watson], &pairs, &vertical);
-        let h = b.health;
-        let bahrs_integrity_risk = [
-            h.roll(),
-            h.pitch(),
-            h.heading(),
-            h.velocity_down(),
-            h.pressure_height(),
-        ]
-        .contains(&vigil_drivers::bahrs::Health::IntegrityRisk);
+        let coverage = self.check_coverage(t, units, &pairs, &vertical);
         let rec = AttitudeRecord {
             kind: KIND,
             t_gps_ns: t,
-            fault,
-            isolated,
-            multiple_fault: multiple,
+            fault: faults.fault,
+            isolated: faults.isolated,
+            multiple_fault: faults.multiple,
             magnetic_disturbance: isolation.heading == Isolation::MagneticDisturbance,
-            bahrs_integrity_risk,
+            bahrs_integrity_risk: bahrs_integrity_risk(b),
             vn200_healthy: vn_healthy,
             bahrs: unit_values(&bahrs),
             vn200: unit_values(&vn),
             watson: unit_values(&watson),
-            declination: decl.map(|d| DeclinationRecord {
-                declination_deg: d.declination_rad / DEG,
-                sigma_deg: d.sigma_rad / DEG,
-                horizontal_nt: d.horizontal_nt,
-                zone: d.zone,
-            }),
+            declination: decl.map(declination_record),
             pairs,
             isolation,
             voted,
@@ -604,6 +370,19 @@ impl AttitudeChecker {
         self.last_verdicts = Some(prompt::Verdicts::of(&rec));
         self.last_bahrs = Some((*b, frozen));
         rec
+    }
+
+    /// Moves the check's clock to `t` (GPS ns) and returns the step from the previous check, s:
+    /// the persistence counters integrate over it. Capped at 1 s so that a gap in the BAHRS
+    /// stream cannot declare or clear a fault at once; the nominal BAHRS period at the first
+    /// check or when time does not advance (a repeated or out-of-order sample).
+    fn advance_clock(&mut self, t: i64) -> f64 {
+        let dt_s = match self.last_t_ns {
+            Some(t0) if t > t0 => (t.saturating_sub(t0) as f64 * 1e-9).min(1.0),
+            _ => self.params.bahrs_period_s,
+        };
+        self.last_t_ns = Some(t);
+        dt_s
     }
 
     /// The coverage of a check at `t`: what the pairs and the vertical channel compared, and
@@ -725,25 +504,23 @@ impl AttitudeChecker {
             .update(b.inertial.as_ref(), &vn, t, horizon, self.k_axis, &p)
     }
 
+    /// The VN-200 at `t`: its attitude slerped between the samples around `t` (held from the
+    /// last one when none follows), gated (source, stale, frozen, not finite) and unmounted;
+    /// whether it is healthy (the magnetic rule needs that); and its vertical channel inputs.
     fn prepare_vn200(&self, t: i64) -> (Prepared, bool, Vn200Vertical) {
         let p = &self.params;
         let horizon = self.horizon_ns(p.vn200_period_s);
         let (prev, next) = bracket(&self.vn, t, |x| x.0.t_gps_ns);
-        let none = |g: GateReason| {
-            (
-                Prepared::missing(g),
-                false,
-                Vn200Vertical {
-                    vel_down_mps: None,
-                    alt_m: None,
-                    vel_u_mps: None,
-                    pos_u_m: None,
-                    gate: Some(g),
-                },
-            )
-        };
         let Some(&(s0, f0)) = prev else {
-            return none(GateReason::NoData);
+            let g = GateReason::NoData;
+            let vertical = Vn200Vertical {
+                vel_down_mps: None,
+                alt_m: None,
+                vel_u_mps: None,
+                pos_u_m: None,
+                gate: Some(g),
+            };
+            return (Prepared::missing(g), false, vertical);
         };
         let age_ns = t.saturating_sub(s0.t_gps_ns);
         let held_s = if next.is_none() {
@@ -790,32 +567,7 @@ impl AttitudeChecker {
                 p.vn200_default_sigma.tilt_deg * DEG,
             ]);
         let healthy = gates::vn200_healthy(&s0);
-        // Vertical: linear interpolation of down velocity and altitude.
-        let lerp = |a: Option<f64>, b: Option<f64>| match (a, b, lin) {
-            (Some(a), Some(b), Some((_, u))) => Some(a + (b - a) * u),
-            (Some(a), _, None) => Some(a),
-            _ => None,
-        };
-        let s1 = lin.map(|x| x.0);
-        let vert_gate = if !s0.ins_status.position_valid() {
-            Some(GateReason::InsModeNoAttitude)
-        } else if s0.ins_status.imu_error() {
-            Some(GateReason::InsErrorBits)
-        } else if age_ns > horizon {
-            Some(GateReason::Stale)
-        } else {
-            None
-        };
-        let vertical = Vn200Vertical {
-            vel_down_mps: lerp(
-                s0.vel_ned_mps.map(|v| v[2]),
-                s1.and_then(|s| s.vel_ned_mps).map(|v| v[2]),
-            ),
-            alt_m: lerp(s0.lla.map(|l| l[2]), s1.and_then(|s| s.lla).map(|l| l[2])),
-            vel_u_mps: s0.vel_u_mps,
-            pos_u_m: s0.pos_u_m,
-            gate: vert_gate,
-        };
+        let vertical = vn200_vertical(&s0, lin, age_ns > horizon);
         (
             Prepared {
                 values: Some(values),
@@ -906,6 +658,77 @@ fn magnetic_frame(decl: Option<Declination>) -> (Gate, UnitQuaternion<f64>, f64)
         UnitQuaternion::from_euler_angles(0.0, 0.0, d_rad),
         d_rad,
     )
+}
+
+/// The Euler-angle rates roll, pitch, heading, rad/s, for the timing term of the variances: from
+/// the body rates of the first unit that has them (BAHRS, VN-200, Watson), at the BAHRS attitude;
+/// zero when none has (the timing term then vanishes).
+fn timing_rates(units: [&Prepared; 3], b: &BahrsSample) -> [f64; 3] {
+    units
+        .into_iter()
+        .filter_map(|u| u.rates)
+        .next()
+        .map(|r| euler_rates(r, b.roll_rad, b.pitch_rad))
+        .unwrap_or([0.0; 3])
+}
+
+/// Whether the BAHRS flags any of its roll, pitch, heading, down velocity or pressure height
+/// "integrity risk" in the sample `b` (the record's flag; the gates act on each axis's own health).
+fn bahrs_integrity_risk(b: &BahrsSample) -> bool {
+    let h = b.health;
+    [
+        h.roll(),
+        h.pitch(),
+        h.heading(),
+        h.velocity_down(),
+        h.pressure_height(),
+    ]
+    .contains(&vigil_drivers::bahrs::Health::IntegrityRisk)
+}
+
+/// The declination as recorded, deg.
+fn declination_record(d: Declination) -> DeclinationRecord {
+    DeclinationRecord {
+        declination_deg: d.declination_rad / DEG,
+        sigma_deg: d.sigma_rad / DEG,
+        horizontal_nt: d.horizontal_nt,
+        zone: d.zone,
+    }
+}
+
+/// The VN-200's vertical channel inputs at the comparison time: down velocity and altitude
+/// interpolated linearly towards the next sample (`next`: it and the fraction of the way to it;
+/// held without one), gated by the INS status of the sample before and by staleness.
+fn vn200_vertical(
+    s0: &Vn200Sample,
+    next: Option<(Vn200Sample, f64)>,
+    stale: bool,
+) -> Vn200Vertical {
+    let lerp = |a: Option<f64>, b: Option<f64>| match (a, b, next) {
+        (Some(a), Some(b), Some((_, u))) => Some(a + (b - a) * u),
+        (Some(a), _, None) => Some(a),
+        _ => None,
+    };
+    let s1 = next.map(|x| x.0);
+    let gate = if !s0.ins_status.position_valid() {
+        Some(GateReason::InsModeNoAttitude)
+    } else if s0.ins_status.imu_error() {
+        Some(GateReason::InsErrorBits)
+    } else if stale {
+        Some(GateReason::Stale)
+    } else {
+        None
+    };
+    Vn200Vertical {
+        vel_down_mps: lerp(
+            s0.vel_ned_mps.map(|v| v[2]),
+            s1.and_then(|s| s.vel_ned_mps).map(|v| v[2]),
+        ),
+        alt_m: lerp(s0.lla.map(|l| l[2]), s1.and_then(|s| s.lla).map(|l| l[2])),
+        vel_u_mps: s0.vel_u_mps,
+        pos_u_m: s0.pos_u_m,
+        gate,
+    }
 }
 
 /// The vote per axis over the units open on the axis and not isolated on it (`iso_axis`: roll,

@@ -69,6 +69,22 @@ impl Default for Vn200AlignerConfig {
     }
 }
 
+/// The inputs bounded. Decision: times beyond 2^61 ns (73 years after the GPS epoch or the
+/// start-up) are garbage: dropped, so differences of times below fit in an i64; a host time is
+/// clamped to the same range.
+fn bounded(t: &Vn200Times, rx: Rx) -> (Vn200Times, Rx) {
+    let t = Vn200Times {
+        time_gps_ns: t.time_gps_ns.filter(|g| (1..=MAX_TIME_NS).contains(g)),
+        time_startup_ns: t.time_startup_ns.filter(|s| *s <= MAX_TIME_NS as u64),
+        ..*t
+    };
+    let rx = Rx {
+        host_ns: rx.host_ns.clamp(0, MAX_TIME_NS),
+        ..rx
+    };
+    (t, rx)
+}
+
 /// The time fields of one binary output message.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Vn200Times {
@@ -275,6 +291,9 @@ impl Vn200Aligner {
         self.handle_inner(t, rx, host, Some((other, check)))
     }
 
+    /// The steps: the inputs bounded; the status fields noted (time sigma, leap seconds, a
+    /// device restart); whether the GPS time is valid; then the message timed by its own GPS
+    /// time (after the cross-check, when asked), or else by the TimeStartup model.
     fn handle_inner(
         &mut self,
         t: &Vn200Times,
@@ -282,18 +301,28 @@ impl Vn200Aligner {
         host: &mut HostClock,
         check: Option<(&HostClock, &CrossCheckConfig)>,
     ) -> Result<AlignedTime, NotAligned> {
-        // Decision: times beyond 2^61 ns (73 years after the GPS epoch or the start-up) are
-        // garbage: dropped, so differences of times below fit in an i64.
-        let t = &Vn200Times {
-            time_gps_ns: t.time_gps_ns.filter(|g| (1..=MAX_TIME_NS).contains(g)),
-            time_startup_ns: t.time_startup_ns.filter(|s| *s <= MAX_TIME_NS as u64),
-            ..*t
-        };
-        let rx = Rx {
-            host_ns: rx.host_ns.clamp(0, MAX_TIME_NS),
-            ..rx
-        };
+        let (t, rx) = bounded(t, rx);
         let previous_read_ns = self.last_read_host_ns.replace(rx.host_ns);
+        self.note_status(&t);
+        let valid = self.gps_time_valid(&t, rx);
+        match (valid, t.time_gps_ns.filter(|g| *g > 0)) {
+            (true, Some(gps_ns)) => {
+                if let Some((other, cc)) = check
+                    && self.disagrees(gps_ns, rx, host, other, cc)
+                {
+                    return self
+                        .by_startup_clock(t.time_startup_ns, Some(NotAligned::ClockDisagreement));
+                }
+                Ok(self.by_gps_time(&t, gps_ns, rx, previous_read_ns, host))
+            }
+            _ => self.by_startup_clock(t.time_startup_ns, None),
+        }
+    }
+
+    /// Notes the status fields of a message: the time uncertainty, the leap seconds (when the
+    /// UTC time is valid), and a device restart (TimeStartup going backwards), which drops the
+    /// TimeStartup model since the start-up clock no longer relates to the old pairs.
+    fn note_status(&mut self, t: &Vn200Times) {
         if let Some(u) = t.time_u_s.filter(|u| u.is_finite() && *u > 0.0) {
             self.time_sigma_ns = Some(f64::from(u) * 1e9);
         }
@@ -312,6 +341,13 @@ impl Vn200Aligner {
             }
             self.last_startup = Some(s);
         }
+    }
+
+    /// Whether the message's GPS time is valid: from its own TimeStatus (time of week and date
+    /// valid) and INS status (GNSS fix without error) when it carries them; else the last
+    /// reported validity while no older than `status_hold_ns` (a message without status fields
+    /// is not trusted on its own).
+    fn gps_time_valid(&mut self, t: &Vn200Times, rx: Rx) -> bool {
         let reported = match (t.time_status, t.ins_status) {
             (Some(ts), Some(ins)) => {
                 Some(ts.tow_valid() && ts.date_valid() && ins.gnss_fix() && !ins.gnss_error())
@@ -323,77 +359,96 @@ impl Vn200Aligner {
         if let Some(v) = reported {
             self.validity = Some((v, rx.host_ns));
         }
-        let valid = reported.unwrap_or_else(|| {
+        reported.unwrap_or_else(|| {
             self.validity
                 .is_some_and(|(v, h)| v && rx.host_ns - h <= self.cfg.status_hold_ns)
-        });
-        match (valid, t.time_gps_ns.filter(|g| *g > 0)) {
-            (true, Some(gps_ns)) => {
-                if let Some((other, cc)) = check
-                    && let Some(view) =
-                        host_view(host, other, first_byte_host_ns(rx, self.cfg.baud))
-                {
-                    let sent = gps_ns.saturating_add(self.cfg.output_delay_ns);
-                    let sigma = self.time_sigma_ns.unwrap_or(self.cfg.default_sigma_ns);
-                    self.disagreement = cc.disagrees((sent, sigma), view);
-                    if self.disagreement {
-                        self.stats.disagreeing += 1;
-                        return match t.time_startup_ns.map(|s| self.through_startup(s)) {
-                            Some(Ok(a)) => {
-                                self.stats.startup_clock += 1;
-                                Ok(a)
-                            }
-                            _ => {
-                                self.stats.not_aligned += 1;
-                                Err(NotAligned::ClockDisagreement)
-                            }
-                        };
-                    }
-                }
-                self.stats.native += 1;
-                if let Some(s) = t.time_startup_ns {
-                    self.learn(s, gps_ns);
-                }
-                self.last_valid_host_ns = Some(rx.host_ns);
-                host.add(
-                    first_byte_host_ns(rx, self.cfg.baud),
-                    gps_ns + self.cfg.output_delay_ns,
-                );
-                // The read holding the first byte, after an idle line, is one read's latency
-                // (issue 18 point 1): the reference of every other port's single reads.
-                // Decision: a first read delivered no later than the previous message's last
-                // read may have been held back by it (reads come in order): left out, as it
-                // would bias the single-read delay late (a 200 Hz VN-200 leaves the line idle
-                // only ~4 ms between messages).
-                if let Some(r) = rx
-                    .reads
-                    .filter(|r| previous_read_ns.is_none_or(|p| r.first_host_ns > p))
-                {
-                    let sent =
-                        gps_ns + self.cfg.output_delay_ns + tx_ns(r.first_bytes, self.cfg.baud);
-                    host.add_read(r.first_host_ns, sent);
-                }
-                Ok(AlignedTime {
-                    t_gps_ns: gps_ns,
-                    sigma_ns: self.time_sigma_ns.unwrap_or(self.cfg.default_sigma_ns),
-                    source: TimeSource::NativeGps,
-                    status: ClockStatus::Locked,
-                })
+        })
+    }
+
+    /// The cross-check of the GPS time `gps_ns` against the host clock's view (`host` and
+    /// `other`), at the first byte's host time; false when no view exists (the check cannot
+    /// run). Remembered for the caller and counted.
+    fn disagrees(
+        &mut self,
+        gps_ns: i64,
+        rx: Rx,
+        host: &HostClock,
+        other: &HostClock,
+        cc: &CrossCheckConfig,
+    ) -> bool {
+        let Some(view) = host_view(host, other, first_byte_host_ns(rx, self.cfg.baud)) else {
+            return false;
+        };
+        let sent = gps_ns.saturating_add(self.cfg.output_delay_ns);
+        let sigma = self.time_sigma_ns.unwrap_or(self.cfg.default_sigma_ns);
+        self.disagreement = cc.disagrees((sent, sigma), view);
+        if self.disagreement {
+            self.stats.disagreeing += 1;
+        }
+        self.disagreement
+    }
+
+    /// The message timed by its own valid GPS time `gps_ns`: the pair feeds the TimeStartup
+    /// model and the host clock (the first byte's send time, and the single-read delay).
+    fn by_gps_time(
+        &mut self,
+        t: &Vn200Times,
+        gps_ns: i64,
+        rx: Rx,
+        previous_read_ns: Option<i64>,
+        host: &mut HostClock,
+    ) -> AlignedTime {
+        self.stats.native += 1;
+        if let Some(s) = t.time_startup_ns {
+            self.learn(s, gps_ns);
+        }
+        self.last_valid_host_ns = Some(rx.host_ns);
+        host.add(
+            first_byte_host_ns(rx, self.cfg.baud),
+            gps_ns + self.cfg.output_delay_ns,
+        );
+        // The read holding the first byte, after an idle line, is one read's latency
+        // (issue 18 point 1): the reference of every other port's single reads.
+        // Decision: a first read delivered no later than the previous message's last
+        // read may have been held back by it (reads come in order): left out, as it
+        // would bias the single-read delay late (a 200 Hz VN-200 leaves the line idle
+        // only ~4 ms between messages).
+        if let Some(r) = rx
+            .reads
+            .filter(|r| previous_read_ns.is_none_or(|p| r.first_host_ns > p))
+        {
+            let sent = gps_ns + self.cfg.output_delay_ns + tx_ns(r.first_bytes, self.cfg.baud);
+            host.add_read(r.first_host_ns, sent);
+        }
+        AlignedTime {
+            t_gps_ns: gps_ns,
+            sigma_ns: self.time_sigma_ns.unwrap_or(self.cfg.default_sigma_ns),
+            source: TimeSource::NativeGps,
+            status: ClockStatus::Locked,
+        }
+    }
+
+    /// The message timed by the TimeStartup model, when its GPS time cannot be used. When the
+    /// model cannot time it either: `why` when given (the reason the GPS time was refused),
+    /// else the model's own reason, or [`NotAligned::DeviceTimeInvalid`] without a TimeStartup.
+    fn by_startup_clock(
+        &mut self,
+        startup_ns: Option<u64>,
+        why: Option<NotAligned>,
+    ) -> Result<AlignedTime, NotAligned> {
+        let timed = match startup_ns {
+            Some(s) => self.through_startup(s),
+            None => Err(NotAligned::DeviceTimeInvalid),
+        };
+        match timed {
+            Ok(a) => {
+                self.stats.startup_clock += 1;
+                Ok(a)
             }
-            _ => match t.time_startup_ns.map(|s| self.through_startup(s)) {
-                Some(Ok(a)) => {
-                    self.stats.startup_clock += 1;
-                    Ok(a)
-                }
-                Some(Err(e)) => {
-                    self.stats.not_aligned += 1;
-                    Err(e)
-                }
-                None => {
-                    self.stats.not_aligned += 1;
-                    Err(NotAligned::DeviceTimeInvalid)
-                }
-            },
+            Err(e) => {
+                self.stats.not_aligned += 1;
+                Err(why.unwrap_or(e))
+            }
         }
     }
 

@@ -592,7 +592,9 @@ fn range_to(own: Option<&Ownship>, t: &Track) -> f64 {
     }
 }
 
-/// Runs the plausibility tests of a report against the track, then merges it.
+/// Runs the plausibility tests of a report against the track, then merges it: speed, position,
+/// altitudes, then the fields without a test. A value older than the track's is tested but not
+/// merged (reports of several sources arrive out of order).
 fn check_and_merge(
     track: &mut Track,
     source: Source,
@@ -601,10 +603,27 @@ fn check_and_merge(
     p: &TrafficParams,
     own: Option<&Ownship>,
 ) {
-    let f = &mut track.findings;
     if r.ground_speed_mps.is_some_and(|v| v > p.max_speed_mps) {
-        f.impossible_speed = Some(t);
+        track.findings.impossible_speed = Some(t);
     }
+    check_and_merge_position(track, source, t, r, p, own);
+    check_and_merge_altitudes(track, t, r, p);
+    merge_untested(track, source, t, r);
+}
+
+/// The report's position, when it has one: a jump beyond the maximum speed over the time since
+/// the track's position (plus the combined sigmas) is a position jump from the same source, or
+/// inconsistent sources from another; a signal stronger than the maximum EIRP allows at the
+/// range from the ownship is a range-versus-signal finding.
+fn check_and_merge_position(
+    track: &mut Track,
+    source: Source,
+    t: i64,
+    r: &TrafficReport,
+    p: &TrafficParams,
+    own: Option<&Ownship>,
+) {
+    let f = &mut track.findings;
     if let (Some(lat), Some(lon)) = (r.lat_deg, r.lon_deg) {
         let sigma = report_sigma_m(r);
         if let Some(prev) = track.position {
@@ -640,6 +659,11 @@ fn check_and_merge(
             });
         }
     }
+}
+
+/// The pressure and geometric altitudes: a change beyond the maximum vertical rate over the
+/// time since the track's value (plus 50 m) is an altitude jump.
+fn check_and_merge_altitudes(track: &mut Track, t: i64, r: &TrafficReport, p: &TrafficParams) {
     for (new, slot) in [
         (r.alt_pressure_m, &mut track.alt_pressure),
         (r.alt_geometric_m, &mut track.alt_geometric),
@@ -660,6 +684,12 @@ fn check_and_merge(
             }
         }
     }
+}
+
+/// The fields without a plausibility test: velocity and vertical rate (when newer); callsign,
+/// category, squawk, signal and FLARM alarm level (an unknown value keeps the known one); the
+/// address type; and the source's latest report.
+fn merge_untested(track: &mut Track, source: Source, t: i64, r: &TrafficReport) {
     if let (Some(trk), Some(gs)) = (r.track_deg, r.ground_speed_mps)
         && track.velocity.is_none_or(|v| t >= v.t_gps_ns)
     {

@@ -447,32 +447,56 @@ impl ConfigClient {
         self.wanted[i].id().name()
     }
 
-    /// Handles one line from the module.
+    /// Handles one line from the module: a `AT+BOOTLOADER_START` whatever the phase, otherwise
+    /// the line as an answer in the current phase (the steps of the cycle in the module
+    /// documentation: entry, identity, settings, exit). A line a phase does not expect is
+    /// ignored; its timeout decides.
     pub fn handle_response(&mut self, r: &AtResponse, now: Duration) {
         if let AtResponse::State {
             event: StateEvent::BootloaderStart,
         } = r
         {
-            match self.phase {
-                Phase::EnterSent | Phase::EnterWaitStart | Phase::EnterProbe => {
-                    self.release_bootloader(now)
-                }
-                Phase::Idle | Phase::Done | Phase::BootRelease | Phase::BootWaitRun => {}
-                _ if !self.cleaning => self.fail(ConfigError::Bootloader, now),
-                _ => {}
-            }
+            self.on_bootloader_start(now);
             return;
         }
-        let error_desc = match r {
-            AtResponse::Error { description } => Some(description.clone().unwrap_or_default()),
-            _ => None,
-        };
-        let state = match r {
-            AtResponse::State { event } => Some(*event),
-            _ => None,
-        };
         match self.phase {
             Phase::Idle | Phase::Done => {}
+            Phase::EnterSent
+            | Phase::EnterWaitStart
+            | Phase::EnterProbe
+            | Phase::BootRelease
+            | Phase::BootWaitRun => self.on_entry_answer(r, now),
+            Phase::Identify(i) => self.on_identity_answer(i, r, now),
+            Phase::Read(i) => self.on_read_answer(i, r, now),
+            Phase::Write(i) => self.on_write_answer(i, r, now),
+            Phase::Verify(i) => self.on_verify_answer(i, r, now),
+            Phase::Unlock | Phase::ExitSent | Phase::ExitWaitRun | Phase::ExitProbe => {
+                self.on_exit_answer(r, now)
+            }
+        }
+    }
+
+    /// `AT+BOOTLOADER_START`: while entering, the module is released to RUN and the entry
+    /// retried; while configuring, the cycle fails (the module left CONFIGURATION for it); while
+    /// cleaning up or already handling the bootloader, it changes nothing.
+    fn on_bootloader_start(&mut self, now: Duration) {
+        match self.phase {
+            Phase::EnterSent | Phase::EnterWaitStart | Phase::EnterProbe => {
+                self.release_bootloader(now)
+            }
+            Phase::Idle | Phase::Done | Phase::BootRelease | Phase::BootWaitRun => {}
+            _ if !self.cleaning => self.fail(ConfigError::Bootloader, now),
+            _ => {}
+        }
+    }
+
+    /// Step 1, entering CONFIGURATION (and leaving a BOOTLOADER found on the way): the
+    /// acknowledgement of `AT+CONFIG=1` switches to the configuration baud; `AT+CONFIG_START`
+    /// (or the probe's `CONFIG=1|2`) means entered; an `AT+ERROR` or `BOOT=1` to the probe
+    /// means the BOOTLOADER.
+    fn on_entry_answer(&mut self, r: &AtResponse, now: Duration) {
+        let state = state_event(r);
+        match self.phase {
             Phase::EnterSent => match (r, state) {
                 (_, Some(StateEvent::ConfigStart)) => self.entered_config(now),
                 (AtResponse::Ok, _) | (_, Some(StateEvent::RunEnd)) => {
@@ -482,134 +506,156 @@ impl ConfigClient {
                 }
                 _ => {}
             },
-            Phase::EnterWaitStart => {
-                if state == Some(StateEvent::ConfigStart) {
-                    self.entered_config(now);
-                }
+            Phase::EnterWaitStart if state == Some(StateEvent::ConfigStart) => {
+                self.entered_config(now)
             }
             Phase::EnterProbe => {
                 if state == Some(StateEvent::ConfigStart)
                     || r.value_of("CONFIG").is_some_and(|v| v == "1" || v == "2")
                 {
                     self.entered_config(now);
-                } else if error_desc.is_some() || r.value_of("BOOT") == Some("1") {
+                } else if error_description(r).is_some() || r.value_of("BOOT") == Some("1") {
                     // Something at 115200 that refuses AT+CONFIG?: the BOOTLOADER (5.2.1).
                     self.release_bootloader(now);
                 }
             }
-            Phase::BootRelease => {
-                if *r == AtResponse::Ok {
-                    self.set_baud(self.run_baud);
-                    self.phase = Phase::BootWaitRun;
-                    self.deadline = Some(now + self.cfg.transition_timeout);
-                }
+            Phase::BootRelease if *r == AtResponse::Ok => {
+                self.set_baud(self.run_baud);
+                self.phase = Phase::BootWaitRun;
+                self.deadline = Some(now + self.cfg.transition_timeout);
             }
-            Phase::BootWaitRun => {
-                if state == Some(StateEvent::RunStart) {
-                    self.retry_enter(now);
-                }
+            Phase::BootWaitRun if state == Some(StateEvent::RunStart) => self.retry_enter(now),
+            // Another line in an entry phase, or not an entry phase (see `handle_response`).
+            _ => {}
+        }
+    }
+
+    /// Step 2, identity item `i`: the value is recorded (the `BAUDRATE` becomes the RUN baud to
+    /// return to, when it is a documented value); an `AT+ERROR` is only a warning, since the
+    /// cycle can go on without it.
+    fn on_identity_answer(&mut self, i: usize, r: &AtResponse, now: Duration) {
+        if let Some(v) = r.value_of(IDENTITY[i]) {
+            let v = v.trim().to_owned();
+            match i {
+                0 => self.report.serial_number = Some(v),
+                1 => self.report.firmware_version = Some(v),
+                _ => match v.parse::<i64>().ok().and_then(Baudrate::from_value) {
+                    Some(b) => self.run_baud = b.bps(),
+                    None => self.report.warnings.push(format!(
+                        "BAUDRATE reads '{v}'; keeping {} bps",
+                        self.run_baud
+                    )),
+                },
             }
-            Phase::Identify(i) => {
-                if let Some(v) = r.value_of(IDENTITY[i]) {
-                    let v = v.trim().to_owned();
-                    match i {
-                        0 => self.report.serial_number = Some(v),
-                        1 => self.report.firmware_version = Some(v),
-                        _ => match v.parse::<i64>().ok().and_then(Baudrate::from_value) {
-                            Some(b) => self.run_baud = b.bps(),
-                            None => self.report.warnings.push(format!(
-                                "BAUDRATE reads '{v}'; keeping {} bps",
-                                self.run_baud
-                            )),
-                        },
-                    }
-                    self.identify_next(i, now);
-                } else if error_desc.is_some() {
-                    self.report
-                        .warnings
-                        .push(format!("{} not available", IDENTITY[i]));
-                    self.identify_next(i, now);
-                }
+            self.identify_next(i, now);
+        } else if error_description(r).is_some() {
+            self.report
+                .warnings
+                .push(format!("{} not available", IDENTITY[i]));
+            self.identify_next(i, now);
+        }
+    }
+
+    /// Step 3, reading wanted setting `i`: the value found is recorded; equal to the wanted one,
+    /// the next setting, else it is written. An `AT+ERROR` fails the cycle.
+    fn on_read_answer(&mut self, i: usize, r: &AtResponse, now: Duration) {
+        let name = self.wanted_name(i);
+        if let Some(v) = r.value_of(name) {
+            let v = v.trim().to_owned();
+            let want = self.wanted[i];
+            self.report.found.push((want.id(), Some(v.clone())));
+            if v.parse::<i64>().ok() == Some(want.value()) {
+                self.after_setting(i, now);
+            } else {
+                self.next(Phase::Write(i), now);
             }
-            Phase::Read(i) => {
-                let name = self.wanted_name(i);
-                if let Some(v) = r.value_of(name) {
-                    let v = v.trim().to_owned();
-                    let want = self.wanted[i];
-                    self.report.found.push((want.id(), Some(v.clone())));
-                    if v.parse::<i64>().ok() == Some(want.value()) {
-                        self.after_setting(i, now);
-                    } else {
-                        self.next(Phase::Write(i), now);
-                    }
-                } else if let Some(d) = error_desc {
-                    self.fail(
-                        ConfigError::Rejected {
-                            command: format!("AT+{name}?"),
-                            description: d,
-                        },
-                        now,
-                    );
-                }
-            }
-            Phase::Write(i) => {
-                if *r == AtResponse::Ok {
-                    // Keep the attempt count: write + read back is one attempt.
-                    self.request(Phase::Verify(i), now);
-                } else if let Some(d) = error_desc {
-                    let command = AtCommand::Write(self.wanted[i]).body();
-                    self.fail(
-                        ConfigError::Rejected {
-                            command: format!("AT+{command}"),
-                            description: d,
-                        },
-                        now,
-                    );
-                }
-            }
-            Phase::Verify(i) => {
-                let name = self.wanted_name(i);
-                if let Some(v) = r.value_of(name) {
-                    let v = v.trim().to_owned();
-                    let want = self.wanted[i];
-                    if v.parse::<i64>().ok() == Some(want.value()) {
-                        let from = self
-                            .report
-                            .found
-                            .iter()
-                            .rev()
-                            .find(|(id, _)| *id == want.id())
-                            .and_then(|(_, v)| v.clone());
-                        self.report.changed.push(SettingChange {
-                            id: want.id(),
-                            from,
-                            to: want.value(),
-                        });
-                        if let Some(b) = want.as_baudrate() {
-                            self.run_baud = b.bps();
-                        }
-                        self.after_setting(i, now);
-                    } else if self.attempt < self.cfg.attempts {
-                        self.attempt += 1;
-                        self.report.retries += 1;
-                        self.request(Phase::Write(i), now);
-                    } else {
-                        self.fail(
-                            ConfigError::VerifyFailed {
-                                setting: want.id(),
-                                wanted: want.value(),
-                                read: v,
-                            },
-                            now,
-                        );
-                    }
-                }
-            }
+        } else if let Some(d) = error_description(r) {
+            self.fail(
+                ConfigError::Rejected {
+                    command: format!("AT+{name}?"),
+                    description: d,
+                },
+                now,
+            );
+        }
+    }
+
+    /// Step 3, writing wanted setting `i`: acknowledged, it is read back; an `AT+ERROR` fails the
+    /// cycle.
+    fn on_write_answer(&mut self, i: usize, r: &AtResponse, now: Duration) {
+        if *r == AtResponse::Ok {
+            // Keep the attempt count: write + read back is one attempt.
+            self.request(Phase::Verify(i), now);
+        } else if let Some(d) = error_description(r) {
+            let command = AtCommand::Write(self.wanted[i]).body();
+            self.fail(
+                ConfigError::Rejected {
+                    command: format!("AT+{command}"),
+                    description: d,
+                },
+                now,
+            );
+        }
+    }
+
+    /// Step 3, reading back wanted setting `i`: equal to the value written, the change is
+    /// recorded (a new `BAUDRATE` becomes the RUN baud to return to); different, the write is
+    /// repeated while attempts remain, then the cycle fails.
+    fn on_verify_answer(&mut self, i: usize, r: &AtResponse, now: Duration) {
+        let Some(v) = r.value_of(self.wanted_name(i)) else {
+            return;
+        };
+        let v = v.trim().to_owned();
+        let want = self.wanted[i];
+        if v.parse::<i64>().ok() == Some(want.value()) {
+            self.record_change(want);
+            self.after_setting(i, now);
+        } else if self.attempt < self.cfg.attempts {
+            self.attempt += 1;
+            self.report.retries += 1;
+            self.request(Phase::Write(i), now);
+        } else {
+            self.fail(
+                ConfigError::VerifyFailed {
+                    setting: want.id(),
+                    wanted: want.value(),
+                    read: v,
+                },
+                now,
+            );
+        }
+    }
+
+    /// Records the verified write of `want`, with the value found before it.
+    fn record_change(&mut self, want: Setting) {
+        let from = self
+            .report
+            .found
+            .iter()
+            .rev()
+            .find(|(id, _)| *id == want.id())
+            .and_then(|(_, v)| v.clone());
+        self.report.changed.push(SettingChange {
+            id: want.id(),
+            from,
+            to: want.value(),
+        });
+        if let Some(b) = want.as_baudrate() {
+            self.run_baud = b.bps();
+        }
+    }
+
+    /// Steps 4 and 5, unlocking and leaving CONFIGURATION: `AT+LOCK=0` answered either way leads
+    /// to the exit (an `AT+ERROR` is a warning); the exit's acknowledgement switches to the RUN
+    /// baud; `AT+RUN_START` ends the cycle; a probe still reading `CONFIG=1|2` retries the exit.
+    fn on_exit_answer(&mut self, r: &AtResponse, now: Duration) {
+        let state = state_event(r);
+        match self.phase {
             Phase::Unlock => {
                 if *r == AtResponse::Ok {
                     self.report.lock_cleared = true;
                     self.next(Phase::ExitSent, now);
-                } else if error_desc.is_some() {
+                } else if error_description(r).is_some() {
                     self.report
                         .warnings
                         .push("AT+LOCK=0 answered AT+ERROR".into());
@@ -625,23 +671,19 @@ impl ConfigClient {
                     self.run_started();
                 }
             }
-            Phase::ExitWaitRun => {
-                if state == Some(StateEvent::RunStart) {
-                    self.run_started();
+            Phase::ExitWaitRun if state == Some(StateEvent::RunStart) => self.run_started(),
+            // Still in CONFIGURATION: try the exit again.
+            Phase::ExitProbe if r.value_of("CONFIG").is_some_and(|v| v == "1" || v == "2") => {
+                if self.attempt < self.cfg.attempts {
+                    self.attempt += 1;
+                    self.report.retries += 1;
+                    self.request(Phase::ExitSent, now);
+                } else {
+                    self.give_up_exit("module stays in configuration state");
                 }
             }
-            Phase::ExitProbe => {
-                if r.value_of("CONFIG").is_some_and(|v| v == "1" || v == "2") {
-                    // Still in CONFIGURATION: try the exit again.
-                    if self.attempt < self.cfg.attempts {
-                        self.attempt += 1;
-                        self.report.retries += 1;
-                        self.request(Phase::ExitSent, now);
-                    } else {
-                        self.give_up_exit("module stays in configuration state");
-                    }
-                }
-            }
+            // Another line in an exit phase, or not an exit phase (see `handle_response`).
+            _ => {}
         }
     }
 
@@ -772,6 +814,22 @@ impl ConfigClient {
                 self.finish();
             }
         }
+    }
+}
+
+/// The description of an `AT+ERROR` line (empty when it has none); `None` for any other line.
+fn error_description(r: &AtResponse) -> Option<String> {
+    match r {
+        AtResponse::Error { description } => Some(description.clone().unwrap_or_default()),
+        _ => None,
+    }
+}
+
+/// The state event of a state line, `None` for any other line.
+fn state_event(r: &AtResponse) -> Option<StateEvent> {
+    match r {
+        AtResponse::State { event } => Some(*event),
+        _ => None,
     }
 }
 
