@@ -4,14 +4,14 @@
 //!
 //! # How to add a protocol
 //!
-//! 1. Add a variant to [`Protocol`] and to [`Protocol::ALL`].
-//! 2. Add one match arm to each table function of this file: [`Protocol::name`],
-//!    [`Protocol::default_baud`], [`Protocol::device`], [`PortDecoder::new`] (with a new
-//!    [`PortDecoder`] variant holding its `Codec<...>`), [`PortDecoder::protocol`],
-//!    [`PortDecoder::decode`] and [`PortDecoder::stats`]; if the decoder yields a message type
-//!    not yet in [`PortMessage`], add it there and to [`PortMessage::as_message`] / [`Message`].
+//! 1. Add one row to the `protocols!` table below: the variant, its name, default baud, device
+//!    family, decoder and message constructor. The macro makes the [`Protocol`] variant, its
+//!    entries in [`Protocol::ALL`], [`Protocol::name`], [`Protocol::default_baud`] and
+//!    [`Protocol::device`], and its [`PortDecoder`] variant with its arm in every dispatch.
+//! 2. Only if its decoder yields a message type not yet in [`PortMessage`]: add it there and to
+//!    [`PortMessage::as_message`] / [`Message`] (and to fusion's `Sample`, to use it).
 //! 3. The compiler then lists whatever else must decide about it (exhaustive matches in the
-//!    service's policy and conversions). Nothing else selects decoders by string: the name is
+//!    service's policy, e.g. its default read interval). Nothing else selects decoders by string: the name is
 //!    parsed once, by [`Protocol::resolve`], when a port is configured or a recorded channel is
 //!    first seen.
 //!
@@ -40,27 +40,178 @@ use crate::ttmrf::text::TextMessage;
 use crate::vn200::{Vn200Decoder, Vn200Message};
 use crate::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
 
-/// The wire protocol of a port: selects the decoder and the device family.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Protocol {
-    /// BAHRS protocol 2.0 (binary).
-    Bahrs,
-    /// Watson AHRS-E304 text lines.
-    Watson,
-    /// VN-200 ICD 1.3 (binary and ASCII).
-    Vn200,
-    /// TT-Multi-RF text outputs (CSV, JSON, NMEA, ... in auto mode) and raw HEX lines.
-    TtmrfText,
-    /// TT-Multi-RF raw HEX lines only.
-    TtmrfHex,
-    /// TT-Multi-RF decoded output in MAVLink 2.
-    TtmrfMavlink,
-    /// TT-Multi-RF decoded output in GDL90 (barometric altitude priority).
-    TtmrfGdl90,
-    /// TT-Multi-RF decoded output in ASTERIX CAT021/023.
-    TtmrfAsterix,
+/// The table: one row per wire protocol, expanded by [`protocols!`] into [`Protocol`] (with
+/// [`Protocol::ALL`], [`Protocol::name`], [`Protocol::default_baud`], [`Protocol::device`]) and
+/// [`PortDecoder`] (its codec, [`PortDecoder::new`], [`PortDecoder::protocol`],
+/// [`PortDecoder::decode`], [`PortDecoder::stats`]). A row: the variant (with its doc), its name
+/// in configurations and recordings, its default baud rate (bit/s), its device family, its codec's
+/// decoder type and how to make one, and the [`PortMessage`] constructor of its messages.
+///
+/// Default bauds: the Watson's is the only one its document fixes (9600); the VN-200 and the
+/// TT-Multi-RF run at 921 600 (a rate both documents list; the VN-200's factory 115 200 cannot
+/// carry its 400 Hz outputs); the BAHRS document names no rate (115 200 is the installation's).
+macro_rules! protocols {
+    ($(
+        $(#[$doc:meta])*
+        $variant:ident {
+            name: $name:literal,
+            baud: $baud:expr,
+            device: $device:ident,
+            decoder: $decoder:ty = $new:expr,
+            message: $wrap:expr $(,)?
+        }
+    ),+ $(,)?) => {
+        /// The wire protocol of a port: selects the decoder and the device family.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum Protocol {
+            $($(#[$doc])* $variant,)+
+        }
+
+        impl Protocol {
+            /// Every protocol, in table order.
+            pub const ALL: [Protocol; [$(Protocol::$variant),+].len()] = [$(Protocol::$variant),+];
+
+            /// The protocol's name in the configuration and in recordings' channel metadata (the
+            /// names `vigil replay` selects decoders by).
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $(Protocol::$variant => $name,)+
+                }
+            }
+
+            /// The device's usual baud rate, bit/s (the simulator's defaults).
+            pub const fn default_baud(self) -> u32 {
+                match self {
+                    $(Protocol::$variant => $baud,)+
+                }
+            }
+
+            /// The device family speaking this protocol.
+            pub const fn device(self) -> Device {
+                match self {
+                    $(Protocol::$variant => Device::$device,)+
+                }
+            }
+        }
+
+        /// The decoder of one port: one variant per [`Protocol`], each holding its codec (boxed:
+        /// the decoders' buffers differ widely in size). Built once per port
+        /// ([`PortDecoder::new`]); decoding dispatches by one match, no strings, no lookups.
+        pub enum PortDecoder {
+            $(
+                #[doc = concat!("[`Protocol::", stringify!($variant), "`].")]
+                $variant(Box<Codec<$decoder>>),
+            )+
+        }
+
+        impl PortDecoder {
+            /// The decoder of `protocol`, at the start of its stream.
+            pub fn new(protocol: Protocol) -> Self {
+                match protocol {
+                    $(Protocol::$variant => PortDecoder::$variant(Box::new(Codec($new))),)+
+                }
+            }
+
+            /// The protocol this decoder reads.
+            pub fn protocol(&self) -> Protocol {
+                match self {
+                    $(PortDecoder::$variant(_) => Protocol::$variant,)+
+                }
+            }
+
+            /// Decodes every message `buf` completes (removing its bytes) and hands each to `f`,
+            /// in stream order. `buf` holds the port's received bytes not yet consumed (append
+            /// each read to it); `eof`: no more bytes will come, so what is left is decoded or
+            /// counted as skipped. Stops at the first error of `f`.
+            pub fn decode<E>(
+                &mut self,
+                buf: &mut BytesMut,
+                eof: bool,
+                f: &mut impl FnMut(PortFrame) -> Result<(), E>,
+            ) -> Result<(), E> {
+                match self {
+                    $(PortDecoder::$variant(c) => run(c, buf, eof, $wrap, f),)+
+                }
+            }
+
+            /// The decoder's counters so far.
+            pub fn stats(&self) -> DecodeStats {
+                match self {
+                    $(PortDecoder::$variant(c) => *c.0.stats(),)+
+                }
+            }
+        }
+    };
 }
 
+protocols! {
+    /// BAHRS protocol 2.0 (binary).
+    Bahrs {
+        name: "bahrs-2.0",
+        baud: 115_200,
+        device: Bahrs,
+        decoder: bahrs::Decoder = bahrs::Decoder::new(),
+        message: PortMessage::Bahrs,
+    },
+    /// Watson AHRS-E304 text lines.
+    Watson {
+        name: "watson-ahrs-e304",
+        baud: 9600,
+        device: Watson,
+        decoder: watson::Decoder = watson::Decoder::new(),
+        message: PortMessage::Watson,
+    },
+    /// VN-200 ICD 1.3 (binary and ASCII).
+    Vn200 {
+        name: "vn200-icd",
+        baud: 921_600,
+        device: Vn200,
+        decoder: Vn200Decoder = Vn200Decoder::new(),
+        message: PortMessage::Vn200,
+    },
+    /// TT-Multi-RF text outputs (CSV, JSON, NMEA, ... in auto mode) and raw HEX lines,
+    /// interleaved, in stream order.
+    TtmrfText {
+        name: "ttmrf-text",
+        baud: 921_600,
+        device: Ttmrf,
+        decoder: MixedDecoder = MixedDecoder::new(),
+        message: PortMessage::from,
+    },
+    /// TT-Multi-RF raw HEX lines only.
+    TtmrfHex {
+        name: "ttmrf-hex",
+        baud: 921_600,
+        device: Ttmrf,
+        decoder: HexDecoder = HexDecoder::new(),
+        message: PortMessage::TtmrfRaw,
+    },
+    /// TT-Multi-RF decoded output in MAVLink 2.
+    TtmrfMavlink {
+        name: "ttmrf-mavlink",
+        baud: 921_600,
+        device: Ttmrf,
+        decoder: MavlinkDecoder = MavlinkDecoder::new(),
+        message: PortMessage::TtmrfMavlink,
+    },
+    /// TT-Multi-RF decoded output in GDL90 (barometric altitude priority: the simulator's module
+    /// sends pressure altitude in Traffic Reports, the GDL90 definition).
+    TtmrfGdl90 {
+        name: "ttmrf-gdl90",
+        baud: 921_600,
+        device: Ttmrf,
+        decoder: Gdl90Decoder = Gdl90Decoder::new(TrafficAltitude::Pressure),
+        message: PortMessage::TtmrfGdl90,
+    },
+    /// TT-Multi-RF decoded output in ASTERIX CAT021/023.
+    TtmrfAsterix {
+        name: "ttmrf-asterix",
+        baud: 921_600,
+        device: Ttmrf,
+        decoder: AsterixDecoder = AsterixDecoder::default(),
+        message: PortMessage::TtmrfAsterix,
+    },
+}
 /// The device families of the installation (one clock model each in the aligner).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -91,64 +242,6 @@ impl Device {
 }
 
 impl Protocol {
-    /// Every protocol.
-    pub const ALL: [Protocol; 8] = [
-        Protocol::Bahrs,
-        Protocol::Watson,
-        Protocol::Vn200,
-        Protocol::TtmrfText,
-        Protocol::TtmrfHex,
-        Protocol::TtmrfMavlink,
-        Protocol::TtmrfGdl90,
-        Protocol::TtmrfAsterix,
-    ];
-
-    /// The protocol's name in the configuration and in recordings' channel metadata (the names
-    /// `vigil replay` selects decoders by).
-    pub const fn name(self) -> &'static str {
-        match self {
-            Protocol::Bahrs => "bahrs-2.0",
-            Protocol::Watson => "watson-ahrs-e304",
-            Protocol::Vn200 => "vn200-icd",
-            Protocol::TtmrfText => "ttmrf-text",
-            Protocol::TtmrfHex => "ttmrf-hex",
-            Protocol::TtmrfMavlink => "ttmrf-mavlink",
-            Protocol::TtmrfGdl90 => "ttmrf-gdl90",
-            Protocol::TtmrfAsterix => "ttmrf-asterix",
-        }
-    }
-
-    /// The device's usual baud rate, bit/s (the simulator's defaults). The Watson's is the only
-    /// one its document fixes (9600); the VN-200 and the TT-Multi-RF run at 921 600 (a rate both
-    /// documents list; the VN-200's factory 115 200 cannot carry its 400 Hz outputs); the BAHRS
-    /// document names no rate (115 200 is the installation's).
-    pub const fn default_baud(self) -> u32 {
-        match self {
-            Protocol::Bahrs => 115_200,
-            Protocol::Watson => 9600,
-            Protocol::Vn200
-            | Protocol::TtmrfText
-            | Protocol::TtmrfHex
-            | Protocol::TtmrfMavlink
-            | Protocol::TtmrfGdl90
-            | Protocol::TtmrfAsterix => 921_600,
-        }
-    }
-
-    /// The device family speaking this protocol.
-    pub const fn device(self) -> Device {
-        match self {
-            Protocol::Bahrs => Device::Bahrs,
-            Protocol::Watson => Device::Watson,
-            Protocol::Vn200 => Device::Vn200,
-            Protocol::TtmrfText
-            | Protocol::TtmrfHex
-            | Protocol::TtmrfMavlink
-            | Protocol::TtmrfGdl90
-            | Protocol::TtmrfAsterix => Device::Ttmrf,
-        }
-    }
-
     /// The protocol of a port or recorded channel: `protocol` is one of the [`Protocol::name`]s
     /// exactly, or empty, and then the standard device names `bahrs`, `watson`, `vn200`, `ttmrf`
     /// imply it. `None`: not a protocol vigil decodes (see the module's decision on exact names).
@@ -293,101 +386,6 @@ pub struct PortFrame {
     pub wire_len: u64,
     /// The message.
     pub message: PortMessage,
-}
-
-/// The decoder of one port: one variant per [`Protocol`], each holding its codec. Built once per
-/// port ([`PortDecoder::new`]); decoding dispatches by one match, no strings, no lookups.
-pub enum PortDecoder {
-    /// [`Protocol::Bahrs`].
-    Bahrs(Codec<bahrs::Decoder>),
-    /// [`Protocol::Watson`].
-    Watson(Codec<watson::Decoder>),
-    /// [`Protocol::Vn200`].
-    Vn200(Box<Codec<Vn200Decoder>>),
-    /// [`Protocol::TtmrfText`]: text lines and raw HEX lines interleaved, in stream order.
-    TtmrfText(Box<Codec<MixedDecoder>>),
-    /// [`Protocol::TtmrfHex`].
-    TtmrfHex(Box<Codec<HexDecoder>>),
-    /// [`Protocol::TtmrfMavlink`].
-    TtmrfMavlink(Box<Codec<MavlinkDecoder>>),
-    /// [`Protocol::TtmrfGdl90`].
-    TtmrfGdl90(Box<Codec<Gdl90Decoder>>),
-    /// [`Protocol::TtmrfAsterix`].
-    TtmrfAsterix(Box<Codec<AsterixDecoder>>),
-}
-
-impl PortDecoder {
-    /// The decoder of `protocol`, at the start of its stream.
-    pub fn new(protocol: Protocol) -> Self {
-        match protocol {
-            Protocol::Bahrs => PortDecoder::Bahrs(Codec(bahrs::Decoder::new())),
-            Protocol::Watson => PortDecoder::Watson(Codec(watson::Decoder::new())),
-            Protocol::Vn200 => PortDecoder::Vn200(Box::new(Codec(Vn200Decoder::new()))),
-            Protocol::TtmrfText => PortDecoder::TtmrfText(Box::new(Codec(MixedDecoder::new()))),
-            Protocol::TtmrfHex => PortDecoder::TtmrfHex(Box::new(Codec(HexDecoder::new()))),
-            Protocol::TtmrfMavlink => {
-                PortDecoder::TtmrfMavlink(Box::new(Codec(MavlinkDecoder::new())))
-            }
-            // The simulator's module sends pressure altitude in Traffic Reports (barometric
-            // priority, the GDL90 definition).
-            Protocol::TtmrfGdl90 => PortDecoder::TtmrfGdl90(Box::new(Codec(Gdl90Decoder::new(
-                TrafficAltitude::Pressure,
-            )))),
-            Protocol::TtmrfAsterix => {
-                PortDecoder::TtmrfAsterix(Box::new(Codec(AsterixDecoder::default())))
-            }
-        }
-    }
-
-    /// The protocol this decoder reads.
-    pub fn protocol(&self) -> Protocol {
-        match self {
-            PortDecoder::Bahrs(_) => Protocol::Bahrs,
-            PortDecoder::Watson(_) => Protocol::Watson,
-            PortDecoder::Vn200(_) => Protocol::Vn200,
-            PortDecoder::TtmrfText(_) => Protocol::TtmrfText,
-            PortDecoder::TtmrfHex(_) => Protocol::TtmrfHex,
-            PortDecoder::TtmrfMavlink(_) => Protocol::TtmrfMavlink,
-            PortDecoder::TtmrfGdl90(_) => Protocol::TtmrfGdl90,
-            PortDecoder::TtmrfAsterix(_) => Protocol::TtmrfAsterix,
-        }
-    }
-
-    /// Decodes every message `buf` completes (removing its bytes) and hands each to `f`, in
-    /// stream order. `buf` holds the port's received bytes not yet consumed (append each read to
-    /// it); `eof`: no more bytes will come, so what is left is decoded or counted as skipped.
-    /// Stops at the first error of `f`.
-    pub fn decode<E>(
-        &mut self,
-        buf: &mut BytesMut,
-        eof: bool,
-        f: &mut impl FnMut(PortFrame) -> Result<(), E>,
-    ) -> Result<(), E> {
-        match self {
-            PortDecoder::Bahrs(c) => run(c, buf, eof, PortMessage::Bahrs, f),
-            PortDecoder::Watson(c) => run(c, buf, eof, PortMessage::Watson, f),
-            PortDecoder::Vn200(c) => run(c, buf, eof, PortMessage::Vn200, f),
-            PortDecoder::TtmrfText(c) => run(c, buf, eof, PortMessage::from, f),
-            PortDecoder::TtmrfHex(c) => run(c, buf, eof, PortMessage::TtmrfRaw, f),
-            PortDecoder::TtmrfMavlink(c) => run(c, buf, eof, PortMessage::TtmrfMavlink, f),
-            PortDecoder::TtmrfGdl90(c) => run(c, buf, eof, PortMessage::TtmrfGdl90, f),
-            PortDecoder::TtmrfAsterix(c) => run(c, buf, eof, PortMessage::TtmrfAsterix, f),
-        }
-    }
-
-    /// The decoder's counters so far.
-    pub fn stats(&self) -> DecodeStats {
-        match self {
-            PortDecoder::Bahrs(c) => *c.0.stats(),
-            PortDecoder::Watson(c) => *c.0.stats(),
-            PortDecoder::Vn200(c) => *c.0.stats(),
-            PortDecoder::TtmrfText(c) => *c.0.stats(),
-            PortDecoder::TtmrfHex(c) => *c.0.stats(),
-            PortDecoder::TtmrfMavlink(c) => *c.0.stats(),
-            PortDecoder::TtmrfGdl90(c) => *c.0.stats(),
-            PortDecoder::TtmrfAsterix(c) => *c.0.stats(),
-        }
-    }
 }
 
 /// The decode loop of one codec: each message with its offset and wire length (the decoder's
