@@ -16,7 +16,7 @@ use std::net::IpAddr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::{ConfigError, invalid};
+use super::error::{ConfigError, invalid};
 
 /// Default listen endpoint: loopback only.
 pub const DEFAULT_LISTEN: &str = "tcp/127.0.0.1:7447";

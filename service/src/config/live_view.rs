@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::ConfigError;
+use super::error::ConfigError;
 
 /// Default TCP port of the WebSocket server (the Foxglove tools' usual port).
 pub const DEFAULT_PORT: u16 = 8765;

@@ -11,8 +11,12 @@
 //! it; its errors are reported under `monitor.`).
 
 pub mod bridge;
+mod error;
 pub mod live_view;
 pub mod realtime;
+
+pub use error::ConfigError;
+pub(crate) use error::invalid;
 
 use std::path::{Path, PathBuf};
 
@@ -24,24 +28,6 @@ use vigil_fusion::pipeline::{PipelineConfig, TrafficAltitudeKind};
 use crate::runtime::setup::{Setup, TtText, VN200_IMU_HZ};
 use live_view::LiveViewSection;
 use realtime::RealtimeSection;
-
-/// A configuration value that failed validation, with its key.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{key}: {reason}")]
-pub struct ConfigError {
-    /// The offending key, e.g. `ports[2].baud`.
-    pub key: String,
-    /// What is wrong and what is allowed.
-    pub reason: String,
-}
-
-/// A [`ConfigError`] for `key`.
-pub(crate) fn invalid(key: impl Into<String>, reason: impl Into<String>) -> ConfigError {
-    ConfigError {
-        key: key.into(),
-        reason: reason.into(),
-    }
-}
 
 /// Baud rates a port may use (the standard UART rates the four devices support).
 pub const BAUD_RATES: [u32; 9] = [

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::ConfigError;
+use super::error::ConfigError;
 
 /// Largest accepted limit, us (10 s: beyond any idle state's exit latency).
 pub const MAX_US: u32 = 10_000_000;
