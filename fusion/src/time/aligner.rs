@@ -275,17 +275,7 @@ impl Aligner {
 
     /// Takes one decoded message, received as `rx`; returns every sample that became final.
     pub fn handle(&mut self, sample: Sample, rx: Rx) -> Vec<AlignedSample> {
-        // Decision: a host monotonic time counts from boot; one outside 0 ..= 2^61 ns (73 years)
-        // is garbage and is clamped, so every difference of host times below fits in an i64.
-        let rx = Rx {
-            host_ns: rx.host_ns.clamp(0, MAX_HOST_NS),
-            wire_len: rx.wire_len.min(MAX_WIRE_LEN),
-            reads: rx.reads.map(|r| Reads {
-                first_host_ns: r.first_host_ns.clamp(0, MAX_HOST_NS),
-                first_bytes: r.first_bytes.min(MAX_WIRE_LEN),
-                last_bytes: r.last_bytes.min(MAX_WIRE_LEN),
-            }),
-        };
+        let rx = bounded(rx);
         let device = sample.device();
         let index = self.next_index[device.slot()];
         self.next_index[device.slot()] += 1;
@@ -294,68 +284,9 @@ impl Aligner {
         // The BAHRS's expiry below, done already with the same host clock (see the branch).
         let mut bahrs_expired = false;
         match sample {
-            Sample::Bahrs(m) => {
-                if let Some(t) = bahrs_ticks(&m) {
-                    self.last_bahrs_ticks = Some(t);
-                }
-                let host = Self::pick(&self.host, &self.tt_host, rx.host_ns);
-                let done = self
-                    .bahrs
-                    .handle((index, m), rx.host_ns, host, &self.vn_pps);
-                out.extend(done.into_iter().map(bahrs_out));
-                // A BAHRS sample changes no host clock, and in order (the usual case) it is the
-                // newest host time: the expiry after the match would pick the same clock again
-                // (choosing it was 3 % of this function's instructions).
-                if rx.host_ns == self.last_host_ns {
-                    let now = self.last_host_ns;
-                    out.extend(self.bahrs.expire(now, host).into_iter().map(bahrs_out));
-                    bahrs_expired = true;
-                }
-            }
+            Sample::Bahrs(m) => bahrs_expired = self.handle_bahrs(index, m, rx, &mut out),
             Sample::Vn200(m) => {
-                let time = match &*m {
-                    Vn200Message::Binary(o) => {
-                        let times = Vn200Times::of(o);
-                        let time = self.vn200.handle_times_checked(
-                            &times,
-                            rx,
-                            &mut self.host,
-                            &self.tt_host,
-                            &self.cfg.cross_check,
-                        );
-                        // Its PPS time names the BAHRS pulses, when its GPS time is valid.
-                        if let (Ok(a), Some(pps)) = (&time, times.time_gps_pps_ns)
-                            && a.source == TimeSource::NativeGps
-                        {
-                            self.vn_pps.add(
-                                first_byte_host_ns(rx, self.cfg.vn200.baud),
-                                a.t_gps_ns,
-                                pps,
-                            );
-                        }
-                        match time {
-                            // Decision: without valid GPS time and without a start-up clock
-                            // model (the default output has no TimeStartup), the message is
-                            // placed by the host clock, like an ASCII one: its attitude stays
-                            // valid through a GNSS outage (ICD Table 2.78) and the host clock
-                            // coasts on the references from before it. Without a host clock the
-                            // VN-200's own reason stands.
-                            Err(
-                                why @ (NotAligned::DeviceTimeInvalid | NotAligned::ClockUnlocked),
-                            ) => host_timed(&self.host, rx, self.vn200_link()).or(Err(why)),
-                            // Its GPS time disagreed with the host clock (and it has no TimeStartup
-                            // model): placed by the host clock, the better of the two relations,
-                            // with its sigma (issue 18 point 4).
-                            Err(NotAligned::ClockDisagreement) => {
-                                let host = Self::pick(&self.host, &self.tt_host, rx.host_ns);
-                                host_timed(host, rx, self.vn200_link())
-                                    .or(Err(NotAligned::ClockDisagreement))
-                            }
-                            t => t,
-                        }
-                    }
-                    Vn200Message::Ascii(_) => host_timed(&self.host, rx, self.vn200_link()),
-                };
+                let time = self.vn200_time(&m, rx);
                 out.push(AlignedSample {
                     device,
                     index,
@@ -367,33 +298,7 @@ impl Aligner {
                 // A new host-clock reference may free what waits for it.
                 self.retry_held(&mut out);
             }
-            other => {
-                let time = self.place_checked(&other, rx);
-                if self.learn_tt_host(&other, rx, &time) {
-                    // A new host-clock reference may free what waits for it.
-                    self.retry_held(&mut out);
-                }
-                if time == Err(NotAligned::HostClockUnknown) {
-                    self.hold(
-                        Held {
-                            device,
-                            index,
-                            sample: other,
-                            rx,
-                        },
-                        &mut out,
-                    );
-                } else {
-                    out.push(AlignedSample {
-                        device,
-                        index,
-                        aligned: Aligned {
-                            message: other,
-                            time,
-                        },
-                    });
-                }
-            }
+            other => self.handle_other(device, index, other, rx, &mut out),
         }
         let now = self.last_host_ns;
         if !bahrs_expired {
@@ -402,6 +307,113 @@ impl Aligner {
         }
         self.expire_held(now, &mut out);
         out
+    }
+
+    /// A BAHRS message (`index`-th of the device): to the BAHRS aligner, which pairs it with its
+    /// time messages. Returns whether the BAHRS's expiry was done here already.
+    fn handle_bahrs(
+        &mut self,
+        index: u64,
+        m: bahrs::Message,
+        rx: Rx,
+        out: &mut Vec<AlignedSample>,
+    ) -> bool {
+        if let Some(t) = bahrs_ticks(&m) {
+            self.last_bahrs_ticks = Some(t);
+        }
+        let host = Self::pick(&self.host, &self.tt_host, rx.host_ns);
+        let done = self
+            .bahrs
+            .handle((index, m), rx.host_ns, host, &self.vn_pps);
+        out.extend(done.into_iter().map(bahrs_out));
+        // A BAHRS sample changes no host clock, and in order (the usual case) it is the newest
+        // host time: the expiry after the match would pick the same clock again (choosing it was
+        // 3 % of `handle`'s instructions).
+        if rx.host_ns == self.last_host_ns {
+            let now = self.last_host_ns;
+            out.extend(self.bahrs.expire(now, host).into_iter().map(bahrs_out));
+            return true;
+        }
+        false
+    }
+
+    /// The time of a VN-200 message: its own GPS time (binary outputs, which also name the
+    /// BAHRS's pulses and feed the host clock), else the host clock.
+    fn vn200_time(&mut self, m: &Vn200Message, rx: Rx) -> Result<AlignedTime, NotAligned> {
+        let o = match m {
+            Vn200Message::Binary(o) => o,
+            Vn200Message::Ascii(_) => return host_timed(&self.host, rx, self.vn200_link()),
+        };
+        let times = Vn200Times::of(o);
+        let time = self.vn200.handle_times_checked(
+            &times,
+            rx,
+            &mut self.host,
+            &self.tt_host,
+            &self.cfg.cross_check,
+        );
+        // Its PPS time names the BAHRS pulses, when its GPS time is valid.
+        if let (Ok(a), Some(pps)) = (&time, times.time_gps_pps_ns)
+            && a.source == TimeSource::NativeGps
+        {
+            self.vn_pps
+                .add(first_byte_host_ns(rx, self.cfg.vn200.baud), a.t_gps_ns, pps);
+        }
+        match time {
+            // Decision: without valid GPS time and without a start-up clock model (the default
+            // output has no TimeStartup), the message is placed by the host clock, like an ASCII
+            // one: its attitude stays valid through a GNSS outage (ICD Table 2.78) and the host
+            // clock coasts on the references from before it. Without a host clock the VN-200's
+            // own reason stands.
+            Err(why @ (NotAligned::DeviceTimeInvalid | NotAligned::ClockUnlocked)) => {
+                host_timed(&self.host, rx, self.vn200_link()).or(Err(why))
+            }
+            // Its GPS time disagreed with the host clock (and it has no TimeStartup model):
+            // placed by the host clock, the better of the two relations, with its sigma (issue
+            // 18 point 4).
+            Err(NotAligned::ClockDisagreement) => {
+                let host = Self::pick(&self.host, &self.tt_host, rx.host_ns);
+                host_timed(host, rx, self.vn200_link()).or(Err(NotAligned::ClockDisagreement))
+            }
+            t => t,
+        }
+    }
+
+    /// A Watson or TT-Multi-RF message: placed by its own time or the host clock (held while the
+    /// host clock is not known yet); a TT-Multi-RF time may teach the host clock.
+    fn handle_other(
+        &mut self,
+        device: Device,
+        index: u64,
+        other: Sample,
+        rx: Rx,
+        out: &mut Vec<AlignedSample>,
+    ) {
+        let time = self.place_checked(&other, rx);
+        if self.learn_tt_host(&other, rx, &time) {
+            // A new host-clock reference may free what waits for it.
+            self.retry_held(out);
+        }
+        if time == Err(NotAligned::HostClockUnknown) {
+            self.hold(
+                Held {
+                    device,
+                    index,
+                    sample: other,
+                    rx,
+                },
+                out,
+            );
+        } else {
+            out.push(AlignedSample {
+                device,
+                index,
+                aligned: Aligned {
+                    message: other,
+                    time,
+                },
+            });
+        }
     }
 
     /// Releases everything still held (end of stream): what cannot be aligned now is marked.
@@ -681,6 +693,21 @@ fn not_aligned(h: Held, why: NotAligned) -> AlignedSample {
             message: h.sample,
             time: Err(why),
         },
+    }
+}
+
+/// `rx` with its host times and lengths bounded. Decision: a host monotonic time counts from
+/// boot; one outside 0 ..= 2^61 ns (73 years) is garbage and is clamped, so every difference of
+/// host times fits in an i64.
+fn bounded(rx: Rx) -> Rx {
+    Rx {
+        host_ns: rx.host_ns.clamp(0, MAX_HOST_NS),
+        wire_len: rx.wire_len.min(MAX_WIRE_LEN),
+        reads: rx.reads.map(|r| Reads {
+            first_host_ns: r.first_host_ns.clamp(0, MAX_HOST_NS),
+            first_bytes: r.first_bytes.min(MAX_WIRE_LEN),
+            last_bytes: r.last_bytes.min(MAX_WIRE_LEN),
+        }),
     }
 }
 
