@@ -89,6 +89,30 @@ struct ProcSample {
     rss_kb: u64,
     /// Peak resident set, kB.
     hwm_kb: u64,
+    /// Context switches of all its threads so far (voluntary + involuntary): each is the
+    /// process going to sleep or being put off the CPU, so their count is its wake-ups.
+    switches: u64,
+}
+
+/// Context switches of every thread of process `pid` (`/proc/PID/task/*/status`), voluntary and
+/// involuntary. (`/proc/PID/status` counts the main thread only.) A thread that ended in between
+/// is no longer counted: `vigil run`'s threads live as long as it does.
+fn context_switches(pid: u32) -> Result<u64> {
+    let mut total = 0;
+    for task in std::fs::read_dir(format!("/proc/{pid}/task"))? {
+        let Ok(status) = std::fs::read_to_string(task?.path().join("status")) else {
+            continue; // the thread ended meanwhile
+        };
+        total += status
+            .lines()
+            .filter_map(|l| {
+                l.strip_prefix("voluntary_ctxt_switches:")
+                    .or_else(|| l.strip_prefix("nonvoluntary_ctxt_switches:"))
+            })
+            .filter_map(|v| v.trim().parse::<u64>().ok())
+            .sum::<u64>();
+    }
+    Ok(total)
 }
 
 fn proc_sample(pid: u32) -> Result<ProcSample> {
@@ -121,6 +145,7 @@ fn proc_sample(pid: u32) -> Result<ProcSample> {
         system_s,
         rss_kb: kb("VmRSS:"),
         hwm_kb: kb("VmHWM:"),
+        switches: context_switches(pid)?,
     })
 }
 
@@ -149,6 +174,15 @@ pub struct Report {
     /// Read chunks the simulator wrote to all terminals, per second (each one on a port read on
     /// arrival wakes the service; paced ports are drained every `read_interval_ms`).
     pub chunks_per_s: f64,
+    /// Wake-ups of `vigil run` per second in the window: its threads' context switches
+    /// (voluntary and involuntary) per second.
+    pub wakeups_per_s: f64,
+    /// CPU per wake-up, us: the CPU time in the window over its wake-ups.
+    pub cpu_us_per_wakeup: Option<f64>,
+    /// Bytes the simulator could not write because a terminal was full (the service read too
+    /// late), per port (device, bytes), over the whole run. Any is a failure of the run: a
+    /// real serial line would have lost them.
+    pub dropped_bytes: std::collections::BTreeMap<String, u64>,
     /// Resident set of `vigil run` at the end, MB.
     pub rss_mb: f64,
     /// Its peak resident set, MB.
@@ -184,6 +218,14 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     }
     let report = crate::demo::in_temp_dir("measure", |dir, prefix| measure(args, dir, prefix))?;
     println!("{}", serde_json::to_string_pretty(&report)?);
+    let lost: u64 = report.dropped_bytes.values().sum();
+    if lost > 0 {
+        bail!(
+            "{lost} bytes dropped by the terminals while the service was reading (a full \
+             terminal: the service read too late); per port: {:?}",
+            report.dropped_bytes
+        );
+    }
     Ok(())
 }
 
@@ -264,11 +306,11 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let total_s = args.warmup + args.duration + 0.5;
     let (tx, stamps) = mpsc::channel::<Stamp>();
     let vn_port = u16::try_from(vn200)?;
-    let writer = std::thread::spawn(move || -> Result<(u64, u64)> {
+    let writer = std::thread::spawn(move || -> Result<(Vec<u64>, u64)> {
         let mut sink = LiveSink::new(ptys, 1.0).with_stamper(Stamper::new("vn200", vn_port, tx));
         sim.run((total_s * 1e9) as i64, &mut sink)
             .map_err(|e| anyhow!("simulation: {e}"))?;
-        Ok((sink.dropped_bytes, sink.chunks))
+        Ok((sink.dropped_by_port, sink.chunks))
     });
 
     let start = Instant::now();
@@ -278,7 +320,15 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let mut received: HashMap<i64, (u64, u64)> = HashMap::new();
     let mut first: Option<(ProcSample, u64)> = None;
     let mut last = None;
-    while Instant::now() < end + Duration::from_millis(300) {
+    // `vigil run` is stopped only once the simulator has written everything and the service
+    // has had time to drain its paced ports (their longest interval is 10 ms by default; the
+    // margin covers any allowed one): a byte written after the service stopped reading would
+    // be dropped by the terminal and reported as lost by a service that lost nothing.
+    let mut written_all: Option<Instant> = None;
+    while written_all.is_none_or(|t| t.elapsed() < Duration::from_millis(300)) {
+        if written_all.is_none() && writer.is_finished() {
+            written_all = Some(Instant::now());
+        }
         if !run.running() {
             bail!("vigil run stopped:\n{}", crate::demo::tail(&log, 10));
         }
@@ -303,9 +353,6 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let (dropped, chunks) = writer
         .join()
         .map_err(|_| anyhow!("the simulator thread panicked"))??;
-    if dropped > 0 {
-        eprintln!("vigil measure: {dropped} bytes dropped by the terminals");
-    }
     if !clean {
         eprintln!(
             "vigil measure: vigil run did not stop cleanly:\n{}",
@@ -331,6 +378,8 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
             second_part.push(at.saturating_sub(sent));
         }
     }
+    let cpu_s = p1.user_s + p1.system_s - p0.user_s - p0.system_s;
+    let switches = p1.switches.saturating_sub(p0.switches);
     Ok(Report {
         scenario: name,
         window_s,
@@ -339,10 +388,16 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         latency: LatencyStats::from_ns(latencies, sub.missed()),
         write_to_send: LatencyStats::from_ns(first_part, sub.missed()),
         send_to_receive: LatencyStats::from_ns(second_part, sub.missed()),
-        cpu_percent_of_one_core: 100.0 * (p1.user_s + p1.system_s - p0.user_s - p0.system_s)
-            / window_s.max(1e-9),
+        cpu_percent_of_one_core: 100.0 * cpu_s / window_s.max(1e-9),
         cpu_system_percent: 100.0 * (p1.system_s - p0.system_s) / window_s.max(1e-9),
         chunks_per_s: chunks as f64 / total_s,
+        wakeups_per_s: switches as f64 / window_s.max(1e-9),
+        cpu_us_per_wakeup: (switches > 0).then(|| cpu_s * 1e6 / switches as f64),
+        dropped_bytes: names
+            .iter()
+            .zip(dropped)
+            .map(|(n, d)| (n.to_string(), d))
+            .collect(),
         rss_mb: p1.rss_kb as f64 / 1024.0,
         peak_rss_mb: p1.hwm_kb as f64 / 1024.0,
         missed: sub.missed(),
@@ -351,4 +406,31 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
             (set, bytes)
         }),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every sleep of a thread is a voluntary context switch: ten sleeps of a new thread add at
+    /// least ten to the process's count, which sums all its threads (the main thread's
+    /// `/proc/PID/status` alone would not see them).
+    #[test]
+    fn context_switches_count_every_thread() {
+        let pid = std::process::id();
+        let before = context_switches(pid).unwrap();
+        let (tx, rx) = mpsc::channel();
+        let t = std::thread::spawn(move || {
+            for _ in 0..10 {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            // Counted while the thread still exists.
+            rx.recv().unwrap()
+        });
+        std::thread::sleep(Duration::from_millis(50));
+        let during = context_switches(pid).unwrap();
+        tx.send(()).unwrap();
+        t.join().unwrap();
+        assert!(during >= before + 10, "{before} -> {during}");
+    }
 }

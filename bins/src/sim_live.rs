@@ -99,8 +99,10 @@ pub struct LiveSink {
     speed: f64,
     start: Option<(u64, Instant)>,
     stamper: Option<Stamper>,
-    /// Bytes dropped because a terminal was full (nobody reading).
+    /// Bytes dropped because a terminal was full (nobody reading, or reading too late).
     pub dropped_bytes: u64,
+    /// The same, per port.
+    pub dropped_by_port: Vec<u64>,
     /// Chunks written (one write each).
     pub chunks: u64,
 }
@@ -109,6 +111,7 @@ impl LiveSink {
     /// A sink over the ports' terminals, paced at `speed` times real time.
     pub fn new(ptys: Vec<Pty>, speed: f64) -> Self {
         Self {
+            dropped_by_port: vec![0; ptys.len()],
             ptys,
             speed,
             start: None,
@@ -152,6 +155,7 @@ impl Sink for LiveSink {
                 Ok(n) => rest = &rest[n..],
                 Err(Errno::AGAIN) => {
                     self.dropped_bytes += rest.len() as u64;
+                    self.dropped_by_port[usize::from(chunk.port)] += rest.len() as u64;
                     break;
                 }
                 Err(Errno::INTR) => {}
