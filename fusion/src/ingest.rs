@@ -33,17 +33,64 @@ struct DevicePort {
     name: String,
     clock: ChunkClock,
     decoding: Decoding,
+    cadence: Cadence,
+}
+
+/// Reads in a row that must end exactly on one frame of the same length before
+/// [`Ingest::whole_message_bytes`] predicts that length.
+const STEADY_FRAMES: u32 = 8;
+
+/// Whether a port's stream is a steady run of frames of one length (issue 21): each time its
+/// decoder's buffer is empty (a frame boundary), what was consumed since the previous boundary is
+/// compared with the frame before.
+#[derive(Debug, Default, Clone, Copy)]
+struct Cadence {
+    /// Counters at the previous boundary: bytes consumed, bytes skipped, frames decoded.
+    at: (u64, u64, u64),
+    /// Length of the frame between the last two boundaries, when exactly one frame and nothing
+    /// else was consumed, bytes.
+    len: Option<u64>,
+    /// Boundaries in a row that closed one frame of length `len`.
+    run: u32,
+    /// The buffer was empty after the last read.
+    at_boundary: bool,
+}
+
+impl Cadence {
+    fn update(&mut self, stats: DecodeStats, pending: usize) {
+        self.at_boundary = pending == 0;
+        if pending > 0 {
+            return;
+        }
+        let now = (
+            stats.bytes_consumed,
+            stats.bytes_skipped,
+            stats.frames_decoded,
+        );
+        let (consumed, skipped, frames) = (now.0 - self.at.0, now.1 - self.at.1, now.2 - self.at.2);
+        self.at = now;
+        if frames == 1 && skipped == 0 {
+            if self.len == Some(consumed) {
+                self.run = self.run.saturating_add(1);
+            } else {
+                self.len = Some(consumed);
+                self.run = 1;
+            }
+        } else if frames > 0 || skipped > 0 {
+            self.len = None;
+            self.run = 0;
+        }
+    }
 }
 
 impl DevicePort {
     /// Decodes what `bytes` completes (`eof`: and what is left at the end of the stream).
-    fn samples(&mut self, bytes: &[u8], eof: bool) -> Samples {
-        let mut out = Samples::new();
+    fn samples(&mut self, bytes: &[u8], eof: bool, out: &mut Samples, spare: &mut SpareVn200) {
         match &mut self.decoding {
             Decoding::Decoded(d, buf) => {
                 buf.extend_from_slice(bytes);
                 let _ = d.decode(buf, eof, &mut |m| -> Result<(), ()> {
-                    out.push(sample(m));
+                    out.push(sample(m, spare));
                     Ok(())
                 });
             }
@@ -54,7 +101,6 @@ impl DevicePort {
                 }
             }
         }
-        out
     }
 
     /// The port's decoder counters, `None` without a decoder.
@@ -89,17 +135,33 @@ impl DevicePort {
     }
 }
 
+/// Boxes of VN-200 messages whose samples were handed out, reused by the next messages: the
+/// VN-200 stream (400 Hz) then allocates nothing per message (issue 21).
+type SpareVn200 = Vec<Box<vigil_drivers::vn200::Vn200Message>>;
+
+/// Spare VN-200 boxes kept at most (a chunk holds one message in the steady state).
+const SPARE_VN200: usize = 4;
+
 /// A decoded message as a [`Sample`] with its start offset and wire length.
 ///
 /// Decision: the BAHRS and Watson lengths are their messages re-encoded, as when these two went
 /// through the simulator's `Replayer` (which reported start offsets only); kept so every aligned
 /// time stays as it was. The others use the decoder's consumed count.
-fn sample(m: PortFrame) -> (Sample, u64, usize) {
+fn sample(m: PortFrame, spare: &mut SpareVn200) -> (Sample, u64, usize) {
     let wire = usize::try_from(m.wire_len).unwrap_or(usize::MAX);
     let (s, len) = match m.message {
         PortMessage::Bahrs(b) => (Sample::Bahrs(b), b.to_frame().len()),
         PortMessage::Watson(l) => (Sample::Watson(l), l.to_bytes().len()),
-        PortMessage::Vn200(v) => (Sample::Vn200(Box::new(v)), wire),
+        PortMessage::Vn200(v) => {
+            let b = match spare.pop() {
+                Some(mut b) => {
+                    *b = v;
+                    b
+                }
+                None => Box::new(v),
+            };
+            (Sample::Vn200(b), wire)
+        }
         PortMessage::TtmrfText(t) => (Sample::TtText(Box::new(t)), wire),
         PortMessage::TtmrfRaw(r) => (Sample::TtRaw(Box::new(r)), wire),
         PortMessage::TtmrfMavlink(x) => (Sample::TtMavlink(Box::new(x)), wire),
@@ -116,6 +178,11 @@ pub struct Ingest {
     /// scan per chunk finds it (it replaced five map lookups by name per chunk, about 4 % of a
     /// fused replay's instructions).
     ports: Vec<DevicePort>,
+    /// Reused buffers (issue 21: no allocation per chunk once grown): a chunk's decoded
+    /// messages, and the samples one message made final.
+    samples: Samples,
+    aligned: Vec<AlignedSample>,
+    spare_vn200: SpareVn200,
 }
 
 impl Default for Ingest {
@@ -131,6 +198,9 @@ impl Ingest {
         Self {
             aligner: Aligner::new(AlignerConfig::default()),
             ports: Vec::new(),
+            samples: Samples::new(),
+            aligned: Vec::new(),
+            spare_vn200: Vec::with_capacity(SPARE_VN200),
         }
     }
 
@@ -146,8 +216,14 @@ impl Ingest {
         let i = self.port_index(device, protocol);
         let port = &mut self.ports[i];
         port.clock.push(t_host_ns as i64, bytes.len());
-        let samples = port.samples(bytes, false);
-        self.align(i, samples, f)
+        let mut samples = std::mem::take(&mut self.samples);
+        port.samples(bytes, false, &mut samples, &mut self.spare_vn200);
+        if let Decoding::Decoded(d, buf) = &port.decoding {
+            port.cadence.update(d.stats(), buf.len());
+        }
+        let r = self.align(i, &mut samples, f);
+        self.samples = samples;
+        r
     }
 
     /// The index of port `device` in `ports`, added (with its decoder, chosen once from its wire
@@ -170,6 +246,7 @@ impl Ingest {
             name: device.to_string(),
             clock: ChunkClock::default(),
             decoding,
+            cadence: Cadence::default(),
         });
         self.ports.len() - 1
     }
@@ -223,6 +300,17 @@ impl Ingest {
         &self.aligner
     }
 
+    /// The length of the next frame of port `device`, bytes, when its stream is a steady run of
+    /// frames of one length and the last read ended exactly on a frame boundary (issue 21): the
+    /// live reader then waits for that many bytes before it wakes (`VMIN`). `None` otherwise:
+    /// mid-frame, after skipped bytes or a frame of another length, or fewer than
+    /// [`STEADY_FRAMES`] such frames in a row.
+    pub fn whole_message_bytes(&self, device: &str) -> Option<usize> {
+        let c = self.ports.iter().find(|p| p.name == device)?.cadence;
+        let len = c.len.filter(|_| c.at_boundary && c.run >= STEADY_FRAMES)?;
+        usize::try_from(len).ok()
+    }
+
     /// The decoder counters of `device` so far (as [`Ingest::finish`] reports them), or
     /// `None` for a port without a decoder or not seen yet.
     pub fn port_stats(&self, device: &str) -> Option<DecodeStats> {
@@ -245,9 +333,10 @@ impl Ingest {
         });
         let mut summary = BTreeMap::new();
         for i in order {
-            let rest = self.ports[i].samples(&[], true);
+            let mut rest = Samples::new();
+            self.ports[i].samples(&[], true, &mut rest, &mut self.spare_vn200);
             summary.insert(self.ports[i].name.clone(), self.ports[i].summary());
-            self.align(i, rest, f)?;
+            self.align(i, &mut rest, f)?;
         }
         for s in self.aligner.flush() {
             f(&s)?;
@@ -255,23 +344,37 @@ impl Ingest {
         Ok(summary)
     }
 
-    /// Aligns `samples` of port `ports[i]`.
+    /// Aligns `samples` of port `ports[i]` (taking them all: the buffer is left empty for
+    /// reuse, even when `f` fails).
     fn align<E>(
         &mut self,
         i: usize,
-        samples: Samples,
+        samples: &mut Samples,
         f: &mut impl FnMut(&AlignedSample) -> Result<(), E>,
     ) -> Result<(), E> {
         let clock = &mut self.ports[i].clock;
-        for (sample, offset, len) in samples {
+        let mut aligned = std::mem::take(&mut self.aligned);
+        let mut r = Ok(());
+        for (sample, offset, len) in samples.drain(..) {
             let Some(rx) = clock.rx(offset, len) else {
                 continue;
             };
-            for s in self.aligner.handle(sample, rx) {
-                f(&s)?;
+            self.aligner.handle_into(sample, rx, &mut aligned);
+            r = aligned.iter().try_for_each(&mut *f);
+            for s in aligned.drain(..) {
+                if let Sample::Vn200(b) = s.aligned.message
+                    && self.spare_vn200.len() < SPARE_VN200
+                {
+                    self.spare_vn200.push(b);
+                }
+            }
+            if r.is_err() {
+                // As before the buffers: the chunk's other messages are dropped with the error.
+                break;
             }
         }
-        Ok(())
+        self.aligned = aligned;
+        r
     }
 }
 

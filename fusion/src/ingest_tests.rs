@@ -146,3 +146,63 @@ fn a_port_of_an_unknown_protocol_is_counted_not_decoded() {
         }
     );
 }
+
+/// A VN-200 binary frame at GPS time `g` (Common group: time and INS status).
+fn vn_frame(g: i64, with_ypr: bool) -> Vec<u8> {
+    BinaryOutput {
+        common: Some(CommonGroup {
+            time_gps_ns: Some(g as u64),
+            ins_status: Some(InsStatus(0b110)),
+            ypr: with_ypr.then_some(vigil_drivers::vn200::binary::Ypr {
+                yaw_deg: 1.0,
+                pitch_deg: 2.0,
+                roll_deg: 3.0,
+            }),
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+    .encode()
+}
+
+#[test]
+fn whole_message_bytes_only_after_a_steady_run_of_one_length_ending_on_a_boundary() {
+    let mut r = Ingest::new();
+    let mut f = |_: &AlignedSample| -> Result<(), ()> { Ok(()) };
+    let mut t = 1u64;
+    let mut feed = |r: &mut Ingest, b: &[u8]| {
+        t += 1;
+        r.feed("vn200", "", t, b, &mut f).unwrap();
+    };
+    let short = vn_frame(G0, false);
+    let long = vn_frame(G0, true);
+    assert_eq!(long.len(), short.len() + 12, "YPR adds three f32");
+    // Seven whole frames of one length, each in two reads: not steady yet.
+    for _ in 0..7 {
+        let (a, b) = short.split_at(10);
+        feed(&mut r, a);
+        assert_eq!(r.whole_message_bytes("vn200"), None, "mid-frame");
+        feed(&mut r, b);
+    }
+    assert_eq!(r.whole_message_bytes("vn200"), None, "seven frames");
+    feed(&mut r, &short);
+    assert_eq!(r.whole_message_bytes("vn200"), Some(short.len()));
+    // Two frames in one read: the run is broken (more than one frame between boundaries).
+    feed(&mut r, &[short.clone(), short.clone()].concat());
+    assert_eq!(r.whole_message_bytes("vn200"), None);
+    for _ in 0..8 {
+        feed(&mut r, &short);
+    }
+    assert_eq!(r.whole_message_bytes("vn200"), Some(short.len()));
+    // A frame of another length starts a new run.
+    feed(&mut r, &long);
+    assert_eq!(r.whole_message_bytes("vn200"), None);
+    for _ in 0..7 {
+        feed(&mut r, &long);
+    }
+    assert_eq!(r.whole_message_bytes("vn200"), Some(long.len()));
+    // Garbage before a frame (skipped bytes) breaks it too.
+    feed(&mut r, &[[0x55u8, 0x66].as_slice(), &long].concat());
+    assert_eq!(r.whole_message_bytes("vn200"), None);
+    assert_eq!(r.whole_message_bytes("watson"), None, "a port never seen");
+}

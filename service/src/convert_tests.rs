@@ -59,7 +59,7 @@ fn record() -> AttitudeRecord {
 fn axis(value_deg: f64, used: Vec<Unit>, selected: Option<Unit>) -> VotedAxis {
     VotedAxis {
         value_deg,
-        used,
+        used: used.into_iter().collect(),
         selected,
     }
 }

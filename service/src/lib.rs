@@ -237,6 +237,18 @@ impl Service {
         self.publish_fused(t_host_ns, out);
     }
 
+    /// The length of port `port`'s next message, bytes, when the live reader may wait for it
+    /// whole (issue 21; see [`Ingest::whole_message_bytes`]): only the VN-200's binary stream.
+    /// Decision: not the host-timed ports (Watson, TT-Multi-RF, BAHRS navigation): a message
+    /// of another length read late would carry the wait in its time.
+    pub fn whole_message_bytes(&self, port: usize) -> Option<usize> {
+        let p = self.ports.get(port)?;
+        if p.port.protocol != vigil_drivers::protocol::Protocol::Vn200 {
+            return None;
+        }
+        self.replay.whole_message_bytes(&p.port.device)
+    }
+
     fn publish_fused(&mut self, t_host_ns: u64, out: &mut impl Outputs) {
         let mut fused = std::mem::take(&mut self.fused);
         for f in fused.drain(..) {
@@ -277,6 +289,8 @@ impl Service {
                 && !matches!(f, Fused::Prompt(_))
             {
                 tap.events.push((t_host_ns, Tapped::Fused(Box::new(f))));
+            } else {
+                self.pipeline.recycle(f);
             }
         }
         self.fused = fused;

@@ -24,6 +24,77 @@ pub enum Unit {
     Watson,
 }
 
+/// A set of attitude units, in the order BAHRS, VN-200, Watson: the units a voted axis used.
+/// A bit set on the stack, so voting allocates nothing (issue 21: the prompt attitude runs at
+/// the VN-200's rate). Serialised as the list of its units, as the `Vec` it replaced was.
+#[derive(Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub struct UnitSet(u8);
+
+impl UnitSet {
+    const ALL: [Unit; 3] = [Unit::Bahrs, Unit::Vn200, Unit::Watson];
+
+    fn bit(u: Unit) -> u8 {
+        match u {
+            Unit::Bahrs => 1,
+            Unit::Vn200 => 2,
+            Unit::Watson => 4,
+        }
+    }
+
+    /// Adds `u`.
+    pub fn insert(&mut self, u: Unit) {
+        self.0 |= Self::bit(u);
+    }
+
+    /// Whether `u` is in the set.
+    pub fn contains(&self, u: &Unit) -> bool {
+        self.0 & Self::bit(*u) != 0
+    }
+
+    /// Units in the set.
+    pub fn len(&self) -> usize {
+        self.0.count_ones() as usize
+    }
+
+    /// Whether the set is empty.
+    pub fn is_empty(&self) -> bool {
+        self.0 == 0
+    }
+
+    /// The units, BAHRS first, then VN-200, then Watson.
+    pub fn iter(&self) -> impl Iterator<Item = &Unit> + '_ {
+        Self::ALL.iter().filter(|u| self.contains(u))
+    }
+}
+
+impl FromIterator<Unit> for UnitSet {
+    fn from_iter<I: IntoIterator<Item = Unit>>(it: I) -> Self {
+        let mut s = Self::default();
+        for u in it {
+            s.insert(u);
+        }
+        s
+    }
+}
+
+impl std::fmt::Debug for UnitSet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl PartialEq<Vec<Unit>> for UnitSet {
+    fn eq(&self, other: &Vec<Unit>) -> bool {
+        self.iter().eq(other.iter())
+    }
+}
+
+impl Serialize for UnitSet {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.iter())
+    }
+}
+
 /// Outcome of one pairwise comparison.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]

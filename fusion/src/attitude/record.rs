@@ -8,7 +8,7 @@ use super::compare::AxisComparison;
 use super::coverage::CoverageRecord;
 use super::gates::Gate;
 use super::inertial::InertialRecord;
-use super::isolation::{Isolation, PairVerdict, Unit};
+use super::isolation::{Isolation, PairVerdict, Unit, UnitSet};
 use super::vertical::VerticalRecord;
 use crate::magnetic::MagneticZone;
 
@@ -121,7 +121,7 @@ pub struct VotedAxis {
     /// Voted value, deg (heading true, 0 .. 360).
     pub value_deg: f64,
     /// Units that took part.
-    pub used: Vec<Unit>,
+    pub used: UnitSet,
     /// The unit whose value is the median (null when two units are averaged).
     pub selected: Option<Unit>,
 }

@@ -177,9 +177,27 @@ pub struct Pipeline {
     activity: Activity,
     /// Traffic reports taken (all protocols).
     reports: u64,
+    /// Boxes of prompt records handed back by the caller ([`Pipeline::recycle`]), reused so a
+    /// prompt output allocates nothing in the steady state (issue 21).
+    // The boxes themselves are what is kept: a prompt output carries one.
+    #[allow(clippy::vec_box)]
+    spare_records: Vec<Box<AttitudeRecord>>,
 }
 
+/// Spare record boxes kept at most (a step makes one prompt per attitude sample).
+const SPARE_RECORDS: usize = 4;
+
 impl Pipeline {
+    /// Takes back an output the caller is done with: its record's box is reused by the next
+    /// prompt output. Optional (an output dropped instead is simply freed).
+    pub fn recycle(&mut self, f: Fused) {
+        if let Fused::Prompt(b) | Fused::Attitude(b) = f
+            && self.spare_records.len() < SPARE_RECORDS
+        {
+            self.spare_records.push(b);
+        }
+    }
+
     /// A pipeline with the given parameters and declination model (the WMM in service:
     /// [`crate::magnetic::Wmm`]).
     pub fn new(
@@ -197,6 +215,7 @@ impl Pipeline {
             last_accuracy: None,
             health: HealthCheck::new(cfg.check.health),
             last_rmc: None,
+            spare_records: Vec::with_capacity(SPARE_RECORDS),
             next_step_ns: None,
             activity: Device::ALL.map(|d| (d, DeviceActivity::default())),
             reports: 0,
@@ -283,7 +302,14 @@ impl Pipeline {
             && let Some(unit) = attitude_unit(s.device)
             && let Some(r) = self.checker.prompt(time.t_gps_ns, unit)
         {
-            out.push(Fused::Prompt(Box::new(r)));
+            let b = match self.spare_records.pop() {
+                Some(mut b) => {
+                    *b = r;
+                    b
+                }
+                None => Box::new(r),
+            };
+            out.push(Fused::Prompt(b));
         }
     }
 

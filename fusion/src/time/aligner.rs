@@ -275,16 +275,23 @@ impl Aligner {
 
     /// Takes one decoded message, received as `rx`; returns every sample that became final.
     pub fn handle(&mut self, sample: Sample, rx: Rx) -> Vec<AlignedSample> {
+        let mut out = Vec::new();
+        self.handle_into(sample, rx, &mut out);
+        out
+    }
+
+    /// [`Aligner::handle`], appending the samples that became final to `out` (a buffer the
+    /// caller reuses: no allocation per message once it has grown; issue 21).
+    pub fn handle_into(&mut self, sample: Sample, rx: Rx, out: &mut Vec<AlignedSample>) {
         let rx = bounded(rx);
         let device = sample.device();
         let index = self.next_index[device.slot()];
         self.next_index[device.slot()] += 1;
         self.last_host_ns = self.last_host_ns.max(rx.host_ns);
-        let mut out = Vec::new();
         // The BAHRS's expiry below, done already with the same host clock (see the branch).
         let mut bahrs_expired = false;
         match sample {
-            Sample::Bahrs(m) => bahrs_expired = self.handle_bahrs(index, m, rx, &mut out),
+            Sample::Bahrs(m) => bahrs_expired = self.handle_bahrs(index, m, rx, out),
             Sample::Vn200(m) => {
                 let time = self.vn200_time(&m, rx);
                 out.push(AlignedSample {
@@ -296,17 +303,16 @@ impl Aligner {
                     },
                 });
                 // A new host-clock reference may free what waits for it.
-                self.retry_held(&mut out);
+                self.retry_held(out);
             }
-            other => self.handle_other(device, index, other, rx, &mut out),
+            other => self.handle_other(device, index, other, rx, out),
         }
         let now = self.last_host_ns;
         if !bahrs_expired {
             let host = Self::pick(&self.host, &self.tt_host, now);
             out.extend(self.bahrs.expire(now, host).into_iter().map(bahrs_out));
         }
-        self.expire_held(now, &mut out);
-        out
+        self.expire_held(now, out);
     }
 
     /// A BAHRS message (`index`-th of the device): to the BAHRS aligner, which pairs it with its

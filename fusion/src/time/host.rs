@@ -172,23 +172,21 @@ impl HostClock {
     /// Fits the envelope through the bucket minima. Called when a new bucket starts, so every bucket
     /// held is complete.
     fn refit(&mut self) {
-        let complete: Vec<&Bucket> = self.buckets.iter().collect();
-        if complete.is_empty() {
+        // Straight from the buckets (no collected copies: this runs once a second on the live
+        // path, which allocates nothing; issue 21).
+        let complete = &self.buckets;
+        let Some(first) = complete.front() else {
             return;
-        }
-        let h0 = complete[0].host_at_min;
+        };
+        let h0 = first.host_at_min;
         let n = complete.len() as f64;
-        let xs: Vec<f64> = complete
-            .iter()
-            .map(|b| (b.host_at_min - h0) as f64)
-            .collect();
-        let ys: Vec<f64> = complete.iter().map(|b| b.min_d as f64).collect();
-        let x_mean = xs.iter().sum::<f64>() / n;
-        let y_mean = ys.iter().sum::<f64>() / n;
-        let sxx: f64 = xs.iter().map(|x| (x - x_mean).powi(2)).sum();
+        let xs = || complete.iter().map(|b| (b.host_at_min - h0) as f64);
+        let ys = || complete.iter().map(|b| b.min_d as f64);
+        let x_mean = xs().sum::<f64>() / n;
+        let y_mean = ys().sum::<f64>() / n;
+        let sxx: f64 = xs().map(|x| (x - x_mean).powi(2)).sum();
         let slope = if complete.len() >= 2 && sxx > 0.0 {
-            xs.iter()
-                .zip(&ys)
+            xs().zip(ys())
                 .map(|(x, y)| (x - x_mean) * (y - y_mean))
                 .sum::<f64>()
                 / sxx
@@ -198,9 +196,8 @@ impl HostClock {
         let c0 = y_mean - slope * x_mean;
         // Scatter of the minima around the line: part of the mapping uncertainty.
         let scatter = if complete.len() >= 3 {
-            let ss: f64 = xs
-                .iter()
-                .zip(&ys)
+            let ss: f64 = xs()
+                .zip(ys())
                 .map(|(x, y)| (y - c0 - slope * x).powi(2))
                 .sum();
             (ss / (n - 2.0)).sqrt()
@@ -209,7 +206,7 @@ impl HostClock {
         };
         // Excess delay over the envelope: mean and spread of d - min per bucket, pooled.
         let (mut cnt, mut sum, mut sum2) = (0.0, 0.0, 0.0);
-        for b in &complete {
+        for b in complete {
             // The minimum relative to the bucket's reference (small: within the delay spread).
             let m = (b.min_d - b.ref_d) as f64;
             cnt += f64::from(b.n);

@@ -183,6 +183,10 @@ impl PortSink for Ctx {
         self.epoch
     }
 
+    fn whole_message_bytes(&self, i: usize) -> Option<usize> {
+        self.service.whole_message_bytes(i)
+    }
+
     fn opened(&mut self, i: usize) {
         self.service.handle_link(i, true, monotonic_ns());
         self.closed_logged[i] = false;

@@ -53,35 +53,158 @@ pub fn detach(serial: SerialStream) -> std::io::Result<File> {
     Ok(File::from(fd))
 }
 
+/// The line discipline's `VMIN` of a port read on arrival (issue 21): how many bytes must be
+/// waiting before the port reports itself readable.
+///
+/// With `VTIME` 0, a non-blocking descriptor polls readable only once `VMIN` bytes are waiting
+/// (`n_tty_poll`). Each USB packet still wakes the thread inside the kernel (the line discipline
+/// wakes its pollers on every arrival), but only to find the port not yet readable: the
+/// process returns to user space, reads and processes once per message instead of once per
+/// packet.
+struct Vmin {
+    /// The value set now (1 when the port opened: any byte makes it readable).
+    now: u8,
+    /// Time of the last read, host monotonic ns, and the interval between the last two reads
+    /// made with `VMIN` above 1 (the message period), ns.
+    last_read_ns: Option<u64>,
+    period_ns: Option<u64>,
+}
+
+impl Vmin {
+    /// Longest wait for a whole message before the port is read anyway, ns: 1.5 message periods
+    /// (10 ms before a period is known), at least 1 ms (the timer's resolution), at most 100 ms.
+    fn patience_ns(&self) -> u64 {
+        self.period_ns
+            .map_or(10_000_000, |p| p + p / 2)
+            .clamp(1_000_000, 100_000_000)
+    }
+
+    /// Sets `VMIN` to `want` (clamped to 1..=255, the field's range; longer messages are read as
+    /// they arrive). Returns false when the port refused (it is then read as it arrives).
+    fn set(&mut self, file: &File, want: usize) -> bool {
+        let v = u8::try_from(want).ok().filter(|v| *v > 0).unwrap_or(1);
+        if v == self.now {
+            return true;
+        }
+        let ok = rustix::termios::tcgetattr(file).and_then(|mut t| {
+            t.special_codes[rustix::termios::SpecialCodeIndex::VMIN] = v;
+            t.special_codes[rustix::termios::SpecialCodeIndex::VTIME] = 0;
+            rustix::termios::tcsetattr(file, rustix::termios::OptionalActions::Now, &t)
+        });
+        if ok.is_ok() {
+            self.now = v;
+        }
+        ok.is_ok()
+    }
+
+    /// A read happened at `t` ns with `VMIN` as it was.
+    fn read_at(&mut self, t: u64) {
+        if let Some(last) = self.last_read_ns
+            && self.now > 1
+        {
+            self.period_ns = Some(t.saturating_sub(last));
+        }
+        self.last_read_ns = Some(t);
+    }
+}
+
 /// Reads `file` as its bytes arrive, handing each chunk with its host monotonic read time (ns)
 /// to `chunk`, until the port fails or ends; returns why.
-pub async fn read_on_arrival(file: File, mut chunk: impl FnMut(u64, &[u8])) -> String {
+///
+/// `chunk` returns the length of the next message when the port's stream is a steady run of
+/// messages of one length and the read ended on a message boundary
+/// ([`vigil_fusion::ingest::Ingest::whole_message_bytes`]): the port is then made readable
+/// only once that many bytes wait ([`Vmin`]), so a message costs one return to user space
+/// however many USB packets carry it. The read, and so the message's receive time, is the
+/// moment its last byte arrived, as before.
+///
+/// Decision: a message of another length (shorter: it never reaches `VMIN`) would wait for the
+/// next one. The wait is bounded: after 1.5 message periods without a read the port is read
+/// anyway and `VMIN` goes back to 1; such a message is stamped late by at most that, once, and
+/// the stream is read as it arrives until it is steady again (eight messages of one length).
+/// The VN-200's messages carry their GPS time; the late stamp only feeds the host clock fit one
+/// high-delay point.
+pub async fn read_on_arrival(
+    file: File,
+    mut chunk: impl FnMut(u64, &[u8]) -> Option<usize>,
+) -> String {
     // SAFETY: the `File` owns its open descriptor and is moved into the `AsyncFd`, which keeps
     // it (same descriptor, same open file description) until it is dropped.
     let afd = match unsafe { AsyncFd::register_with_interest(file, Interest::READABLE) } {
         Ok(a) => a,
         Err(e) => return format!("cannot poll: {e}"),
     };
+    let mut vmin = Vmin {
+        now: 0,
+        last_read_ns: None,
+        period_ns: None,
+    };
+    if !vmin.set(afd.get_ref(), 1) {
+        // Not a terminal (a test's pipe, say): read as the bytes arrive, with no VMIN.
+        vmin.now = 1;
+    }
     let mut buf = vec![0u8; READ_BYTES];
     loop {
-        let mut guard = match afd.readable().await {
-            Ok(g) => g,
-            Err(e) => return e.to_string(),
-        };
-        match guard.try_io(|f| f.get_ref().read(&mut buf)) {
-            Ok(Ok(0)) => return "end of file".to_string(),
-            Ok(Ok(n)) => {
-                let t = monotonic_ns();
-                if n < buf.len() {
-                    // Drained (see the module documentation).
-                    guard.clear_ready();
+        let mut guard = if vmin.now > 1 {
+            let patience = Duration::from_nanos(vmin.patience_ns());
+            match tokio::time::timeout(patience, afd.readable()).await {
+                Ok(Ok(g)) => g,
+                Ok(Err(e)) => return e.to_string(),
+                Err(_) => {
+                    // No whole message in time: read what waits (setting VMIN to 1 wakes the
+                    // port's pollers, so it is reported readable if a byte waits).
+                    vmin.set(afd.get_ref(), 1);
+                    continue;
                 }
-                chunk(t, &buf[..n]);
             }
-            Ok(Err(e)) if e.kind() == ErrorKind::Interrupted => {}
-            Ok(Err(e)) => return e.to_string(),
-            // Would block: `try_io` cleared the readiness; wait for the next event.
-            Err(_) => {}
+        } else {
+            match afd.readable().await {
+                Ok(g) => g,
+                Err(e) => return e.to_string(),
+            }
+        };
+        // One chunk: what waits, in as many reads as it takes. With VMIN above 1 the line
+        // discipline hands at most 64 bytes per read(2) (Linux 6: the tty layer copies through a
+        // 64-byte kernel buffer and non-canonical reads do not continue), so the port is read
+        // until it would block; with VMIN 1 one read takes everything (see the module
+        // documentation) unless it fills the buffer.
+        let (mut filled, mut t, mut drained) = (0, 0, false);
+        let end = loop {
+            match guard.try_io(|f| f.get_ref().read(&mut buf[filled..])) {
+                Ok(Ok(0)) => break Some("end of file".to_string()),
+                Ok(Ok(n)) => {
+                    if filled == 0 {
+                        t = monotonic_ns();
+                    }
+                    filled += n;
+                    if filled == buf.len() {
+                        break None;
+                    }
+                    if vmin.now <= 1 {
+                        drained = true;
+                        break None;
+                    }
+                }
+                Ok(Err(e)) if e.kind() == ErrorKind::Interrupted => {}
+                Ok(Err(e)) => break Some(e.to_string()),
+                // Would block: `try_io` cleared the readiness; wait for the next event.
+                Err(_) => break None,
+            }
+        };
+        if drained {
+            // Drained (see the module documentation).
+            guard.clear_ready();
+        }
+        drop(guard);
+        if filled > 0 {
+            vmin.read_at(t);
+            let want = chunk(t, &buf[..filled]).unwrap_or(1);
+            if !vmin.set(afd.get_ref(), want) {
+                vmin.set(afd.get_ref(), 1);
+            }
+        }
+        if let Some(why) = end {
+            return why;
         }
     }
 }
@@ -191,7 +314,14 @@ mod tests {
             };
             let why = match paced {
                 Some(d) => read_paced(file, d, Instant::now(), push).await,
-                None => read_on_arrival(file, push).await,
+                None => {
+                    let mut push = push;
+                    read_on_arrival(file, |t, b| {
+                        push(t, b);
+                        None
+                    })
+                    .await
+                }
             };
             writer.await.unwrap();
             assert_eq!(got.len(), expected.len());
@@ -227,6 +357,65 @@ mod tests {
         );
     }
 
+    /// Messages of `len` bytes written in `pieces` writes each, 300 us apart, one message every
+    /// 3 ms, `count` of them; the reader asks for whole messages of `want` bytes (`None`: as
+    /// they arrive). Returns the bytes read and the number of reads.
+    fn messages_in_pieces(
+        len: usize,
+        pieces: usize,
+        count: usize,
+        want: Option<usize>,
+    ) -> (Vec<u8>, usize) {
+        rt().block_on(async {
+            let (mut master, serial) = pty();
+            let file = detach(serial).unwrap();
+            let data: Vec<u8> = (0..len * count).map(|i| (i % 251) as u8).collect();
+            let expected = data.clone();
+            // Its own thread: the reader runs on this one.
+            let writer = std::thread::spawn(move || {
+                for m in data.chunks(len) {
+                    for p in m.chunks(len.div_ceil(pieces)) {
+                        master.write_all(p).unwrap();
+                        std::thread::sleep(Duration::from_micros(300));
+                    }
+                    std::thread::sleep(Duration::from_millis(3));
+                }
+                std::thread::sleep(Duration::from_millis(60));
+                drop(master);
+            });
+            let (mut got, mut reads) = (Vec::new(), 0);
+            read_on_arrival(file, |_, b| {
+                got.extend_from_slice(b);
+                reads += 1;
+                want
+            })
+            .await;
+            writer.join().unwrap();
+            assert!(got == expected, "bytes differ or missing");
+            (got, reads)
+        })
+    }
+
+    #[test]
+    fn whole_messages_take_one_read_each() {
+        // 30 messages of 100 bytes, 4 writes each: read as they arrive, about 4 reads a message;
+        // with VMIN at 100, one chunk (the first, before VMIN is set, may be a piece alone),
+        // although the kernel hands it over in 64-byte reads.
+        let (_, per_piece) = messages_in_pieces(100, 4, 30, None);
+        let (_, whole) = messages_in_pieces(100, 4, 30, Some(100));
+        assert!(per_piece >= 60, "{per_piece} reads as the pieces arrive");
+        assert!(whole <= 32, "{whole} reads for 30 whole messages");
+    }
+
+    #[test]
+    fn a_shorter_message_than_vmin_is_still_read() {
+        // The reader waits for 64 bytes, the messages have 40: each is read after the patience
+        // (10 ms before a period is known) or with the next one; nothing is lost or held at the
+        // end (the test checks every byte arrived).
+        let (got, _) = messages_in_pieces(40, 2, 10, Some(64));
+        assert_eq!(got.len(), 400);
+    }
+
     #[test]
     fn paced_ports_share_one_grid() {
         let epoch = Instant::now();
@@ -246,7 +435,10 @@ mod tests {
             let file = detach(serial).unwrap();
             master.write_all(b"abc").unwrap();
             let mut got = Vec::new();
-            let reader = read_on_arrival(file, |_, b| got.extend_from_slice(b));
+            let reader = read_on_arrival(file, |_, b| {
+                got.extend_from_slice(b);
+                None
+            });
             let _ = tokio::time::timeout(Duration::from_millis(200), reader).await;
             assert_eq!(got, b"abc");
         });

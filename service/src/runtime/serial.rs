@@ -53,6 +53,12 @@ pub trait PortSink {
     fn closed(&mut self, port: usize, reason: &str);
     /// Origin of the paced ports' common drain grid.
     fn epoch(&self) -> tokio::time::Instant;
+    /// The length of port `port`'s next message when its stream is steady and the last read
+    /// ended on a message boundary: a port read on arrival then wakes the service only once that
+    /// many bytes wait ([`reader::read_on_arrival`]). `None`: wake on every arrival.
+    fn whole_message_bytes(&self, _port: usize) -> Option<usize> {
+        None
+    }
 }
 
 /// A period in seconds from the configuration, at least 1 ms.
@@ -95,7 +101,14 @@ pub async fn port_task<S: PortSink>(
                         let epoch = ctx.borrow().epoch();
                         reader::read_paced(file, every, epoch, chunk).await
                     }
-                    Ok(file) => reader::read_on_arrival(file, chunk).await,
+                    Ok(file) => {
+                        let chunk = |t: u64, b: &[u8]| {
+                            let mut c = ctx.borrow_mut();
+                            c.chunk(i, t, b);
+                            c.whole_message_bytes(i)
+                        };
+                        reader::read_on_arrival(file, chunk).await
+                    }
                 };
                 ctx.borrow_mut().closed(i, &reason);
             }
