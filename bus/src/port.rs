@@ -349,6 +349,7 @@ impl Bus {
                 send_started,
                 lossless_wait_ns: self.lossless_wait_ns,
                 notify_failures: 0,
+                pending: false,
             },
         ))
     }
@@ -456,6 +457,8 @@ struct Sender {
     /// The lossless mode's bounded wait, ns (see [`BusConfig::lossless_wait_s`]).
     lossless_wait_ns: Option<u64>,
     notify_failures: u64,
+    /// A sample was sent and its subscribers not woken yet.
+    pending: bool,
 }
 
 impl Sender {
@@ -487,15 +490,28 @@ impl Sender {
         self.send_started.store(h.send_mono_ns, Ordering::Relaxed);
     }
 
-    /// Counts a sent sample's outcome and wakes the subscribers.
-    fn sent<E: Debug>(&mut self, r: Result<usize, E>) -> Result<usize, BusError> {
+    /// Counts a sent sample's outcome and wakes the subscribers now (`wake`), or leaves the
+    /// wake-up pending for [`Sender::notify_pending`].
+    fn sent<E: Debug>(&mut self, r: Result<usize, E>, wake: bool) -> Result<usize, BusError> {
         let delivered = r.map_err(iox("send", self.topic.as_str()))?;
+        self.pending = true;
+        if wake {
+            self.notify_pending();
+        }
+        Ok(delivered)
+    }
+
+    /// Wakes the subscribers if a sample was sent since the last wake-up: one event (a system
+    /// call per listening subscriber) however many samples.
+    fn notify_pending(&mut self) {
+        if !std::mem::take(&mut self.pending) {
+            return;
+        }
         // A failed wake-up (e.g. a listener that died) must not fail the publication: the sample
         // is in the subscribers' buffers and they find it at their next wait timeout.
         if self.notifier.notify().is_err() {
             self.notify_failures += 1;
         }
-        Ok(delivered)
     }
 }
 
@@ -518,11 +534,29 @@ impl<T: FixedPayload> Publisher<T> {
     /// `T::default()`), stamps the header and sends it. Returns the number of subscribers
     /// reached.
     pub fn publish_with(&mut self, fill: impl FnOnce(&mut T)) -> Result<usize, BusError> {
+        self.send(fill, true)
+    }
+
+    /// [`Publisher::publish`] without the wake-up: the sample is delivered, and the subscribers
+    /// are woken by the next [`Publisher::notify_pending`] (one event for every sample sent
+    /// since; issue 21: a processing step that publishes several samples costs one system call
+    /// per subscriber, not one per sample). A subscriber polling without waiting sees the
+    /// sample at once.
+    pub fn publish_deferred(&mut self, value: &T) -> Result<usize, BusError> {
+        self.send(|p| *p = *value, false)
+    }
+
+    /// Wakes the subscribers if a sample was sent since the last wake-up.
+    pub fn notify_pending(&mut self) {
+        self.sender.notify_pending();
+    }
+
+    fn send(&mut self, fill: impl FnOnce(&mut T), wake: bool) -> Result<usize, BusError> {
         let mut sample = self.sender.loan(|| self.inner.loan())?;
         let payload = sample.payload_mut();
         fill(payload);
         self.sender.stamp(payload.header_mut());
-        self.sender.sent(sample.send())
+        self.sender.sent(sample.send(), wake)
     }
 
     /// Sequence number the next sample will carry.
@@ -554,6 +588,20 @@ impl TrafficPublisher {
     /// are copied once, into a loaned slice of their count. Returns the number of subscribers
     /// reached.
     pub fn publish(&mut self, picture: &TrafficPayload) -> Result<usize, BusError> {
+        self.send(picture, true)
+    }
+
+    /// [`TrafficPublisher::publish`] without the wake-up (see [`Publisher::publish_deferred`]).
+    pub fn publish_deferred(&mut self, picture: &TrafficPayload) -> Result<usize, BusError> {
+        self.send(picture, false)
+    }
+
+    /// Wakes the subscribers if a picture was sent since the last wake-up.
+    pub fn notify_pending(&mut self) {
+        self.sender.notify_pending();
+    }
+
+    fn send(&mut self, picture: &TrafficPayload, wake: bool) -> Result<usize, BusError> {
         let targets = &picture.targets[..picture.targets.len().min(MAX_TARGETS)];
         let sample = self
             .sender
@@ -563,7 +611,7 @@ impl TrafficPublisher {
         h.count = targets.len() as u32;
         self.sender.stamp(&mut h.header);
         *sample.user_header_mut() = h;
-        self.sender.sent(sample.send())
+        self.sender.sent(sample.send(), wake)
     }
 
     /// Sequence number the next sample will carry.

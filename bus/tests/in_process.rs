@@ -99,6 +99,33 @@ fn a_waiting_subscriber_is_woken_by_the_publisher() {
 }
 
 #[test]
+fn deferred_samples_are_delivered_at_once_and_wake_once_when_notified() {
+    let prefix = unique_prefix("deferred");
+    let b = bus(&prefix, "deferred");
+    let mut sub = b.subscriber::<OwnshipPayload>().unwrap();
+    let mut publ = b.publisher::<OwnshipPayload>().unwrap();
+    for _ in 0..3 {
+        publ.publish_deferred(&ownship()).unwrap();
+    }
+    // No wake-up yet, but the samples are there for a subscriber that looks.
+    assert!(!sub.wait(Duration::from_millis(30)).unwrap());
+    let mut n = 0;
+    while let Some(r) = sub.try_receive().unwrap() {
+        assert_eq!(content(r.payload()), content(&ownship()));
+        n += 1;
+    }
+    assert_eq!(n, 3);
+    // One wake-up for the three; none when nothing was sent since.
+    publ.notify_pending();
+    assert!(sub.wait(Duration::from_millis(500)).unwrap());
+    publ.notify_pending();
+    assert!(!sub.wait(Duration::from_millis(30)).unwrap());
+    // An ordinary publication still wakes at once.
+    publ.publish(&ownship()).unwrap();
+    assert!(sub.wait(Duration::from_millis(500)).unwrap());
+}
+
+#[test]
 fn a_late_subscriber_gets_the_current_state_from_the_history() {
     let b = bus(&unique_prefix("history"), "history");
     let mut publ = b.publisher::<IntegrityPayload>().unwrap();

@@ -61,6 +61,11 @@ pub trait Outputs {
         _own: Option<&vigil_fusion::ownship::Ownship>,
     ) {
     }
+
+    /// The end of a processing step (a chunk, a timeout): everything it publishes has been
+    /// published. Outputs that wake their readers may do it here, once per step (issue 21).
+    /// Default: nothing.
+    fn end_step(&mut self) {}
 }
 
 /// Counters of the service since start.
@@ -294,6 +299,7 @@ impl Service {
             }
         }
         self.fused = fused;
+        out.end_step();
     }
 
     /// Ends every stream (a recording's end: `vigil replay --publish`): releases what the
@@ -424,6 +430,7 @@ impl Service {
         // (a late subscriber reads what is raised or latched now from the latest report).
         self.monitor.fill_active(&mut p);
         out.publish(&p);
+        out.end_step();
         self.counters.integrity += 1;
         if let Some(tap) = &mut self.tap
             && tap.fused

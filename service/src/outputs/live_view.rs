@@ -81,6 +81,11 @@ impl<A: Outputs, B: Outputs> Outputs for Tee<A, B> {
         self.0.traffic_picture(pic, own);
         self.1.traffic_picture(pic, own);
     }
+
+    fn end_step(&mut self) {
+        self.0.end_step();
+        self.1.end_step();
+    }
 }
 
 /// An output that may be absent (a view that is disabled or failed to start).
@@ -98,6 +103,12 @@ impl<O: Outputs> Outputs for Option<O> {
     ) {
         if let Some(o) = self {
             o.traffic_picture(pic, own);
+        }
+    }
+
+    fn end_step(&mut self) {
+        if let Some(o) = self {
+            o.end_step();
         }
     }
 }

@@ -37,7 +37,8 @@ use crate::{Outputs, Service};
 
 /// The bus publishers of every topic: the [`Outputs`] of `vigil run` (and of anything else that
 /// publishes a [`Service`]'s payloads). Failed publications are counted and the first ten
-/// logged.
+/// logged. Samples are sent as they are published and their subscribers woken once per
+/// processing step ([`Outputs::end_step`]; issue 21): one event per topic that published.
 pub struct BusOutputs {
     attitude: Publisher<AttitudePayload>,
     ownship: Publisher<OwnshipPayload>,
@@ -73,20 +74,20 @@ impl Outputs for BusOutputs {
         let r = match T::TOPIC {
             Topic::Attitude => any
                 .downcast_ref::<AttitudePayload>()
-                .map(|p| self.attitude.publish(p)),
+                .map(|p| self.attitude.publish_deferred(p)),
             Topic::Ownship => any
                 .downcast_ref::<OwnshipPayload>()
-                .map(|p| self.ownship.publish(p)),
+                .map(|p| self.ownship.publish_deferred(p)),
             // The targets are copied once, into a loaned slice of their count.
             Topic::Traffic => any
                 .downcast_ref::<TrafficPayload>()
-                .map(|p| self.traffic.publish(p)),
+                .map(|p| self.traffic.publish_deferred(p)),
             Topic::Integrity => any
                 .downcast_ref::<IntegrityPayload>()
-                .map(|p| self.integrity.publish(p)),
+                .map(|p| self.integrity.publish_deferred(p)),
             Topic::Alerts => any
                 .downcast_ref::<AlertPayload>()
-                .map(|p| self.alerts.publish(p)),
+                .map(|p| self.alerts.publish_deferred(p)),
         };
         if let Some(Err(e)) = r {
             self.errors += 1;
@@ -95,6 +96,14 @@ impl Outputs for BusOutputs {
                 warn!("publish {}: {e}", T::TOPIC);
             }
         }
+    }
+
+    fn end_step(&mut self) {
+        self.attitude.notify_pending();
+        self.ownship.notify_pending();
+        self.traffic.notify_pending();
+        self.integrity.notify_pending();
+        self.alerts.notify_pending();
     }
 }
 
