@@ -16,6 +16,7 @@ use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use vigil_drivers::DeviceDecoder;
 use vigil_drivers::vn200::binary::{BinaryOutput, CommonGroup, Lla, Quaternion, Ypr};
+use vigil_drivers::vn200::crc::crc16;
 use vigil_drivers::vn200::status::InsStatus;
 use vigil_drivers::vn200::{Vn200Decoder, Vn200Message};
 
@@ -151,6 +152,24 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Bytes(s.len() as u64));
     g.bench_function("bytes", |b| {
         b.iter_batched_ref(setup, decode_all, BatchSize::LargeInput)
+    });
+    g.finish();
+    // The floor: the decoder's CRC-16 alone, message by message over the bytes it covers (all but
+    // the 0xFA sync byte), as the decoder calls it.
+    let mut g = c.benchmark_group("vn200_crc16_112");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function("msgs", |b| {
+        b.iter(|| {
+            let mut acc = 0u16;
+            for m in black_box(&s[..]).chunks_exact(112) {
+                acc |= crc16(&m[1..]);
+            }
+            assert_eq!(
+                acc, 0,
+                "every message's CRC over header, payload and CRC is zero"
+            );
+            acc
+        })
     });
     g.finish();
 }
