@@ -358,14 +358,15 @@ mod tests {
     }
 
     /// Messages of `len` bytes written in `pieces` writes each, 300 us apart, one message every
-    /// 3 ms, `count` of them; the reader asks for whole messages of `want` bytes (`None`: as
-    /// they arrive). Returns the bytes read and the number of reads.
+    /// 3 ms, `count` of them, the other side closed 60 ms after the last; the reader asks for
+    /// whole messages of `want` bytes (`None`: as they arrive). Returns the bytes read, the
+    /// number of reads, and by how much the last read came before the close, ns.
     fn messages_in_pieces(
         len: usize,
         pieces: usize,
         count: usize,
         want: Option<usize>,
-    ) -> (Vec<u8>, usize) {
+    ) -> (Vec<u8>, usize, i64) {
         rt().block_on(async {
             let (mut master, serial) = pty();
             let file = detach(serial).unwrap();
@@ -381,18 +382,21 @@ mod tests {
                     std::thread::sleep(Duration::from_millis(3));
                 }
                 std::thread::sleep(Duration::from_millis(60));
+                let closed = monotonic_ns();
                 drop(master);
+                closed
             });
-            let (mut got, mut reads) = (Vec::new(), 0);
-            read_on_arrival(file, |_, b| {
+            let (mut got, mut reads, mut last) = (Vec::new(), 0, 0);
+            read_on_arrival(file, |t, b| {
                 got.extend_from_slice(b);
                 reads += 1;
+                last = t;
                 want
             })
             .await;
-            writer.join().unwrap();
+            let closed = writer.join().unwrap();
             assert!(got == expected, "bytes differ or missing");
-            (got, reads)
+            (got, reads, closed as i64 - last as i64)
         })
     }
 
@@ -401,19 +405,24 @@ mod tests {
         // 30 messages of 100 bytes, 4 writes each: read as they arrive, about 4 reads a message;
         // with VMIN at 100, one chunk (the first, before VMIN is set, may be a piece alone),
         // although the kernel hands it over in 64-byte reads.
-        let (_, per_piece) = messages_in_pieces(100, 4, 30, None);
-        let (_, whole) = messages_in_pieces(100, 4, 30, Some(100));
+        let (_, per_piece, _) = messages_in_pieces(100, 4, 30, None);
+        let (_, whole, _) = messages_in_pieces(100, 4, 30, Some(100));
         assert!(per_piece >= 60, "{per_piece} reads as the pieces arrive");
         assert!(whole <= 32, "{whole} reads for 30 whole messages");
     }
 
     #[test]
     fn a_shorter_message_than_vmin_is_still_read() {
-        // The reader waits for 64 bytes, the messages have 40: each is read after the patience
-        // (10 ms before a period is known) or with the next one; nothing is lost or held at the
-        // end (the test checks every byte arrived).
-        let (got, _) = messages_in_pieces(40, 2, 10, Some(64));
+        // The reader waits for 64 bytes, the messages have 40: each is read with the next one
+        // or after the patience (10 ms before a period is known; then back to VMIN 1, whose
+        // change wakes the port's poller). Nothing is lost, and the last message is read by
+        // the patience, well before the other side closes 60 ms later (not by the hang-up).
+        let (got, _, before_close) = messages_in_pieces(40, 2, 10, Some(64));
         assert_eq!(got.len(), 400);
+        assert!(
+            before_close > 30_000_000,
+            "last read {before_close} ns before the close"
+        );
     }
 
     #[test]
