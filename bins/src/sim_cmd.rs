@@ -150,10 +150,10 @@ fn run_live(
     let mut sink = LiveSink::new(ptys, speed);
     sim.run(duration_ns, &mut sink)
         .map_err(|e| anyhow!("simulation: {e}"))?;
-    if sink.dropped_bytes > 0 {
+    if sink.dropped_bytes() > 0 {
         eprintln!(
             "vigil sim: {} bytes dropped (terminals nobody read)",
-            sink.dropped_bytes
+            sink.dropped_bytes()
         );
     }
     Ok(())

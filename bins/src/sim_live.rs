@@ -99,9 +99,8 @@ pub struct LiveSink {
     speed: f64,
     start: Option<(u64, Instant)>,
     stamper: Option<Stamper>,
-    /// Bytes dropped because a terminal was full (nobody reading, or reading too late).
-    pub dropped_bytes: u64,
-    /// The same, per port.
+    /// Bytes dropped because a terminal was full (nobody reading, or reading too late), per
+    /// port.
     pub dropped_by_port: Vec<u64>,
     /// Chunks written (one write each).
     pub chunks: u64,
@@ -116,9 +115,13 @@ impl LiveSink {
             speed,
             start: None,
             stamper: None,
-            dropped_bytes: 0,
             chunks: 0,
         }
+    }
+
+    /// Bytes dropped on all ports.
+    pub fn dropped_bytes(&self) -> u64 {
+        self.dropped_by_port.iter().sum()
     }
 
     /// Stamps the writes of one device's messages (see [`Stamper`]).
@@ -154,7 +157,6 @@ impl Sink for LiveSink {
             match rustix::io::write(&pty.master, rest) {
                 Ok(n) => rest = &rest[n..],
                 Err(Errno::AGAIN) => {
-                    self.dropped_bytes += rest.len() as u64;
                     self.dropped_by_port[usize::from(chunk.port)] += rest.len() as u64;
                     break;
                 }

@@ -52,13 +52,10 @@ struct Cadence {
     len: Option<u64>,
     /// Boundaries in a row that closed one frame of length `len`.
     run: u32,
-    /// The buffer was empty after the last read.
-    at_boundary: bool,
 }
 
 impl Cadence {
     fn update(&mut self, stats: DecodeStats, pending: usize) {
-        self.at_boundary = pending == 0;
         if pending > 0 {
             return;
         }
@@ -306,8 +303,12 @@ impl Ingest {
     /// mid-frame, after skipped bytes or a frame of another length, or fewer than
     /// [`STEADY_FRAMES`] such frames in a row.
     pub fn whole_message_bytes(&self, device: &str) -> Option<usize> {
-        let c = self.ports.iter().find(|p| p.name == device)?.cadence;
-        let len = c.len.filter(|_| c.at_boundary && c.run >= STEADY_FRAMES)?;
+        let port = self.ports.iter().find(|p| p.name == device)?;
+        let Decoding::Decoded(_, buf) = &port.decoding else {
+            return None;
+        };
+        let c = port.cadence;
+        let len = c.len.filter(|_| buf.is_empty() && c.run >= STEADY_FRAMES)?;
         usize::try_from(len).ok()
     }
 
