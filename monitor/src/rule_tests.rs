@@ -1067,3 +1067,213 @@ fn clock_disagreement_per_device_bit_after_one_second_clears_after_two() {
     );
     assert_eq!(t, 4200);
 }
+
+// --- issue 23: tests for the mutants the first cargo-mutants run over links.rs and
+// conditions.rs left alive. Each names the behaviour it pins; the expected words come from the
+// device documents (BAHRS 2-bit health, VN-200 InsStatus mode) or from hand computation.
+
+/// The pitch miscompare reports the units' pitch, not another axis (units at pitch 2.0 deg, the
+/// BAHRS at 9.5 deg; their roll 3.0 and heading 90.0 deg appear nowhere in the reason).
+#[test]
+fn pitch_miscompare_gives_the_units_pitch() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.att.units[usize::from(UNIT_BAHRS)].pitch_rad = 9.5f64.to_radians();
+    rig.att.pair_verdicts[PAIR_BAHRS_VN200][AXIS_PITCH] = VERDICT_FAIL;
+    let id = Rule::AttitudeMiscompare.alert_id(AXIS_PITCH as u32);
+    let (_, a) = only(&rig.run(100), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        "pitch miscompare (BAHRS/VN-200 fail): BAHRS 9.5, VN-200 2.0, Watson 2.0 deg"
+    );
+}
+
+/// A unit code past the three units (a newer publisher) is named as a code, not given a unit's
+/// name; code 3 is the first such code.
+#[test]
+fn an_isolated_unit_code_past_the_units_is_named_as_a_code() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.att.isolation = ISOLATION_ISOLATED;
+    rig.att.isolated_unit = 3;
+    let (_, a) = only(&rig.run(100), 0x0200_0003, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(a.reason(), "unit code 3 isolated by the cross-check");
+}
+
+/// Each BAHRS 2-bit health code has the document's meaning in the reason (00 signal
+/// unavailable, 01 safe, 10 integrity risk; 11 is not defined), and "unknown" before the first
+/// message (the payload's `HEALTH_NONE`).
+#[test]
+fn inertial_miscompare_gives_each_bahrs_health_its_document_name() {
+    use vigil_bus::payload::attitude::{
+        ChannelComparison, HEALTH_INTEGRITY_RISK, HEALTH_NONE, HEALTH_SAFE, HEALTH_UNAVAILABLE,
+        INERTIAL_COUNT,
+    };
+    for (code, name) in [
+        (HEALTH_UNAVAILABLE, "unavailable"),
+        (HEALTH_SAFE, "safe"),
+        (HEALTH_INTEGRITY_RISK, "integrity risk"),
+        (3, "undefined"),
+        (HEALTH_NONE, "unknown"),
+    ] {
+        let mut rig = Rig::new(MonitorParams::default());
+        rig.att.bahrs_inertial_health = [code; INERTIAL_COUNT];
+        rig.att.inertial[0] = ChannelComparison {
+            verdict: VERDICT_FAIL,
+            coverage: COVERAGE_COMPARED,
+            ..ChannelComparison::default()
+        };
+        let id = Rule::InertialMiscompare.alert_id(0);
+        let (_, a) = only(&rig.run(100), id, STATE_RAISED, SEVERITY_CAUTION);
+        let want = format!("(BAHRS health {name})");
+        assert!(a.reason().contains(&want), "{code}: {}", a.reason());
+    }
+}
+
+/// An ownship payload marked invalid is "no valid position" whatever source it names; a valid
+/// position from an external source (`SOURCE_EXTERNAL`, supplied by the integrator) is not a
+/// GNSS loss.
+#[test]
+fn an_invalid_ownship_is_a_caution_whatever_its_source_and_an_external_one_is_fine() {
+    use vigil_bus::payload::ownship::SOURCE_EXTERNAL;
+    let id = Rule::GnssLost.alert_id(0);
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.own.valid = 0;
+    let (_, a) = only(&rig.run(2000), id, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(
+        a.reason(),
+        format!("no valid ownship position (source code {SOURCE_VN200_INS}, valid 0)")
+    );
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.own.source = SOURCE_EXTERNAL;
+    assert!(rig.run(5000).is_empty());
+}
+
+/// The health reason names the VN-200 INS mode by the document's InsStatus mode enumeration
+/// (0 NotTracking, 1 Aligning, 2 Tracking, 3 GnssLost), "unknown" before any status, and each
+/// compared combination by what disagrees.
+#[test]
+fn health_disagreement_names_the_ins_mode_and_each_combination() {
+    use vigil_bus::payload::integrity::{
+        HEALTH_AGREE, HEALTH_DISAGREE, HEALTH_FIX_WITHOUT_PPS, HEALTH_GNSS_LOST_WITH_FIX,
+        HEALTH_PPS_WITHOUT_FIX, HEALTH_TRACKING_WITHOUT_FIX, HealthComparison, VN200_STATUS_NONE,
+    };
+    let modes = [
+        (0, "INS NotTracking,"),
+        (1, "INS Aligning,"),
+        (2, "INS Tracking,"),
+        (3, "INS GnssLost,"),
+        (4, "INS undefined,"),
+        (VN200_STATUS_NONE, "INS unknown,"),
+    ];
+    let combinations = [
+        (
+            HEALTH_PPS_WITHOUT_FIX,
+            "BAHRS sync pulses without a VN-200 GNSS fix",
+        ),
+        (
+            HEALTH_FIX_WITHOUT_PPS,
+            "VN-200 GNSS fix without BAHRS sync pulses",
+        ),
+        (
+            HEALTH_TRACKING_WITHOUT_FIX,
+            "VN-200 INS Tracking without a GNSS fix",
+        ),
+        (
+            HEALTH_GNSS_LOST_WITH_FIX,
+            "VN-200 INS GnssLost with a GNSS fix",
+        ),
+    ];
+    for (mode, mode_text) in modes {
+        for (which, what) in combinations {
+            let mut rig = Rig::new(MonitorParams::default());
+            rig.integ.health_checks = [HealthComparison {
+                state: HEALTH_AGREE,
+                ..HealthComparison::default()
+            }; 4];
+            rig.integ.health_checks[which].state = HEALTH_DISAGREE;
+            rig.integ.vn200_ins_mode = mode;
+            let id = Rule::HealthDisagreement.alert_id(which as u32);
+            let (_, a) = only(&rig.run(4000), id, STATE_RAISED, SEVERITY_CAUTION);
+            let r = a.reason();
+            assert!(
+                r.starts_with(&format!("health disagreement: {what}")),
+                "{r}"
+            );
+            assert!(r.contains(mode_text), "{mode}: {r}");
+        }
+    }
+}
+
+/// Each device kind has its name in a device reason (the Watson in slot 2, the TT-Multi-RF in
+/// slot 3).
+#[test]
+fn device_reasons_name_the_watson_and_the_tt_multi_rf() {
+    for (slot, kind, name) in [
+        (2, DEVICE_WATSON, "device watson (Watson)"),
+        (3, DEVICE_TTMRF, "device ttmrf (TT-Multi-RF)"),
+    ] {
+        let mut rig = Rig::new(MonitorParams::default());
+        rig.integ.devices[slot].link_state = LINK_DISCONNECTED;
+        let id = Rule::DeviceSilent.alert_id((u32::from(kind) << 8) | slot as u32);
+        let (_, a) = only(&rig.run(100), id, STATE_RAISED, SEVERITY_CAUTION);
+        assert!(a.reason().starts_with(name), "{}", a.reason());
+    }
+}
+
+/// A device whose every frame is rejected (its message count stands still while its checksum
+/// failures rise) is the worst decode error rate, not a pause: 100 of 100 frames in the 10 s
+/// window, raised when the window closes.
+#[test]
+fn a_device_whose_every_frame_fails_raises_decode_errors() {
+    let id = Rule::DecodeErrors.alert_id(0);
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.counting = (0, 1);
+    let (t, a) = only(&rig.run(15_000), id, STATE_RAISED, SEVERITY_ADVISORY);
+    assert_eq!(t, 10_000);
+    assert_eq!(
+        a.reason(),
+        "device bahrs (BAHRS) decode errors: 100 of 100 frames rejected in 10.0 s (100.0 %, limit 5.0 %)"
+    );
+}
+
+/// Windows follow each other every `decode_window_s` from the first payload, whether or not
+/// errors came: errors from 5.0 s give 50 of 1050 frames (4.8 %) in the window judged at
+/// 10.0 s, so nothing; the next window, judged at 20.0 s, has 100 of 1100 (9.1 %) and raises.
+#[test]
+fn decode_windows_keep_their_cadence_through_a_clean_spell() {
+    let id = Rule::DecodeErrors.alert_id(0);
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.counting = (10, 0);
+    assert!(rig.run(5000).is_empty());
+    rig.counting = (10, 1);
+    let (t, a) = only(&rig.run(20_000), id, STATE_RAISED, SEVERITY_ADVISORY);
+    assert_eq!(t, 20_000);
+    assert!(
+        a.reason().contains("100 of 1100 frames rejected in 10.0 s"),
+        "{}",
+        a.reason()
+    );
+}
+
+/// `decode_error_ratio_max` is the largest fraction allowed: exactly 5 % (1 of every 20 frames;
+/// 1/20 and 0.05 are the same double) raises nothing.
+#[test]
+fn a_decode_error_ratio_exactly_at_the_limit_is_allowed() {
+    let mut rig = Rig::new(MonitorParams::default());
+    assert_eq!(1.0 / 20.0, rig.m.params().decode_error_ratio_max);
+    rig.counting = (19, 1);
+    assert!(rig.run(40_000).is_empty());
+}
+
+/// A slot whose device changes (a new name, same kind) is a new device: its never-heard time
+/// counts from when it appeared (at 5.0 s), so it is silent after more than 2 s of that, at
+/// 7.1 s, not at once.
+#[test]
+fn a_new_device_in_a_slot_starts_its_own_history() {
+    let mut rig = Rig::new(MonitorParams::default());
+    assert!(rig.run(5000).is_empty());
+    write_text(&mut rig.integ.devices[3].name, "ttmrf2");
+    rig.integ.devices[3].last_message_age_s = f64::NAN;
+    let (t, a) = only(&rig.run(3000), 0x0800_0303, STATE_RAISED, SEVERITY_CAUTION);
+    assert_eq!(t, 7100);
+    assert!(a.reason().contains("no message in 2.1 s"), "{}", a.reason());
+}
