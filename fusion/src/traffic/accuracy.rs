@@ -78,4 +78,54 @@ mod tests {
         assert_eq!(rc_m(12), None);
         assert!((sigma_from_r95(2.447_746_830_680_816) - 1.0).abs() < 1e-12);
     }
+
+    /// Every row of the two DO-260B tables, as the standard gives them (NM rows converted at
+    /// 1852 m per NM by hand), and `None` past them.
+    #[test]
+    fn every_row_of_the_nic_and_nacp_tables() {
+        let nic_rc_m = [
+            (1, 37_040.0), // 20 NM
+            (2, 14_816.0), // 8 NM
+            (3, 7_408.0),  // 4 NM
+            (4, 3_704.0),  // 2 NM
+            (5, 1_852.0),  // 1 NM
+            (6, 1_111.2),  // 0.6 NM (no supplement)
+            (7, 370.4),    // 0.2 NM
+            (8, 185.2),    // 0.1 NM
+            (9, 75.0),
+            (10, 25.0),
+            (11, 7.5),
+        ];
+        for (nic, rc) in nic_rc_m {
+            assert!(close(rc_m(nic), rc), "NIC {nic}");
+            // Supplement A changes NIC 6 only (0.3 NM); without it, NIC 6 is 0.6 NM.
+            let with_a = if nic == 6 { 555.6 } else { rc };
+            assert!(
+                close(rc_m_with_supplement(nic, true), with_a),
+                "NIC {nic}, A"
+            );
+            assert!(close(rc_m_with_supplement(nic, false), rc), "NIC {nic}");
+        }
+        let nacp_epu_m = [
+            (1, 18_520.0), // 10 NM
+            (2, 7_408.0),  // 4 NM
+            (3, 3_704.0),  // 2 NM
+            (4, 1_852.0),  // 1 NM
+            (5, 926.0),    // 0.5 NM
+            (6, 555.6),    // 0.3 NM
+            (7, 185.2),    // 0.1 NM
+            (8, 92.6),     // 0.05 NM
+            (9, 30.0),
+            (10, 10.0),
+            (11, 3.0),
+        ];
+        for (nac_p, epu) in nacp_epu_m {
+            assert!(close(epu_m(nac_p), epu), "NACp {nac_p}");
+        }
+        for code in [0, 12, 15, 255] {
+            assert_eq!(rc_m(code), None);
+            assert_eq!(rc_m_with_supplement(code, true), None);
+            assert_eq!(epu_m(code), None);
+        }
+    }
 }

@@ -126,4 +126,44 @@ mod tests {
         assert_eq!(got[13], 2);
         assert_eq!(got[14], 0);
     }
+
+    /// The hold counts from the raise, not from the last step whose evidence matched the level.
+    /// Raised at t = 1 s; the evidence stays at the level until t = 10 s and is below from
+    /// t = 11 s. With a 2 s hysteresis, a 10 s hold (to t = 11 s) lets it fall at t = 13 s, and a
+    /// 14 s hold keeps it to t = 15 s. Counted from t = 10 s instead, it would hold to 20 s or
+    /// 24 s; with no hold at all, the second case would fall at t = 13 s.
+    #[test]
+    fn persistence_counts_from_the_raise() {
+        let p = AlertFilterParams {
+            persistence_s: 10.0,
+            hysteresis_s: 2.0,
+            ..AlertFilterParams::default()
+        };
+        let mut f = AlertFilter::default();
+        let raws = [2, 2, 2, 2, 2, 2, 2, 2, 2, 0, 0, 0, 0, 0, 0, 0];
+        let got: Vec<u8> = raws
+            .iter()
+            .enumerate()
+            .map(|(k, &r)| f.update(r, k as i64 * S, &p))
+            .collect();
+        // The window [2, 2, 0, 0] still holds two 2s at t = 9 and 10; evidence 0 from t = 11.
+        assert_eq!(got[..11], [0, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2]);
+        // Below since t = 11: the hysteresis ends at t = 13, the hold (from t = 1) at t = 11.
+        assert_eq!(got[12], 2);
+        assert_eq!(got[13], 0);
+
+        // A hold longer than that: persistence 14 s from the raise at t = 1 ends at t = 15.
+        let p = AlertFilterParams {
+            persistence_s: 14.0,
+            ..p
+        };
+        let mut f = AlertFilter::default();
+        let got: Vec<u8> = raws
+            .iter()
+            .enumerate()
+            .map(|(k, &r)| f.update(r, k as i64 * S, &p))
+            .collect();
+        assert_eq!(got[14], 2);
+        assert_eq!(got[15], 0);
+    }
 }

@@ -95,6 +95,26 @@ fn extrapolates_along_velocity() {
     assert_eq!(pic[0].vertical_rate_mps, Some(0.0));
 }
 
+/// East along the parallel (issue 23: the first test moved only south, so nothing pinned the
+/// east step): 100 kt due east for 10 s at 47.1 deg N is 514.444 m on the parallel of radius
+/// N cos(lat), N = a / sqrt(1 - e^2 sin^2 lat) = 6 389 624.15 m (WGS-84, worked by hand), so
+/// 0.0067767 deg of longitude; the latitude does not move.
+#[test]
+fn extrapolates_east_along_the_parallel() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(
+        0,
+        &TrafficReport {
+            track_deg: Some(90.0),
+            ..report(1, 47.1, 8.0)
+        },
+    );
+    let pic = m.picture(10 * S, &own());
+    let moved = pic[0].lon_deg - 8.0;
+    assert!((moved - 0.006_776_676).abs() < 1e-8, "{moved}");
+    assert!((pic[0].lat_deg - 47.1).abs() < 1e-12);
+}
+
 #[test]
 fn times_out_and_evicts_by_policy() {
     let p = TrafficParams {
@@ -409,4 +429,71 @@ fn reported_state_is_the_newest_of_each_field_moved_to_the_picture_time() {
         Some(9),
         "the relay at 1 s is the newest with a NACp"
     );
+}
+
+// --- issue 23: what the mutants of manager.rs showed no test pinned ---
+
+/// The counters say what happened: 5 reports of 3 aircraft make 3 tracks; the two not heard for
+/// more than `timeout_s` (20 s) are dropped and counted, the one heard again is kept.
+#[test]
+fn stats_count_reports_tracks_and_timeouts() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    assert!(m.is_empty());
+    m.update(0, &report(1, 47.1, 8.0));
+    assert!(!m.is_empty());
+    m.update(0, &report(2, 47.2, 8.0));
+    m.update(S, &report(1, 47.1, 8.0));
+    m.update(S, &report(3, 47.3, 8.0));
+    m.update(15 * S, &report(3, 47.3, 8.0));
+    let st = m.stats();
+    assert_eq!((st.reports, st.tracks_created), (5, 3));
+    // At 21.5 s: 1 (last 1 s) and 2 (last 0 s) are over 20 s old; 3 (15 s) is not.
+    m.picture(21 * S + S / 2, &own());
+    assert_eq!(m.stats().tracks_timed_out, 2);
+    assert_eq!(m.len(), 1);
+}
+
+/// A report timed by its arrival (no time of its own) may be up to half a second older than
+/// that: its position sigma grows by the distance flown in 0.5 s. NACp 9 (EPU 30 m) gives
+/// sigma 30 / 2.4477 = 12.256 m; at 100 kt (51.444 m/s) the arrival-timed one is
+/// 12.256 + 25.722 = 37.978 m (by hand).
+#[test]
+fn an_arrival_timed_report_widens_its_position_sigma() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update_at(10 * S, &report(1, 47.1, 8.0), false);
+    m.update_at(10 * S, &report(2, 47.2, 8.0), true);
+    let pic = m.picture(10 * S, &own());
+    let sigma = |address: u32| {
+        pic.iter()
+            .find(|t| t.key.address == address)
+            .map(|t| t.position_sigma_m)
+            .unwrap()
+    };
+    assert!((sigma(1) - 12.256).abs() < 1e-3, "{}", sigma(1));
+    assert!((sigma(2) - 37.978).abs() < 1e-3, "{}", sigma(2));
+}
+
+/// Eviction takes the stalest track only when it is older than `stale_evict_s` (5 s), strictly:
+/// at exactly 5 s the farthest goes instead; 1 ns later, the stalest.
+#[test]
+fn eviction_by_age_starts_strictly_after_stale_evict_s() {
+    for (t_new, gone) in [(5 * S, 2), (5 * S + 1, 1)] {
+        let p = TrafficParams {
+            capacity: 2,
+            ..Default::default()
+        };
+        let mut m = TrackManager::new(p);
+        m.set_ownship(own());
+        // 1: near (1 km north), heard at 0; 2: far (30 km north), heard at 0.5 s.
+        m.update(0, &report(1, 47.0 + 1.0 / 111.2, 8.0));
+        m.update(S / 2, &report(2, 47.0 + 30.0 / 111.2, 8.0));
+        m.update(t_new, &report(3, 47.0 + 2.0 / 111.2, 8.0));
+        let key = |address| TargetKey {
+            space: AddressSpace::Icao,
+            address,
+        };
+        assert!(m.track(&key(gone)).is_none(), "at {t_new} ns: {gone} kept");
+        assert_eq!(m.len(), 2);
+        assert_eq!(m.stats().tracks_evicted, 1);
+    }
 }
