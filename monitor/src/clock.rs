@@ -52,5 +52,9 @@ mod tests {
         assert_eq!(c.now(500), Some(2_000));
         // A host time before the stamp (never expected) does not move it back either.
         assert_eq!(c.now(0), Some(2_000));
+        // The same GPS time arriving again later (a second topic stamped at the same instant)
+        // is older news: the first arrival keeps anchoring the clock.
+        c.observe(2_000, 800);
+        assert_eq!(c.now(1_000), Some(2_500));
     }
 }

@@ -621,6 +621,15 @@ fn a_latched_alert_waits_for_acknowledgement() {
         rig.m.active().collect::<Vec<_>>()[..],
         [(0x0200_0000, Phase::Latched { .. })]
     ));
+    // The active set says latched too.
+    let mut p = IntegrityPayload::default();
+    rig.m.fill_active(&mut p);
+    let held: Vec<(u32, u8)> = p
+        .active_alerts()
+        .iter()
+        .map(|a| (a.alert_id, a.state))
+        .collect();
+    assert_eq!(held, [(id, STATE_LATCHED)]);
     assert!(!rig.m.acknowledge(0x0300_0000), "not latched");
     assert!(rig.m.acknowledge(id));
     let (t, a) = only(&rig.run(1000), id, STATE_CLEARED, SEVERITY_CAUTION);
@@ -1276,4 +1285,15 @@ fn a_new_device_in_a_slot_starts_its_own_history() {
     let (t, a) = only(&rig.run(3000), 0x0800_0303, STATE_RAISED, SEVERITY_CAUTION);
     assert_eq!(t, 7100);
     assert!(a.reason().contains("no message in 2.1 s"), "{}", a.reason());
+}
+
+/// `Monitor::params` gives back the parameters the monitor was made with.
+#[test]
+fn params_are_the_ones_given() {
+    let p = MonitorParams {
+        decode_window_s: 7.5,
+        clock_require_pps: true,
+        ..MonitorParams::default()
+    };
+    assert_eq!(*Monitor::new(p).params(), p);
 }

@@ -113,6 +113,9 @@ fn extrapolates_east_along_the_parallel() {
     let moved = pic[0].lon_deg - 8.0;
     assert!((moved - 0.006_776_676).abs() < 1e-8, "{moved}");
     assert!((pic[0].lat_deg - 47.1).abs() < 1e-12);
+    // Its velocity: 51.444 m/s east, none north.
+    let v = pic[0].velocity_ne_mps.unwrap();
+    assert!(v[0].abs() < 1e-9 && (v[1] - 51.444).abs() < 1e-3, "{v:?}");
 }
 
 #[test]
@@ -495,5 +498,164 @@ fn eviction_by_age_starts_strictly_after_stale_evict_s() {
         assert!(m.track(&key(gone)).is_none(), "at {t_new} ns: {gone} kept");
         assert_eq!(m.len(), 2);
         assert_eq!(m.stats().tracks_evicted, 1);
+    }
+}
+
+/// Well clear now, in the picture at `t_ns`, against a target reported at 0 straight above or
+/// below the ownship `own`.
+fn violated_now(
+    own: &Ownship,
+    r: &TrafficReport,
+    t_ns: i64,
+) -> (AltitudeKind, Option<f64>, bool, bool) {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(0, r);
+    let x = &m.picture(t_ns, own)[0];
+    let g = x.geometry.expect("a geometry");
+    (
+        x.altitude_kind,
+        g.vertical_separation_m,
+        g.well_clear_violated_now,
+        x.fail_safe.altitude_reference_mixed,
+    )
+}
+
+/// Mixed altitude references (no measured GNSS-baro difference): the separation is taken at
+/// face value with a band of 250 m + 10 % of the geometric height (+ the ownship's own
+/// geometric band), and well clear (DWC ZTHR 450 ft = 137.16 m) is held as violated while some
+/// separation in the band is within ZTHR. Worked by hand, target straight overhead:
+/// - intruder pressure altitude only, ownship geometric only (1050 m, band 10 m): band
+///   250 + 105 + 10 = 365 m, so violated up to 137.16 + 365 = 502.16 m: 500 m is, 505 m is not;
+/// - intruder geometric altitude a only, ownship pressure only (1000 m): band 250 + 0.1 a,
+///   violated while (a - 1000) - (250 + 0.1 a) <= 137.16, i.e. a <= 1541.29 m: 1540 m is,
+///   1543 m is not.
+#[test]
+fn mixed_altitude_references_get_the_documented_band() {
+    let overhead = report(1, 47.0, 8.0);
+    let own_geo = Ownship {
+        alt_pressure_m: None,
+        alt_geometric_m: Some(1050.0),
+        alt_geometric_band_m: 10.0,
+        ..own()
+    };
+    for (dz, violated) in [(500.0, true), (505.0, false)] {
+        let r = TrafficReport {
+            alt_pressure_m: Some(1050.0 + dz),
+            alt_geometric_m: None,
+            ..overhead.clone()
+        };
+        let (kind, sep, v, mixed) = violated_now(&own_geo, &r, 0);
+        assert_eq!(kind, AltitudeKind::Mixed);
+        assert!(mixed);
+        assert!((sep.unwrap() - dz).abs() < 1e-9, "{sep:?}");
+        assert_eq!(v, violated, "{dz} m above");
+    }
+    let own_baro = Ownship {
+        alt_pressure_m: Some(1000.0),
+        alt_geometric_m: None,
+        ..own()
+    };
+    for (a, violated) in [(1540.0, true), (1543.0, false)] {
+        let r = TrafficReport {
+            alt_pressure_m: None,
+            alt_geometric_m: Some(a),
+            ..overhead.clone()
+        };
+        let (kind, sep, v, mixed) = violated_now(&own_baro, &r, 0);
+        assert_eq!(kind, AltitudeKind::Mixed);
+        assert!(mixed);
+        assert!((sep.unwrap() - (a - 1000.0)).abs() < 1e-9, "{sep:?}");
+        assert_eq!(v, violated, "intruder at {a} m");
+    }
+}
+
+/// An intruder's altitude not moved on (vertical rate unknown) may have changed since its report
+/// by what its category can climb: a light aircraft (category 1, 2000 ft/min = 10.16 m/s)
+/// reported 2 s before the picture is within a band of 20.32 m, so well clear (ZTHR 137.16 m)
+/// is held violated up to 157.48 m of reported separation: 157 m is, 158 m is not.
+#[test]
+fn an_unknown_vertical_rate_widens_the_band_with_the_reports_age() {
+    for (dz, violated) in [(157.0, true), (158.0, false)] {
+        let r = TrafficReport {
+            alt_pressure_m: Some(1000.0 + dz),
+            vertical_rate_mps: None,
+            emitter_category: Some(1),
+            ..report(1, 47.0, 8.0)
+        };
+        let (kind, sep, v, _) = violated_now(&own(), &r, 2 * S);
+        assert_eq!(kind, AltitudeKind::Pressure);
+        assert!((sep.unwrap() - dz).abs() < 1e-9, "{sep:?}");
+        assert_eq!(v, violated, "{dz} m above");
+    }
+}
+
+/// A target of unknown velocity, seen 2 s ago: its position sigma is the report's (NACp 9:
+/// 12.256 m), plus 0.5 m/s^2 t^2 of unknown acceleration (2 m), plus the distance its category
+/// may have flown (light aircraft, 250 kt = 128.611 m/s, for 2 s: 257.222 m): 271.478 m, by
+/// hand. Each source is listed with its age, 2 s.
+#[test]
+fn an_unknown_velocity_widens_the_position_sigma_by_the_distance_flown() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    // Timed by its source (an arrival time would add half a second of flight at the fallback
+    // speed, as `an_arrival_timed_report_widens_its_position_sigma` shows).
+    m.update_at(
+        0,
+        &TrafficReport {
+            track_deg: None,
+            ground_speed_mps: None,
+            emitter_category: Some(1),
+            ..report(1, 47.1, 8.0)
+        },
+        false,
+    );
+    let x = &m.picture(2 * S, &own())[0];
+    assert!(x.velocity_ne_mps.is_none());
+    assert!(
+        (x.position_sigma_m - 271.478).abs() < 1e-3,
+        "{}",
+        x.position_sigma_m
+    );
+    assert_eq!(x.sources.len(), 1);
+    assert!((x.sources[0].1 - 2.0).abs() < 1e-9, "{:?}", x.sources);
+}
+
+/// A 1090 ADS-B position is stale only when older than its 5 s limit, strictly: at exactly 5 s
+/// the target still has a geometry; 1 ns later it has none and is flagged stale.
+#[test]
+fn a_position_is_stale_strictly_after_its_links_limit() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(0, &report(1, 47.1, 8.0));
+    let x = &m.picture(5 * S, &own())[0];
+    assert!(!x.fail_safe.stale && x.geometry.is_some());
+    let x = &m.picture(5 * S + 1, &own())[0];
+    assert!(x.fail_safe.stale && x.geometry.is_none());
+}
+
+/// Each link has its own staleness limit: with limits of 5 s (1090), 4 s (UAT) and 3 s (FLARM),
+/// positions 4.5 s old are fresh from 1090 only, and 3.5 s old from FLARM are stale.
+#[test]
+fn each_link_has_its_own_staleness_limit() {
+    let p = TrafficParams {
+        stale_limit_s: [5.0, 4.0, 3.0],
+        ..TrafficParams::default()
+    };
+    let cases = [
+        (Link::Adsb1090, AddressType::Icao, 4_500, false),
+        (Link::Uat978, AddressType::Icao, 4_500, true),
+        (Link::Flarm, AddressType::FlarmRandom, 3_500, true),
+        (Link::Flarm, AddressType::FlarmRandom, 2_500, false),
+    ];
+    for (link, address_type, age_ms, stale) in cases {
+        let mut m = TrackManager::new(p);
+        m.update(
+            0,
+            &TrafficReport {
+                link,
+                address_type,
+                ..report(1, 47.1, 8.0)
+            },
+        );
+        let x = &m.picture(age_ms * 1_000_000, &own())[0];
+        assert_eq!(x.fail_safe.stale, stale, "{link:?} after {age_ms} ms");
     }
 }
