@@ -659,3 +659,107 @@ fn each_link_has_its_own_staleness_limit() {
         assert_eq!(x.fail_safe.stale, stale, "{link:?} after {age_ms} ms");
     }
 }
+
+/// Degrees of latitude for `d_m` metres north at 47.0-47.1 deg: the WGS-84 meridian radius
+/// there, M = a (1 - e^2) / (1 - e^2 sin^2 lat)^1.5 = 6 369 620 m at 47.0 and 6 369 732 m at
+/// 47.1 (worked by hand); over a kilometre the arc and the tangent-plane distance differ by
+/// micrometres.
+fn north_deg(d_m: f64, m_radius: f64) -> f64 {
+    (d_m / m_radius).to_degrees()
+}
+
+/// Each plausibility test flags only beyond its limit, checked just inside and just outside:
+/// - speed: 350 m/s (`max_speed_mps`) is possible, 350.01 is not;
+/// - position jump: from NACp 9 (sigma 12.256 m) to NACp 10 (4.085 m) in 2 s, the allowed
+///   distance is 350 * 2 + 5 * sqrt(12.256^2 + 4.085^2) = 764.60 m: 763.6 m is not a jump,
+///   765.6 m is;
+/// - range against signal: at 1000 m the free-space loss at 1090 MHz is 93.196 dB, so 57 dBm
+///   EIRP arrives at -36.196 dBm, and with the 10 dB margin a signal above -26.196 dBm is too
+///   strong: -26.25 is not, -26.15 is.
+#[test]
+fn plausibility_limits_flag_just_outside_and_not_just_inside() {
+    let speed = |v: f64| {
+        let mut m = TrackManager::new(TrafficParams::default());
+        m.update(
+            0,
+            &TrafficReport {
+                ground_speed_mps: Some(v),
+                ..report(1, 47.1, 8.0)
+            },
+        );
+        m.picture(0, &own())[0].flags.impossible_speed
+    };
+    assert!(!speed(350.0));
+    assert!(speed(350.01));
+
+    let jump = |d_m: f64| {
+        // Both timed by their source, so that their sigmas are the NACp's alone.
+        let mut m = TrackManager::new(TrafficParams::default());
+        m.update_at(0, &report(1, 47.1, 8.0), false);
+        let r = TrafficReport {
+            nac_p: Some(10),
+            ..report(1, 47.1 + north_deg(d_m, 6_369_732.0), 8.0)
+        };
+        m.update_at(2 * S, &r, false);
+        m.picture(2 * S, &own())[0].flags.position_jump
+    };
+    assert!(!jump(763.6));
+    assert!(jump(765.6));
+
+    let strong = |dbm: f64| {
+        let mut m = TrackManager::new(TrafficParams::default());
+        m.set_ownship(own());
+        let r = TrafficReport {
+            signal_dbm: Some(dbm),
+            ..report(1, 47.0 + north_deg(1000.0, 6_369_620.0), 8.0)
+        };
+        m.update(0, &r);
+        m.picture(0, &own())[0].flags.range_vs_signal
+    };
+    assert!(!strong(-26.25));
+    assert!(strong(-26.15));
+}
+
+/// The comparisons are strict: a value exactly at its limit is allowed. With no tolerance at
+/// all (no speed, no sigmas), the same position again is no jump; a signal exactly at the
+/// limit the track manager computes is not too strong.
+#[test]
+fn plausibility_limits_are_strict() {
+    let p = TrafficParams {
+        max_speed_mps: 0.0,
+        consistency_sigmas: 0.0,
+        ..TrafficParams::default()
+    };
+    let mut m = TrackManager::new(p);
+    m.update(0, &report(1, 47.1, 8.0));
+    m.update(S, &report(1, 47.1, 8.0));
+    assert!(!m.picture(S, &own())[0].flags.position_jump);
+
+    let (lat, lon) = (47.0 + north_deg(1000.0, 6_369_620.0), 8.0);
+    let own = own();
+    let limit = crate::traffic::plausibility::max_signal_dbm(
+        57.0,
+        crate::traffic::plausibility::horizontal_distance_m(own.lat_deg, own.lon_deg, lat, lon),
+    ) + 10.0;
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.set_ownship(own);
+    m.update(
+        0,
+        &TrafficReport {
+            signal_dbm: Some(limit),
+            ..report(1, lat, lon)
+        },
+    );
+    assert!(!m.picture(0, &own)[0].flags.range_vs_signal);
+}
+
+/// Reports arrive out of order across sources: an older position is tested but never replaces
+/// a newer one. The track keeps the one of 2 s; the one of 1 s (11 km north) is left out.
+#[test]
+fn an_older_position_does_not_replace_a_newer_one() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update(2 * S, &report(1, 47.1, 8.0));
+    m.update(S, &report(1, 47.2, 8.0));
+    let x = &m.picture(2 * S, &own())[0];
+    assert!((x.lat_deg - 47.1).abs() < 1e-12, "{}", x.lat_deg);
+}
