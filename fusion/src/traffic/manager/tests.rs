@@ -763,3 +763,97 @@ fn an_older_position_does_not_replace_a_newer_one() {
     let x = &m.picture(2 * S, &own())[0];
     assert!((x.lat_deg - 47.1).abs() < 1e-12, "{}", x.lat_deg);
 }
+
+/// An altitude jump is a change beyond `max_vertical_rate_mps` (60 m/s) over the time since the
+/// track's altitude, plus 50 m: in 2 s, 170 m. 170 m exactly and 169 m are not jumps; 171 m is.
+#[test]
+fn an_altitude_jump_is_beyond_the_climb_rate_plus_50_m_strictly() {
+    let jump = |dz: f64| {
+        let mut m = TrackManager::new(TrafficParams::default());
+        m.update_at(0, &report(1, 47.1, 8.0), false);
+        let r = TrafficReport {
+            alt_pressure_m: Some(1000.0 + dz),
+            ..report(1, 47.1, 8.0)
+        };
+        m.update_at(2 * S, &r, false);
+        m.picture(2 * S, &own())[0].flags.altitude_jump
+    };
+    assert!(!jump(169.0));
+    assert!(!jump(170.0));
+    assert!(jump(171.0));
+    assert!(!jump(-170.0));
+    assert!(jump(-171.0));
+}
+
+/// Velocity, vertical rate and a source's latest report are taken only from a report at least
+/// as new as the one held: an older report (here 1 s behind, heading south and descending)
+/// changes none of them.
+#[test]
+fn an_older_report_leaves_the_velocity_rate_and_source_age_alone() {
+    let mut m = TrackManager::new(TrafficParams::default());
+    m.update_at(
+        2 * S,
+        &TrafficReport {
+            track_deg: Some(90.0),
+            vertical_rate_mps: Some(3.0),
+            ..report(1, 47.1, 8.0)
+        },
+        false,
+    );
+    m.update_at(
+        S,
+        &TrafficReport {
+            vertical_rate_mps: Some(-4.0),
+            ..report(1, 47.1, 8.0)
+        },
+        false,
+    );
+    let x = &m.picture(2 * S, &own())[0];
+    let v = x.velocity_ne_mps.unwrap();
+    assert!(v[0].abs() < 1e-9 && (v[1] - 51.444).abs() < 1e-3, "{v:?}");
+    assert_eq!(x.vertical_rate_mps, Some(3.0));
+    assert_eq!(x.sources.len(), 1);
+    assert_eq!(
+        x.sources[0].1, 0.0,
+        "the source's report of 2 s is the one kept"
+    );
+}
+
+/// Position against velocity (issue 24): a target flying east at 50 m/s, reported at 0 and 4 s,
+/// is predicted 200 m east; its second position is also D north. With NACp 9 on both (12.256 m)
+/// the allowed residual is 5 * sqrt(2) * 12.256 + 2 m/s * 4 s = 94.66 m: D = 93.7 m is not a
+/// drift, 95.7 m is.
+#[test]
+fn drift_is_a_residual_beyond_the_sigmas_and_the_velocity_allowance() {
+    let drift = |d_m: f64| {
+        let mut m = TrackManager::new(TrafficParams::default());
+        let east = |lat: f64, lon: f64| TrafficReport {
+            track_deg: Some(90.0),
+            ground_speed_mps: Some(50.0),
+            ..report(1, lat, lon)
+        };
+        m.update_at(0, &east(47.1, 8.0), false);
+        // 200 m east on the parallel of radius N cos(lat) = 6 389 624.15 m * cos(47.1 deg).
+        let dlon = (200.0 / (6_389_624.15 * 47.1f64.to_radians().cos())).to_degrees();
+        let r = east(47.1 + north_deg(d_m, 6_369_732.0), 8.0 + dlon);
+        m.update_at(4 * S, &r, false);
+        m.picture(4 * S, &own())[0].flags.position_drift
+    };
+    assert!(!drift(93.7));
+    assert!(drift(95.7));
+
+    // Strict: with no allowance at all, a stationary target at the same place is no drift.
+    let p = TrafficParams {
+        consistency_sigmas: 0.0,
+        drift_velocity_error_mps: 0.0,
+        ..TrafficParams::default()
+    };
+    let mut m = TrackManager::new(p);
+    let still = TrafficReport {
+        ground_speed_mps: Some(0.0),
+        ..report(1, 47.1, 8.0)
+    };
+    m.update_at(0, &still, false);
+    m.update_at(4 * S, &still, false);
+    assert!(!m.picture(4 * S, &own())[0].flags.position_drift);
+}
