@@ -287,3 +287,93 @@ proptest! {
         }
     }
 }
+
+/// `FailSafeFlags::any` is true when any one rule applied, and only then.
+#[test]
+fn any_fail_safe_flag_alone_counts() {
+    assert!(!FailSafeFlags::default().any());
+    let each: [fn(&mut FailSafeFlags); 8] = [
+        |f| f.ownship_velocity_unknown = true,
+        |f| f.ownship_vertical_rate_unknown = true,
+        |f| f.altitude_unknown = true,
+        |f| f.velocity_unknown = true,
+        |f| f.vertical_rate_unknown = true,
+        |f| f.altitude_reference_mixed = true,
+        |f| f.stale = true,
+        |f| f.time_from_receipt = true,
+    ];
+    for (i, set) in each.iter().enumerate() {
+        let mut f = FailSafeFlags::default();
+        set(&mut f);
+        assert!(f.any(), "flag {i} alone");
+    }
+}
+
+/// Side by side at the same speed (horizontally inside the volume throughout), the intruder
+/// 300 m above: only the vertical decides when well clear is lost.
+fn overhead(own_vz: Option<f64>, intruder_vz: Option<f64>) -> Encounter {
+    Encounter {
+        s_m: Vector2::new(0.0, 0.0),
+        own_velocity_mps: Some(Vector2::new(0.0, 100.0 * KT)),
+        intruder_velocity_mps: Some(Vector2::new(0.0, 100.0 * KT)),
+        dz_m: Some(300.0),
+        own_vertical_rate_mps: own_vz,
+        intruder_vertical_rate_mps: intruder_vz,
+        ..head_on(1.0)
+    }
+}
+
+fn lowc_start_s(e: &Encounter) -> Option<f64> {
+    assess(e)
+        .unwrap()
+        .0
+        .loss_of_well_clear_interval_s
+        .map(|iv| iv.0)
+}
+
+/// The vertical closure is the intruder's rate less the ownship's, and unknown rates widen it
+/// by what each may fly (ZTHR 450 ft = 137.16 m, worked by hand):
+/// - the ownship climbing at 5 m/s towards an intruder 300 m above: (300 - 137.16) / 5 =
+///   32.57 s; the intruder climbing away as fast: never;
+/// - the ownship's rate unknown (up to 15 m/s): 162.84 / 15 = 10.86 s, and the flag says so;
+/// - both unknown (15 + 10 m/s): 162.84 / 25 = 6.51 s.
+#[test]
+fn vertical_closure_is_the_difference_of_the_rates_widened_by_the_unknown_ones() {
+    let t = lowc_start_s(&overhead(Some(5.0), Some(0.0))).unwrap();
+    assert!((t - 32.568).abs() < 1e-3, "{t}");
+    assert_eq!(lowc_start_s(&overhead(Some(5.0), Some(5.0))), None);
+    assert_eq!(lowc_start_s(&overhead(Some(0.0), Some(5.0))), None);
+    let own_unknown = overhead(None, Some(0.0));
+    let (_, f) = assess(&own_unknown).unwrap();
+    assert!(f.ownship_vertical_rate_unknown && !f.vertical_rate_unknown);
+    let t = lowc_start_s(&own_unknown).unwrap();
+    assert!((t - 10.856).abs() < 1e-3, "{t}");
+    let t = lowc_start_s(&overhead(None, None)).unwrap();
+    assert!((t - 6.5136).abs() < 1e-3, "{t}");
+}
+
+/// A value beyond its bound is unknown, not used: an altitude difference of 200 km (over
+/// `MAX_DZ_M`) is treated as unknown altitude. The mixed-reference flag needs both a known
+/// separation and a band: neither an unknown altitude with a band nor a known one without.
+#[test]
+fn out_of_bound_values_are_unknown_and_the_mixed_flag_needs_a_band() {
+    let far = Encounter {
+        dz_m: Some(2.0e5),
+        ..head_on(2.0)
+    };
+    let (g, f) = assess(&far).unwrap();
+    assert!(f.altitude_unknown);
+    assert_eq!(g.vertical_separation_m, None);
+    let unknown_with_band = Encounter {
+        dz_m: None,
+        dz_band_m: 50.0,
+        ..head_on(2.0)
+    };
+    assert!(
+        !assess(&unknown_with_band)
+            .unwrap()
+            .1
+            .altitude_reference_mixed
+    );
+    assert!(!assess(&head_on(2.0)).unwrap().1.altitude_reference_mixed);
+}
