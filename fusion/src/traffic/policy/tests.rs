@@ -377,3 +377,59 @@ fn out_of_bound_values_are_unknown_and_the_mixed_flag_needs_a_band() {
     );
     assert!(!assess(&head_on(2.0)).unwrap().1.altitude_reference_mixed);
 }
+
+/// The per-category limits, each as its decision states it (ft/min or kt), converted by hand
+/// (1 ft/min = 0.00508 m/s, 1 kt = 0.514444 m/s); categories the table does not name (0, 6,
+/// 8, 11, 13, 15, 16, 22, none) take the fallback.
+#[test]
+fn category_limits_are_the_stated_ones() {
+    let climb = [
+        (1, 10.16), // light, 2000 ft/min
+        (2, 30.48), // small, 6000 ft/min
+        (3, 30.48),
+        (4, 30.48),
+        (5, 30.48),
+        (7, 15.24),  // rotorcraft, 3000 ft/min
+        (9, 10.16),  // glider, 2000 ft/min
+        (10, 7.62),  // lighter than air, 1500 ft/min
+        (12, 10.16), // ultralight, 2000 ft/min
+        (14, 15.24), // UAV, 3000 ft/min
+        (17, 2.54),  // surface, 500 ft/min
+        (21, 2.54),
+    ];
+    for (c, v) in climb {
+        let got = max_vertical_rate_mps(Some(c), 99.0);
+        assert!((got - v).abs() < 1e-9, "category {c}: {got}");
+    }
+    let speed = [
+        (1, 128.611), // light, 250 kt
+        (7, 92.600),  // rotorcraft, 180 kt
+        (9, 82.311),  // glider, 160 kt
+        (10, 41.156), // lighter than air, 80 kt
+        (12, 41.156), // ultralight, 80 kt
+        (14, 77.167), // UAV, 150 kt
+        (17, 41.156), // surface, 80 kt
+        (21, 41.156),
+    ];
+    for (c, v) in speed {
+        let got = max_speed_mps(Some(c), 999.0);
+        assert!((got - v).abs() < 1e-3, "category {c}: {got}");
+    }
+    for c in [
+        None,
+        Some(0),
+        Some(6),
+        Some(8),
+        Some(11),
+        Some(13),
+        Some(15),
+        Some(16),
+        Some(22),
+    ] {
+        assert_eq!(max_vertical_rate_mps(c, 99.0), 99.0, "{c:?}");
+        assert_eq!(max_speed_mps(c, 999.0), 999.0, "{c:?}");
+    }
+    for c in 2..=5 {
+        assert_eq!(max_speed_mps(Some(c), 999.0), 999.0, "{c}: no stated speed");
+    }
+}
