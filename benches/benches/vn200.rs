@@ -83,6 +83,21 @@ fn decode_all(buf: &mut BytesMut) -> usize {
     n
 }
 
+/// Decodes the whole buffer with [`Vn200Decoder::decode_into`], every message written in place
+/// into one reused box (as the ingest stage decodes into its recycled boxes, issue 21).
+fn decode_all_into(buf: &mut BytesMut) -> usize {
+    let mut d = Vn200Decoder::new();
+    let mut m = Box::new(Vn200Message::Binary(BinaryOutput::default()));
+    let mut n = 0;
+    while d.decode_into(buf, &mut m) {
+        if let Vn200Message::Binary(b) = &*m {
+            black_box(b);
+            n += 1;
+        }
+    }
+    n
+}
+
 /// CPU time of the calling thread.
 struct ThreadCpuTime;
 
@@ -132,6 +147,10 @@ fn bench_cpu(c: &mut Criterion<ThreadCpuTime>) {
     g.bench_function("msgs", |b| {
         b.iter_batched_ref(setup, decode_all, BatchSize::LargeInput)
     });
+    // The same work through `decode_into` (the caller owns the message).
+    g.bench_function("msgs_into", |b| {
+        b.iter_batched_ref(setup, decode_all_into, BatchSize::LargeInput)
+    });
     g.throughput(Throughput::Bytes(s.len() as u64));
     g.bench_function("bytes", |b| {
         b.iter_batched_ref(setup, decode_all, BatchSize::LargeInput)
@@ -142,12 +161,17 @@ fn bench_cpu(c: &mut Criterion<ThreadCpuTime>) {
 fn bench(c: &mut Criterion) {
     let s = stream();
     assert_eq!(decode_all(&mut BytesMut::from(&s[..])), N);
+    assert_eq!(decode_all_into(&mut BytesMut::from(&s[..])), N);
     // The input buffer is copied in the (unmeasured) setup: only decoding is timed.
     let setup = || BytesMut::from(&s[..]);
     let mut g = c.benchmark_group("vn200_common_112");
     g.throughput(Throughput::Elements(N as u64));
     g.bench_function("msgs", |b| {
         b.iter_batched_ref(setup, decode_all, BatchSize::LargeInput)
+    });
+    // The same work through `decode_into` (the caller owns the message).
+    g.bench_function("msgs_into", |b| {
+        b.iter_batched_ref(setup, decode_all_into, BatchSize::LargeInput)
     });
     g.throughput(Throughput::Bytes(s.len() as u64));
     g.bench_function("bytes", |b| {

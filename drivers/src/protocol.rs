@@ -37,7 +37,8 @@ use crate::ttmrf::mixed::{MixedDecoder, MixedMessage};
 use crate::ttmrf::raw::hex::HexDecoder;
 use crate::ttmrf::raw::{RawFrame, RxMeta, encode_hex_string};
 use crate::ttmrf::text::TextMessage;
-use crate::vn200::{Vn200Decoder, Vn200Message};
+use crate::vn200::Vn200Message;
+use crate::vn200::boxed::BoxedDecoder;
 use crate::{Codec, DecodeStats, DeviceDecoder, bahrs, watson};
 
 /// The table: one row per wire protocol, expanded by [`protocols!`] into [`Protocol`] (with
@@ -161,12 +162,13 @@ protocols! {
         decoder: watson::Decoder = watson::Decoder::new(),
         message: PortMessage::Watson,
     },
-    /// VN-200 ICD 1.3 (binary and ASCII).
+    /// VN-200 ICD 1.3 (binary and ASCII). Each message is decoded in place into a recycled box
+    /// (issue 21; see [`PortDecoder::stock_vn200`]).
     Vn200 {
         name: "vn200-icd",
         baud: 921_600,
         device: Vn200,
-        decoder: Vn200Decoder = Vn200Decoder::new(),
+        decoder: BoxedDecoder = BoxedDecoder::new(),
         message: PortMessage::Vn200,
     },
     /// TT-Multi-RF text outputs (CSV, JSON, NMEA, ... in auto mode) and raw HEX lines,
@@ -212,6 +214,18 @@ protocols! {
         message: PortMessage::TtmrfAsterix,
     },
 }
+impl PortDecoder {
+    /// Hands boxes of VN-200 messages the caller is done with to this decoder, if it is the
+    /// VN-200's: it decodes its next messages straight into them (issue 21: no 928-byte message
+    /// built and moved, no allocation per message). It takes up to its bound
+    /// ([`crate::vn200::boxed::SPARE_BOXES`]); other decoders take none.
+    pub fn stock_vn200(&mut self, spare: &mut crate::vn200::boxed::SpareBoxes) {
+        if let PortDecoder::Vn200(c) = self {
+            c.0.stock(spare);
+        }
+    }
+}
+
 /// The device families of the installation (one clock model each in the aligner).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -263,9 +277,11 @@ impl Protocol {
 /// without a copy).
 ///
 /// Decision: not boxed (clippy's `large_enum_variant`): a `PortMessage` lives only from the
-/// decoder to the caller's callback, where it is either serialised in place (`--emit decoded`,
-/// no allocation per message) or moved into the aligner's boxed sample (one allocation, as
-/// before this table).
+/// decoder to the caller's callback, where it is either serialised in place (`--emit decoded`)
+/// or moved into the aligner's boxed sample. The VN-200 message (928 bytes, 400 Hz) is the
+/// exception: it comes boxed, decoded in place into a box the caller may hand back with
+/// [`PortDecoder::stock_vn200`] (the ingest stage does: no allocation per message); a caller
+/// that does not (`--emit decoded`) pays one allocation per VN-200 message.
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum PortMessage {
@@ -273,8 +289,8 @@ pub enum PortMessage {
     Bahrs(bahrs::Message),
     /// Watson AHRS-E304 line.
     Watson(watson::Line),
-    /// VN-200 binary or ASCII message.
-    Vn200(Vn200Message),
+    /// VN-200 binary or ASCII message (boxed: see the decision above).
+    Vn200(Box<Vn200Message>),
     /// TT-Multi-RF text output (CSV, JSON, NMEA, AT).
     TtmrfText(TextMessage),
     /// TT-Multi-RF raw frame (HEX line).

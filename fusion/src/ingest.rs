@@ -86,8 +86,9 @@ impl DevicePort {
         match &mut self.decoding {
             Decoding::Decoded(d, buf) => {
                 buf.extend_from_slice(bytes);
+                d.stock_vn200(spare);
                 let _ = d.decode(buf, eof, &mut |m| -> Result<(), ()> {
-                    out.push(sample(m, spare));
+                    out.push(sample(m));
                     Ok(())
                 });
             }
@@ -132,8 +133,9 @@ impl DevicePort {
     }
 }
 
-/// Boxes of VN-200 messages whose samples were handed out, reused by the next messages: the
-/// VN-200 stream (400 Hz) then allocates nothing per message (issue 21).
+/// Boxes of VN-200 messages whose samples were handed out, handed back to the VN-200 port's
+/// decoder, which decodes the next messages straight into them: the VN-200 stream (400 Hz) then
+/// allocates nothing and copies no message per message (issue 21).
 type SpareVn200 = Vec<Box<vigil_drivers::vn200::Vn200Message>>;
 
 /// Spare VN-200 boxes kept at most (a chunk holds one message in the steady state).
@@ -144,21 +146,12 @@ const SPARE_VN200: usize = 4;
 /// Decision: the BAHRS and Watson lengths are their messages re-encoded, as when these two went
 /// through the simulator's `Replayer` (which reported start offsets only); kept so every aligned
 /// time stays as it was. The others use the decoder's consumed count.
-fn sample(m: PortFrame, spare: &mut SpareVn200) -> (Sample, u64, usize) {
+fn sample(m: PortFrame) -> (Sample, u64, usize) {
     let wire = usize::try_from(m.wire_len).unwrap_or(usize::MAX);
     let (s, len) = match m.message {
         PortMessage::Bahrs(b) => (Sample::Bahrs(b), b.to_frame().len()),
         PortMessage::Watson(l) => (Sample::Watson(l), l.to_bytes().len()),
-        PortMessage::Vn200(v) => {
-            let b = match spare.pop() {
-                Some(mut b) => {
-                    *b = v;
-                    b
-                }
-                None => Box::new(v),
-            };
-            (Sample::Vn200(b), wire)
-        }
+        PortMessage::Vn200(b) => (Sample::Vn200(b), wire),
         PortMessage::TtmrfText(t) => (Sample::TtText(Box::new(t)), wire),
         PortMessage::TtmrfRaw(r) => (Sample::TtRaw(Box::new(r)), wire),
         PortMessage::TtmrfMavlink(x) => (Sample::TtMavlink(Box::new(x)), wire),

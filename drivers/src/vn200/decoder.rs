@@ -116,7 +116,7 @@ impl Vn200Decoder {
     }
 
     /// Checks a 0xFA candidate: its header, length and CRC. On success the frame is left in
-    /// the buffer for [`DeviceDecoder::decode`] to decode in place.
+    /// the buffer for [`Vn200Decoder::decode_into`] to decode in place.
     #[inline(always)]
     fn probe_binary(&mut self, buf: &mut BytesMut) -> BinaryStep {
         match binary::body_len(&buf[1..], MAX_MESSAGE_LEN - 3) {
@@ -280,10 +280,16 @@ impl Vn200Decoder {
     }
 }
 
-impl DeviceDecoder for Vn200Decoder {
-    type Message = Vn200Message;
-
-    fn decode(&mut self, buf: &mut BytesMut) -> Option<Vn200Message> {
+impl Vn200Decoder {
+    /// Decodes the next message from the front of `buf` into `out`, the caller's message, and
+    /// returns `true`; `false` when `buf` holds no complete message yet (same contract and
+    /// counters as [`DeviceDecoder::decode`], which is built on it).
+    ///
+    /// Issue 21: a binary message is written in place, group by group, into `out` (which is
+    /// switched to [`Vn200Message::Binary`] first if needed): the 928-byte message is not built
+    /// on the stack and moved out. Reusing the same `out` for a stream (e.g. a recycled box) is
+    /// the point. When it returns `false`, `out` may hold a partial decode: do not use it.
+    pub fn decode_into(&mut self, buf: &mut BytesMut, out: &mut Vn200Message) -> bool {
         loop {
             // Skip to the next possible start: 0xFA, 0xFB or '$'.
             let start = buf
@@ -297,7 +303,7 @@ impl DeviceDecoder for Vn200Decoder {
                         let held = self.split.abandon();
                         self.count_abandoned(held);
                     }
-                    return None;
+                    return false;
                 }
                 Some(0) => {}
                 Some(n) => self.skip(buf, n),
@@ -305,38 +311,70 @@ impl DeviceDecoder for Vn200Decoder {
             let r = match buf[0] {
                 binary::SYNC => match self.probe_binary(buf) {
                     BinaryStep::Frame { header, total } => {
-                        // Decoded straight into the return value (the hot path).
+                        // Decoded straight into the caller's message (the hot path).
                         let payload = buf.get(1 + header.len..total - 2).unwrap_or(&[]);
-                        if let Some(m) = BinaryOutput::decode_payload(&header, payload) {
+                        if binary_slot(out).decode_payload_into(&header, payload) {
                             self.stats.take_frame(buf, total);
                             self.counters.binary_messages += 1;
-                            return Some(Vn200Message::Binary(m));
+                            return true;
                         }
                         self.stats.malformed += 1;
                         self.skip(buf, 1);
                         continue;
                     }
                     BinaryStep::Next => continue,
-                    BinaryStep::Wait => return None,
+                    BinaryStep::Wait => return false,
                 },
                 split::SYNC => self.try_split(buf),
                 _ => self.try_ascii(buf),
             };
             match r {
-                Ok(Some(m)) => return Some(m),
+                Ok(Some(m)) => {
+                    *out = m;
+                    return true;
+                }
                 Ok(None) => continue,
-                Err(()) => return None,
+                Err(()) => return false,
             }
         }
     }
 
-    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<Vn200Message> {
+    /// [`Vn200Decoder::decode_into`] at the end of the stream (see
+    /// [`DeviceDecoder::decode_eof`], which is built on it).
+    pub fn decode_eof_into(&mut self, buf: &mut BytesMut, out: &mut Vn200Message) -> bool {
         self.eof = true;
-        let m = self.decode(buf);
-        if m.is_none() {
+        let got = self.decode_into(buf, out);
+        if !got {
             self.eof = false;
         }
-        m
+        got
+    }
+}
+
+/// The binary message in `out`, which is made one (empty) if it holds an ASCII sentence.
+#[inline(always)]
+fn binary_slot(out: &mut Vn200Message) -> &mut BinaryOutput {
+    if let Vn200Message::Ascii(_) = out {
+        *out = Vn200Message::Binary(BinaryOutput::default());
+    }
+    match out {
+        Vn200Message::Binary(b) => b,
+        Vn200Message::Ascii(_) => unreachable!("replaced by a binary message just above"),
+    }
+}
+
+impl DeviceDecoder for Vn200Decoder {
+    type Message = Vn200Message;
+
+    /// [`Vn200Decoder::decode_into`] a new message, returned by value.
+    fn decode(&mut self, buf: &mut BytesMut) -> Option<Vn200Message> {
+        let mut m = Vn200Message::Binary(BinaryOutput::default());
+        self.decode_into(buf, &mut m).then_some(m)
+    }
+
+    fn decode_eof(&mut self, buf: &mut BytesMut) -> Option<Vn200Message> {
+        let mut m = Vn200Message::Binary(BinaryOutput::default());
+        self.decode_eof_into(buf, &mut m).then_some(m)
     }
 
     fn stats(&self) -> &DecodeStats {

@@ -7,6 +7,7 @@
 //! - [`ascii`]: sentences, commands, registers, async outputs and `$VNERR` (chapters 1, 3, 4).
 //! - [`status`]: the status words (InsStatus, ImuStatus, TimeStatus, GnssStatus, SensSat).
 //! - [`decoder`]: [`Vn200Decoder`], one [`crate::DeviceDecoder`] for the interleaved stream.
+//! - [`boxed`]: [`boxed::BoxedDecoder`], the same decoding each message into a recycled box.
 //! - [`client`]: the sans-IO configuration client (Registers 75-77).
 //! - [`crc`]: the 8-bit XOR and 16-bit CRC checksums.
 //!
@@ -31,6 +32,7 @@
 
 pub mod ascii;
 pub mod binary;
+pub mod boxed;
 pub mod client;
 pub mod crc;
 pub mod decoder;

@@ -129,6 +129,26 @@ macro_rules! binary_group {
                 }
             }
 
+            /// Reads the types selected by `mask` into `self` in place, in offset order: every
+            /// field is overwritten (the unselected ones become `None`), so the result equals
+            /// [`Self::read`]'s. Not inlined, like `read`: it writes straight into the caller's
+            /// message (issue 21: no group built on the stack and copied).
+            #[inline(never)]
+            pub(crate) fn read_into(
+                &mut self,
+                mask: u32,
+                r: &mut $crate::vn200::binary::wire::Rd<'_>,
+            ) {
+                use $crate::vn200::binary::wire::Wire;
+                $(
+                    self.$f = if mask & (1u32 << $off) != 0 {
+                        Some(<$t as Wire>::read(r))
+                    } else {
+                        None
+                    };
+                )*
+            }
+
             /// Appends the present types in offset order.
             pub(crate) fn write(&self, out: &mut Vec<u8>) {
                 use $crate::vn200::binary::wire::Wire;

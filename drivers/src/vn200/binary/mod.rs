@@ -317,6 +317,25 @@ impl BinaryOutput {
         (!r.is_short() && r.remaining() == 0).then_some(m)
     }
 
+    /// Decodes the payload that follows a parsed header into `self`, in place (issue 21: the
+    /// caller's message is written once, not built and moved). Every group is overwritten (absent
+    /// ones become `None`; a present GNSS group reuses its box), so on success `self` equals what
+    /// [`BinaryOutput::decode_payload`] returns. Returns whether the payload holds exactly the
+    /// types the header selects; on `false`, `self` holds a partial decode and must not be used.
+    #[inline(always)]
+    pub fn decode_payload_into(&mut self, header: &Header, payload: &[u8]) -> bool {
+        let mut r = Rd::new(payload);
+        let t = &header.types;
+        read_slot(&mut self.common, t[0], |g| g.read_into(t[0], &mut r));
+        read_slot(&mut self.time, t[1], |g| g.read_into(t[1], &mut r));
+        read_slot(&mut self.imu, t[2], |g| g.read_into(t[2], &mut r));
+        read_boxed_slot(&mut self.gnss, t[3], |g| g.read_into(t[3], &mut r));
+        read_slot(&mut self.attitude, t[4], |g| g.read_into(t[4], &mut r));
+        read_slot(&mut self.ins, t[5], |g| g.read_into(t[5], &mut r));
+        read_boxed_slot(&mut self.gnss2, t[6], |g| g.read_into(t[6], &mut r));
+        !r.is_short() && r.remaining() == 0
+    }
+
     /// Decodes a complete framed message (sync, body, CRC), checking the CRC.
     pub fn decode_frame(frame: &[u8]) -> Option<Self> {
         let (&sync, rest) = frame.split_first()?;
@@ -426,6 +445,27 @@ impl BinaryOutput {
         let mut out = Vec::with_capacity(128);
         self.encode_into(&mut out);
         out
+    }
+}
+
+/// Fills the group slot `slot` in place when its type mask is non-zero (a group absent before is
+/// first set to its default, then `read` overwrites every field), or empties it.
+#[inline(always)]
+fn read_slot<G: Default>(slot: &mut Option<G>, mask: u32, read: impl FnOnce(&mut G)) {
+    if mask == 0 {
+        *slot = None;
+    } else {
+        read(slot.get_or_insert_with(G::default));
+    }
+}
+
+/// [`read_slot`] for a boxed group: a box already there is reused (no allocation).
+#[inline(always)]
+fn read_boxed_slot<G: Default>(slot: &mut Option<Box<G>>, mask: u32, read: impl FnOnce(&mut G)) {
+    if mask == 0 {
+        *slot = None;
+    } else {
+        read(slot.get_or_insert_with(Box::default));
     }
 }
 

@@ -532,3 +532,95 @@ fn message_size_stays_bounded() {
     let size = std::mem::size_of::<Vn200Message>();
     assert!(size <= 928, "size_of::<Vn200Message>() = {size}");
 }
+
+/// A message with more groups than [`common_112`]: IMU, a boxed GNSS group with a variable-length
+/// satellite list, and an Attitude group, so that reusing a message for a smaller one must empty
+/// groups and shrink the list.
+fn multi_group(i: u8) -> BinaryOutput {
+    use crate::vn200::binary::{AttitudeGroup, GnssGroup, ImuGroup, SatInfo, SatInfoEntry};
+    let sat = |k: u8| SatInfoEntry {
+        sys: 0,
+        sv_id: k,
+        flags: 0x1F,
+        cno_dbhz: 40 + k,
+        qi: 7,
+        elevation_deg: 30,
+        azimuth_deg: -120,
+    };
+    BinaryOutput {
+        imu: Some(ImuGroup {
+            uncomp_mag_gauss: Some([0.2, -0.1, 0.45]),
+            angular_rate_radps: Some([0.0, 0.01 * f32::from(i), -0.02]),
+            ..Default::default()
+        }),
+        gnss: Some(Box::new(GnssGroup {
+            num_sats: Some(3 + i),
+            sat_info: Some(SatInfo {
+                reserved: 0,
+                sats: (0..3 + i).map(sat).collect(),
+            }),
+            ..Default::default()
+        })),
+        attitude: Some(AttitudeGroup {
+            ypr: Some(Ypr {
+                yaw_deg: 90.0,
+                pitch_deg: -1.0,
+                roll_deg: f32::from(i),
+            }),
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+}
+
+/// Issue 21: `decode_into` writes each message over whatever the caller's message held (another
+/// binary message with other groups, a longer satellite list, an ASCII sentence), so one reused
+/// box yields exactly the messages that were encoded, in any read split.
+#[test]
+fn decode_into_a_reused_message_yields_each_encoded_message() {
+    let ascii = b"$VNYPR,+010.071,+000.278,-002.026*60\r\n";
+    let ypr = || AsciiMessage::parse("VNYPR,+010.071,+000.278,-002.026").unwrap();
+    let expected_ascii = Vn200Message::Ascii(ypr());
+    let sent = [
+        Vn200Message::Binary(multi_group(5)),
+        Vn200Message::Binary(common_112(1)),
+        expected_ascii.clone(),
+        Vn200Message::Binary(multi_group(0)),
+        Vn200Message::Binary(common_112(2)),
+        Vn200Message::Binary(multi_group(2)),
+        expected_ascii,
+        Vn200Message::Binary(multi_group(1)),
+    ];
+    let mut s = Vec::new();
+    for m in &sent {
+        match m {
+            Vn200Message::Binary(b) => b.encode_into(&mut s),
+            Vn200Message::Ascii(_) => s.extend_from_slice(ascii),
+        }
+        // A corrupted message after each: rejected (counted), it never shows in `out`.
+        let mut bad = common_112(9).encode();
+        bad[20] ^= 0x40;
+        s.extend_from_slice(&bad);
+    }
+    for chunk in [1, 7, 112, 4096] {
+        let mut d = Vn200Decoder::new();
+        let mut out = Box::new(Vn200Message::Ascii(ypr()));
+        let mut got = Vec::new();
+        let mut buf = BytesMut::new();
+        for piece in s.chunks(chunk) {
+            buf.extend_from_slice(piece);
+            while d.decode_into(&mut buf, &mut out) {
+                got.push((*out).clone());
+            }
+        }
+        while d.decode_eof_into(&mut buf, &mut out) {
+            got.push((*out).clone());
+        }
+        assert_eq!(got, sent, "chunk {chunk}");
+        assert_eq!(
+            d.stats().checksum_failures,
+            sent.len() as u64,
+            "chunk {chunk}"
+        );
+    }
+}
