@@ -337,3 +337,28 @@ impl Track {
         t_ns.saturating_sub(self.last_update_ns) as f64 * 1e-9
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `PlausibilityFlags::any` (a target is suspect) is true when any one flag is set, and
+    /// only then.
+    #[test]
+    fn any_plausibility_flag_alone_makes_the_target_suspect() {
+        assert!(!PlausibilityFlags::default().any());
+        let each: [fn(&mut PlausibilityFlags); 6] = [
+            |f| f.impossible_speed = true,
+            |f| f.position_jump = true,
+            |f| f.altitude_jump = true,
+            |f| f.range_vs_signal = true,
+            |f| f.inconsistent_sources = true,
+            |f| f.position_drift = true,
+        ];
+        for (i, set) in each.iter().enumerate() {
+            let mut f = PlausibilityFlags::default();
+            set(&mut f);
+            assert!(f.any(), "flag {i} alone");
+        }
+    }
+}

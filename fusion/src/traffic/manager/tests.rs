@@ -857,3 +857,87 @@ fn drift_is_a_residual_beyond_the_sigmas_and_the_velocity_allowance() {
     m.update_at(4 * S, &still, false);
     assert!(!m.picture(4 * S, &own())[0].flags.position_drift);
 }
+
+/// A stationary target (velocity 0), `d_north_m` north of 47.1 N.
+fn still_at(d_north_m: f64) -> TrafficReport {
+    TrafficReport {
+        ground_speed_mps: Some(0.0),
+        ..report(1, 47.1 + north_deg(d_north_m, 6_369_732.0), 8.0)
+    }
+}
+
+fn drift_after(p: TrafficParams, reports: &[(i64, TrafficReport)]) -> bool {
+    let mut m = TrackManager::new(p);
+    for (t_ms, r) in reports {
+        m.update_at(t_ms * 1_000_000, r, false);
+    }
+    let t_last = reports.last().unwrap().0 * 1_000_000;
+    m.picture(t_last, &own())[0].flags.position_drift
+}
+
+/// The drift window's edges (window 9 s, so a third is 3 s exactly; NACp 9 everywhere, so
+/// 5 sigmas of two reports are 86.66 m, and the velocity allowance is 2 m/s of the span):
+/// - a window is judged from exactly a third of its length: a 100 m residual over 3 s (allowed
+///   92.66 m) is a drift;
+/// - a report exactly one window older than the newest stays the base: reports at 0, 3 and 9 s,
+///   100 m off at 9 s, are judged over 9 s (allowed 104.66 m: no drift), not over 6 s
+///   (98.66 m);
+/// - a report without velocity breaks the chain: 150 m off at 5 s after a break at 2 s is no
+///   drift (the window restarts), although it would be over 0..5 s (allowed 96.66 m).
+#[test]
+fn drift_window_edges() {
+    let p = TrafficParams {
+        drift_window_s: 9.0,
+        ..TrafficParams::default()
+    };
+    assert!(drift_after(
+        p,
+        &[(0, still_at(0.0)), (3_000, still_at(100.0))]
+    ));
+    assert!(!drift_after(
+        p,
+        &[
+            (0, still_at(0.0)),
+            (3_000, still_at(0.0)),
+            (9_000, still_at(100.0))
+        ]
+    ));
+    let no_velocity = TrafficReport {
+        track_deg: None,
+        ground_speed_mps: None,
+        ..still_at(0.0)
+    };
+    assert!(!drift_after(
+        TrafficParams::default(),
+        &[
+            (0, still_at(0.0)),
+            (2_000, no_velocity),
+            (5_000, still_at(150.0))
+        ]
+    ));
+    assert!(drift_after(
+        TrafficParams::default(),
+        &[(0, still_at(0.0)), (5_000, still_at(150.0))]
+    ));
+}
+
+/// A FLARM position without NACp or NIC is taken at 10 m (the other aircraft's own GNSS); any
+/// other link's at 100 m.
+#[test]
+fn a_flarm_position_without_accuracy_is_taken_at_10_m() {
+    for (link, address_type, sigma) in [
+        (Link::Flarm, AddressType::FlarmRandom, 10.0),
+        (Link::Adsb1090, AddressType::Icao, 100.0),
+    ] {
+        let mut m = TrackManager::new(TrafficParams::default());
+        let r = TrafficReport {
+            link,
+            address_type,
+            nac_p: None,
+            nic: None,
+            ..report(1, 47.1, 8.0)
+        };
+        m.update_at(0, &r, false);
+        assert_eq!(m.picture(0, &own())[0].position_sigma_m, sigma, "{link:?}");
+    }
+}
