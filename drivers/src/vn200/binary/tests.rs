@@ -601,3 +601,37 @@ proptest! {
         prop_assert_eq!(BinaryOutput::decode_frame(&m.encode()), Some(m));
     }
 }
+
+/// The in-place decode (issue 21) accepts a payload only when it holds exactly the types its
+/// header selects, as `decode_payload` does: the same message from the whole payload, `false`
+/// with one byte missing or one byte too many.
+#[test]
+fn in_place_decoding_needs_exactly_the_selected_bytes() {
+    for (i, masks) in [
+        [u32::MAX; 7],
+        [0x0000_0FFF, 0, 0, 0, 0, 0, 0],
+        [0, 0x3F, 0, 0x1F, 0, 0, 0],
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let body = random_body(masks, i as u64);
+        let header = parse_header(&body).unwrap();
+        let payload = &body[header.len..];
+        let whole = BinaryOutput::decode_payload(&header, payload).unwrap();
+        let mut out = BinaryOutput::default();
+        assert!(out.decode_payload_into(&header, payload), "masks {i}");
+        assert_eq!(out.encode(), whole.encode(), "masks {i}");
+        let short = &payload[..payload.len() - 1];
+        assert!(
+            !BinaryOutput::default().decode_payload_into(&header, short),
+            "masks {i}"
+        );
+        let mut long = payload.to_vec();
+        long.push(0);
+        assert!(
+            !BinaryOutput::default().decode_payload_into(&header, &long),
+            "masks {i}"
+        );
+    }
+}
