@@ -311,3 +311,31 @@ fn closed_form_matches_a_scan_over_many_encounters() {
         assert_interval_matches_scan(&r);
     }
 }
+
+/// The relative state is the intruder's less the ownship's, on every axis: the ownship flying
+/// north at 50 m/s and climbing 3 m/s, an intruder 200 m straight above flying east at 40 m/s
+/// and descending 2 m/s: relative velocity (40, -50) m/s east/north, 200 m above, closing
+/// vertically at -5 m/s (by hand; both at the same point, so no rotation between their norths).
+#[test]
+fn relative_state_is_the_intruder_less_the_ownship() {
+    let own = AircraftState {
+        lat_deg: 47.0,
+        lon_deg: 8.0,
+        alt_m: 1000.0,
+        track_deg: 0.0,
+        ground_speed_mps: 50.0,
+        vertical_rate_mps: 3.0,
+    };
+    let intruder = AircraftState {
+        alt_m: 1200.0,
+        track_deg: 90.0,
+        ground_speed_mps: 40.0,
+        vertical_rate_mps: -2.0,
+        ..own
+    };
+    let r = relative(&own, &intruder);
+    assert!(r.s.norm() < 1e-6, "{:?}", r.s);
+    assert!((r.v - Vector2::new(40.0, -50.0)).norm() < 1e-9, "{:?}", r.v);
+    assert_relative_eq!(r.dz_m, 200.0, epsilon = 1e-9);
+    assert_relative_eq!(r.vz_mps, -5.0, epsilon = 1e-12);
+}
