@@ -134,4 +134,19 @@ mod tests {
         );
         assert!((seen_track.abs() - 0.5).abs() < 0.05);
     }
+
+    /// Up is the ellipsoid normal: a point 100 m above the origin (same latitude and longitude,
+    /// geodetic height + 100 m) is at (0, 0, 100) in the frame, wherever the frame is.
+    #[test]
+    fn up_is_the_ellipsoid_normal() {
+        for (lat, lon) in [(47.1, 8.0), (-33.9, 151.2), (65.0, -20.0), (0.0, 0.0)] {
+            let f = EnuFrame::at(lat, lon, 500.0);
+            let (q, _) = geodetic_to_ecef(lat, lon, 600.0);
+            let enu = f.position(&q);
+            assert!(
+                (enu - Vector3::new(0.0, 0.0, 100.0)).norm() < 1e-6,
+                "{lat}, {lon}: {enu:?}"
+            );
+        }
+    }
 }

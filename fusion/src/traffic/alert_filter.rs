@@ -86,11 +86,15 @@ mod tests {
     const S: i64 = 1_000_000_000;
 
     fn run(raws: &[u8]) -> Vec<u8> {
-        let p = AlertFilterParams::default();
+        run_with(&AlertFilterParams::default(), raws)
+    }
+
+    /// The filtered levels of raw levels given one a second from t = 0.
+    fn run_with(p: &AlertFilterParams, raws: &[u8]) -> Vec<u8> {
         let mut f = AlertFilter::default();
         raws.iter()
             .enumerate()
-            .map(|(k, &r)| f.update(r, k as i64 * S, &p))
+            .map(|(k, &r)| f.update(r, k as i64 * S, p))
             .collect()
     }
 
@@ -139,13 +143,8 @@ mod tests {
             hysteresis_s: 2.0,
             ..AlertFilterParams::default()
         };
-        let mut f = AlertFilter::default();
         let raws = [2, 2, 2, 2, 2, 2, 2, 2, 2, 0, 0, 0, 0, 0, 0, 0];
-        let got: Vec<u8> = raws
-            .iter()
-            .enumerate()
-            .map(|(k, &r)| f.update(r, k as i64 * S, &p))
-            .collect();
+        let got = run_with(&p, &raws);
         // The window [2, 2, 0, 0] still holds two 2s at t = 9 and 10; evidence 0 from t = 11.
         assert_eq!(got[..11], [0, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2]);
         // Below since t = 11: the hysteresis ends at t = 13, the hold (from t = 1) at t = 11.
@@ -157,12 +156,7 @@ mod tests {
             persistence_s: 14.0,
             ..p
         };
-        let mut f = AlertFilter::default();
-        let got: Vec<u8> = raws
-            .iter()
-            .enumerate()
-            .map(|(k, &r)| f.update(r, k as i64 * S, &p))
-            .collect();
+        let got = run_with(&p, &raws);
         assert_eq!(got[14], 2);
         assert_eq!(got[15], 0);
     }
