@@ -136,10 +136,11 @@ impl DevicePort {
 /// Boxes of VN-200 messages whose samples were handed out, handed back to the VN-200 port's
 /// decoder, which decodes the next messages straight into them: the VN-200 stream (400 Hz) then
 /// allocates nothing and copies no message per message (issue 21).
-type SpareVn200 = Vec<Box<vigil_drivers::vn200::Vn200Message>>;
+type SpareVn200 = vigil_drivers::vn200::boxed::SpareBoxes;
 
-/// Spare VN-200 boxes kept at most (a chunk holds one message in the steady state).
-const SPARE_VN200: usize = 4;
+/// Spare VN-200 boxes kept at most: as many as the decoder takes (a chunk holds one message in
+/// the steady state).
+const SPARE_VN200: usize = vigil_drivers::vn200::boxed::SPARE_BOXES;
 
 /// A decoded message as a [`Sample`] with its start offset and wire length.
 ///
