@@ -29,11 +29,6 @@ impl BoxedDecoder {
         Self::default()
     }
 
-    /// The VN-200 decoder inside (its counters).
-    pub fn inner(&self) -> &Vn200Decoder {
-        &self.inner
-    }
-
     /// Spare boxes held now.
     pub fn spare_len(&self) -> usize {
         self.spare.len()
