@@ -108,6 +108,18 @@ mod tests {
     }
 
     #[test]
+    fn interpolation_uses_the_fraction_of_the_interval_elapsed() {
+        // Yaw 10 deg at t = 100 and 50 deg at t = 110: at t = 102.5 a quarter of the way, 20 deg;
+        // at t = 115 (extrapolated) 70 deg.
+        let q0 = from_ypr(10.0 * DEG, 0.0, 0.0);
+        let q1 = from_ypr(50.0 * DEG, 0.0, 0.0);
+        let (y, _, _) = to_ypr(&interpolate(100.0, &q0, 110.0, &q1, 102.5));
+        assert!((y - 20.0 * DEG).abs() < 1e-12, "{}", y / DEG);
+        let (y, _, _) = to_ypr(&interpolate(100.0, &q0, 110.0, &q1, 115.0));
+        assert!((y - 70.0 * DEG).abs() < 1e-12, "{}", y / DEG);
+    }
+
+    #[test]
     fn slerp_of_combined_rotations_stays_on_the_great_arc() {
         // Roll 0 -> 40 deg at constant yaw and pitch: the midpoint is roll 20 deg exactly.
         let q0 = from_ypr(100.0 * DEG, 5.0 * DEG, 0.0);

@@ -556,3 +556,175 @@ fn with_two_units_a_disagreement_is_detected_but_not_isolated() {
     assert_eq!(r.isolation.roll, Isolation::DetectedNotIsolated);
     assert!(r.fault && r.isolated.is_none() && !r.multiple_fault);
 }
+
+/// The first BAHRS, VN-200 and Watson samples of the default synthetic stream, as templates for
+/// hand-placed samples.
+fn templates() -> (
+    super::samples::BahrsSample,
+    super::samples::Vn200Sample,
+    super::samples::WatsonSample,
+) {
+    let (mut b, mut v, mut w) = (None, None, None);
+    for e in Stream::new(Scenario::default()) {
+        match e {
+            Event::Bahrs(s) => b = b.or(Some(s)),
+            Event::Vn200(s) => v = v.or(Some(s)),
+            Event::Watson(s) => w = w.or(Some(s)),
+        }
+        if let (Some(b), Some(v), Some(w)) = (b, v, w) {
+            return (b, v, w);
+        }
+    }
+    unreachable!("the default stream has all three units")
+}
+
+/// A declination model that counts its queries and answers with a value that names the position
+/// asked about: declination (deg) = 10 x latitude + longitude.
+struct Counting(std::sync::Arc<std::sync::atomic::AtomicUsize>);
+
+impl crate::magnetic::DeclinationModel for Counting {
+    fn declination(
+        &self,
+        lat_deg: f64,
+        lon_deg: f64,
+        _height_m: f64,
+        _t_gps_ns: i64,
+    ) -> Result<Declination, crate::magnetic::MagneticError> {
+        self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Ok(Declination {
+            declination_rad: (10.0 * lat_deg + lon_deg) * DEG,
+            sigma_rad: 0.3 * DEG,
+            horizontal_nt: 20_000.0,
+            zone: MagneticZone::Normal,
+        })
+    }
+}
+
+/// The declination is queried again only after `declination_refresh_s` (strictly), or once the
+/// position has moved more than 0.1 deg of latitude or 0.1 deg of longitude scaled by cos(lat)
+/// (strictly); in between the cached value is used.
+#[test]
+fn the_declination_is_refreshed_after_its_period_or_a_move_beyond_a_tenth_of_a_degree() {
+    let calls = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let params = CheckParams::default();
+    assert_eq!(params.declination_refresh_s, 60.0);
+    let mut c = AttitudeChecker::new(params, Box::new(Counting(calls.clone()))).unwrap();
+    let (b0, v0, _) = templates();
+    let t0 = b0.t_gps_ns;
+    // (time from the first check s, latitude deg, longitude deg, queries so far, the declination
+    // in use deg = 10 lat + lon of the position last queried).
+    let steps: [(f64, f64, f64, usize, f64); 10] = [
+        (0.0, 0.0, 0.0, 1, 0.0),
+        // Same place, 2 s later: cached.
+        (2.0, 0.0, 0.0, 1, 0.0),
+        // Exactly 0.1 deg north, then exactly 0.1 deg east (cos 0 = 1): not beyond, cached.
+        (3.0, 0.1, 0.0, 1, 0.0),
+        (4.0, 0.0, 0.1, 1, 0.0),
+        // 0.2 deg north: queried there.
+        (5.0, 0.2, 0.0, 2, 2.0),
+        // Exactly the refresh period after that query: cached; 1 ns later: queried.
+        (65.0, 0.2, 0.0, 2, 2.0),
+        (65.000_000_001, 0.2, 0.0, 3, 2.0),
+        // 0.2 deg east: queried.
+        (66.0, 0.2, 0.2, 4, 2.2),
+        // At 60 deg north (a new query), 0.15 deg of longitude is 0.075 deg scaled by
+        // cos 60 deg = 0.5: cached.
+        (67.0, 60.0, 0.2, 5, 600.2),
+        (68.0, 60.0, 0.35, 5, 600.2),
+    ];
+    for (t_s, lat, lon, queries, decl_deg) in steps {
+        let t = t0 + (t_s * 1e9).round() as i64;
+        let mut v = v0;
+        v.t_gps_ns = t;
+        v.lla = Some([lat, lon, 100.0]);
+        assert!(v.ins_status.position_valid());
+        c.push_vn200(v);
+        let mut b = b0;
+        b.t_gps_ns = t;
+        let rec = c.compare_at(&b, false);
+        let what = format!("at {t_s} s, ({lat}, {lon})");
+        assert_eq!(
+            calls.load(std::sync::atomic::Ordering::Relaxed),
+            queries,
+            "{what}"
+        );
+        let used = rec.declination.expect("a declination").declination_deg;
+        assert!((used - decl_deg).abs() < 1e-9, "{what}: {used}");
+    }
+}
+
+/// Pushes samples at `t` ns (BAHRS always; VN-200 and Watson when asked) and says whether the
+/// BAHRS sample at the front is compared now.
+fn ready_after(c: &mut AttitudeChecker, b_ns: &[i64], vn_ns: &[i64], watson_ns: &[i64]) -> bool {
+    let (b0, v0, w0) = templates();
+    for &t in b_ns {
+        c.push_bahrs(super::samples::BahrsSample { t_gps_ns: t, ..b0 });
+    }
+    for &t in vn_ns {
+        c.push_vn200(super::samples::Vn200Sample { t_gps_ns: t, ..v0 });
+    }
+    for &t in watson_ns {
+        c.push_watson(super::samples::WatsonSample { t_gps_ns: t, ..w0 });
+    }
+    c.next_record().is_some()
+}
+
+/// A BAHRS sample is compared once the VN-200 and the Watson have each reached its time (at it
+/// counts), or once the newest sample of any unit is more than `max_age_periods` of that unit's
+/// period past it (the unit is then compared as missing); not before.
+#[test]
+fn a_bahrs_sample_waits_for_both_partners_or_their_horizon() {
+    // Horizons of exactly representable length: 2 x 0.125 s = 250 ms for the Watson and
+    // 2 x 0.0625 s = 125 ms for the VN-200.
+    let params = CheckParams {
+        max_age_periods: 2.0,
+        vn200_period_s: 0.0625,
+        watson_period_s: 0.125,
+        ..CheckParams::default()
+    };
+    let new = || AttitudeChecker::new(params, fixed(3.0)).unwrap();
+    let t = templates().0.t_gps_ns;
+    assert_eq!(new().params(), &params);
+    // Both partners exactly at the BAHRS time: compared.
+    assert!(ready_after(&mut new(), &[t], &[t], &[t]));
+    // Only the VN-200 there, the Watson silent: waits...
+    assert!(!ready_after(&mut new(), &[t], &[t], &[]));
+    // ...until a newer sample is more than the Watson's 250 ms past it, not at 250 ms.
+    let mut c = new();
+    assert!(!ready_after(&mut c, &[t], &[t + 250_000_000], &[]));
+    assert!(ready_after(&mut c, &[], &[t + 250_000_001], &[]));
+    // The Watson there, the VN-200 silent: compared once the 125 ms VN-200 horizon has passed.
+    let mut c = new();
+    assert!(!ready_after(&mut c, &[t], &[], &[t + 125_000_000]));
+    assert!(ready_after(&mut c, &[], &[], &[t + 125_000_001]));
+}
+
+/// With neither partner and no time passing, at most 256 BAHRS samples wait; the 257th forces the
+/// oldest out (a bound on memory when both partners are silent and the BAHRS clock stands still).
+#[test]
+fn at_most_256_bahrs_samples_wait() {
+    let mut c = checker_with(fixed(3.0));
+    let t = templates().0.t_gps_ns;
+    // 256 samples 1 ns apart: far inside every horizon.
+    let first: Vec<i64> = (0..256).map(|k| t + k).collect();
+    assert!(!ready_after(&mut c, &first, &[], &[]));
+    assert!(ready_after(&mut c, &[t + 256], &[], &[]));
+}
+
+/// A TT-Multi-RF GNSS epoch reaches the vertical third opinion: one without a fix is reported as
+/// such, not as an absent receiver.
+#[test]
+fn a_tt_gnss_epoch_reaches_the_vertical_third_opinion() {
+    use super::vertical::TtNotCompared;
+    let third = |epoch: bool| {
+        let mut c = checker_with(fixed(3.0));
+        let (b, v, _) = templates();
+        if epoch {
+            c.push_tt_gnss(b.t_gps_ns, None);
+        }
+        c.push_vn200(v);
+        c.compare_at(&b, false).vertical.third.not_compared
+    };
+    assert_eq!(third(false), Some(TtNotCompared::Absent));
+    assert_eq!(third(true), Some(TtNotCompared::NoFix));
+}
