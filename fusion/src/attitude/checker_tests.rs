@@ -728,3 +728,232 @@ fn a_tt_gnss_epoch_reaches_the_vertical_third_opinion() {
     assert_eq!(third(false), Some(TtNotCompared::Absent));
     assert_eq!(third(true), Some(TtNotCompared::NoFix));
 }
+
+fn assert_sigmas(got: Option<[f64; 3]>, want: [f64; 3], what: &str) {
+    let got = got.unwrap_or_else(|| panic!("{what}: no sigmas"));
+    for (g, w) in got.iter().zip(want) {
+        assert!((g - w).abs() < 1e-9, "{what}: {got:?}, want {want:?}");
+    }
+}
+
+/// Each unit's 1-sigma per axis (roll, pitch, heading; deg) as the record states it: from the
+/// unit's own report where it has one, else from the configured defaults; and the heading pair
+/// BAHRS-VN-200 adds the declination's variance to both units' and both mountings'.
+#[test]
+fn each_units_sigmas_come_from_its_report_or_the_defaults_and_add_up_in_a_pair() {
+    use super::samples::{BahrsSample, Vn200Sample, WatsonSample};
+    let (b0, v0, w0) = templates();
+    let t = b0.t_gps_ns;
+    // No timing term: every sample perfectly aligned.
+    let b0 = BahrsSample {
+        sigma_ns: 0.0,
+        heading_mag_rad: 30.0 * DEG,
+        ..b0
+    };
+    let v0 = Vn200Sample {
+        t_gps_ns: t,
+        sigma_ns: 0.0,
+        ..v0
+    };
+    let w0 = WatsonSample {
+        t_gps_ns: t,
+        sigma_ns: 0.0,
+        ..w0
+    };
+    let check = |b: BahrsSample, v: Vn200Sample| {
+        let mut c = checker_with(fixed(30.0));
+        c.push_vn200(v);
+        c.push_watson(w0);
+        c.compare_at(&b, false)
+    };
+
+    // Nothing reported: the defaults of the parameter table (BAHRS tilt 0.5, heading 2; VN-200
+    // tilt 0.3, heading 1; Watson tilt 0.75, heading 2).
+    let r = check(
+        BahrsSample {
+            accuracy_rad: None,
+            ..b0
+        },
+        Vn200Sample {
+            ypr_sigma_rad: None,
+            ..v0
+        },
+    );
+    assert_sigmas(r.bahrs.sigma_deg, [0.5, 0.5, 2.0], "BAHRS defaults");
+    assert_sigmas(r.vn200.sigma_deg, [0.3, 0.3, 1.0], "VN-200 defaults");
+    assert_sigmas(r.watson.sigma_deg, [0.75, 0.75, 2.0], "Watson");
+
+    // Reported: the BAHRS north 1, east 2, heading 3 deg; at magnetic heading 30 deg plus the
+    // 30 deg declination (true heading psi = 60 deg, cos^2 = 1/4, sin^2 = 3/4) roll takes
+    // 1/4 x 1 + 3/4 x 4 = 3.25 deg^2 and pitch 3/4 x 1 + 1/4 x 4 = 1.75 deg^2. The VN-200's
+    // yaw, pitch, roll 0.5, 0.2, 0.1 deg.
+    let r = check(
+        BahrsSample {
+            accuracy_rad: Some([Some(DEG), Some(2.0 * DEG), Some(3.0 * DEG)]),
+            ..b0
+        },
+        Vn200Sample {
+            ypr_sigma_rad: Some([0.5 * DEG, 0.2 * DEG, 0.1 * DEG]),
+            ..v0
+        },
+    );
+    assert_sigmas(
+        r.bahrs.sigma_deg,
+        [3.25f64.sqrt(), 1.75f64.sqrt(), 3.0],
+        "BAHRS reported",
+    );
+    assert_sigmas(r.vn200.sigma_deg, [0.1, 0.2, 0.5], "VN-200 reported");
+    // Heading, BAHRS (magnetic made true) against the VN-200 (true): 3^2 + 0.5^2 + the two
+    // default mountings 0.1^2 each + the declination's 0.3^2 = 9.36 deg^2.
+    let var = r.pairs.bahrs_vn200.heading.comparison.unwrap().var_deg2;
+    assert!((var - 9.36).abs() < 1e-9, "{var}");
+    // Roll: 3.25 + 0.1^2 + 0.1^2 + 0.1^2, no declination.
+    let var = r.pairs.bahrs_vn200.roll.comparison.unwrap().var_deg2;
+    assert!((var - 3.28).abs() < 1e-9, "{var}");
+
+    // A VN-200 sigma that is zero or not finite is no report: the defaults.
+    for bad in [0.0, f64::INFINITY, -0.1 * DEG] {
+        let r = check(
+            b0,
+            Vn200Sample {
+                ypr_sigma_rad: Some([0.5 * DEG, bad, 0.1 * DEG]),
+                ..v0
+            },
+        );
+        assert_sigmas(r.vn200.sigma_deg, [0.3, 0.3, 1.0], &format!("VN-200 {bad}"));
+    }
+}
+
+/// A partner sample is stale once it is more than `max_age_periods` of its unit's period older
+/// than the comparison (not at exactly that age); a stale VN-200 also closes the vertical
+/// channel; and the age is stated in seconds.
+#[test]
+fn a_partner_is_stale_only_beyond_its_horizon() {
+    use super::gates::GateReason;
+    use super::samples::{Vn200Sample, WatsonSample};
+    // Horizons of exactly representable length: 2 x 1/64 s = 31.25 ms (VN-200) and
+    // 2 x 1/16 s = 125 ms (Watson).
+    let params = CheckParams {
+        max_age_periods: 2.0,
+        vn200_period_s: 0.015_625,
+        watson_period_s: 0.0625,
+        ..CheckParams::default()
+    };
+    let (b, v0, w0) = templates();
+    let t = b.t_gps_ns;
+    for (vn_age_ns, watson_age_ns, stale) in [
+        (31_250_000, 125_000_000, false),
+        (31_250_001, 125_000_001, true),
+    ] {
+        let mut c = AttitudeChecker::new(params, fixed(3.0)).unwrap();
+        c.push_vn200(Vn200Sample {
+            t_gps_ns: t - vn_age_ns,
+            ..v0
+        });
+        c.push_watson(WatsonSample {
+            t_gps_ns: t - watson_age_ns,
+            ..w0
+        });
+        let r = c.compare_at(&b, false);
+        let want = stale.then_some(GateReason::Stale);
+        assert_eq!(r.vn200.gates.roll, want, "VN-200 {vn_age_ns} ns old");
+        assert_eq!(r.watson.gates.roll, want, "Watson {watson_age_ns} ns old");
+        assert_eq!(r.vertical.velocity_down.gate, want, "vertical");
+        let age = r.vn200.age_s.unwrap();
+        assert!((age - vn_age_ns as f64 * 1e-9).abs() < 1e-12, "{age}");
+    }
+}
+
+/// A partner interpolated between a frozen sample and a fresh one is still frozen at the
+/// comparison (either end frozen closes its gates).
+#[test]
+fn a_partner_between_a_frozen_and_a_fresh_sample_is_frozen() {
+    use super::gates::GateReason;
+    use super::samples::{Vn200Sample, WatsonSample};
+    let (b, v0, w0) = templates();
+    let t = b.t_gps_ns;
+    let mut c = checker_with(fixed(3.0));
+    // Bit-identical outputs every 20 ms for 1.2 s (frozen after the 1 s window), then one
+    // changed output 20 ms later; the comparison is halfway between the last two.
+    for k in 0..=60 {
+        let tk = t - 1_210_000_000 + k * 20_000_000;
+        c.push_vn200(Vn200Sample { t_gps_ns: tk, ..v0 });
+        c.push_watson(WatsonSample { t_gps_ns: tk, ..w0 });
+    }
+    let q = v0.attitude * nalgebra::UnitQuaternion::from_euler_angles(0.01, 0.0, 0.0);
+    c.push_vn200(Vn200Sample {
+        t_gps_ns: t + 10_000_000,
+        attitude: q,
+        ..v0
+    });
+    c.push_watson(WatsonSample {
+        t_gps_ns: t + 10_000_000,
+        roll_rad: w0.roll_rad + 0.01,
+        ..w0
+    });
+    let r = c.compare_at(&b, false);
+    assert_eq!(r.vn200.gates.roll, Some(GateReason::Frozen));
+    assert_eq!(r.watson.gates.roll, Some(GateReason::Frozen));
+}
+
+/// A Watson attitude between two samples is slerped by the fraction of their interval elapsed.
+#[test]
+fn the_watson_is_interpolated_between_its_samples() {
+    use super::samples::WatsonSample;
+    let (b, v0, w0) = templates();
+    let t = b.t_gps_ns;
+    let mut c = checker_with(fixed(0.0));
+    c.push_vn200(super::samples::Vn200Sample { t_gps_ns: t, ..v0 });
+    let at = |dt_ns: i64, roll_deg: f64| WatsonSample {
+        t_gps_ns: t + dt_ns,
+        roll_rad: roll_deg * DEG,
+        pitch_rad: 0.0,
+        heading_mag_rad: 0.0,
+        ..w0
+    };
+    // Roll 0 at -20 ms and 10 deg at +60 ms: a quarter of the way, 2.5 deg.
+    c.push_watson(at(-20_000_000, 0.0));
+    c.push_watson(at(60_000_000, 10.0));
+    let roll = c.compare_at(&b, false).watson.roll_deg.unwrap();
+    assert!((roll - 2.5).abs() < 1e-9, "{roll}");
+}
+
+/// A declination model that cannot answer.
+struct NoDeclination;
+
+impl crate::magnetic::DeclinationModel for NoDeclination {
+    fn declination(
+        &self,
+        _: f64,
+        _: f64,
+        _: f64,
+        t_gps_ns: i64,
+    ) -> Result<Declination, crate::magnetic::MagneticError> {
+        Err(crate::magnetic::MagneticError::BadTime(t_gps_ns))
+    }
+}
+
+/// The coverage names, for each unit, axis and the vertical channel not compared, the reason of
+/// the first closed gate (not "no check"), and says compared for the rest.
+#[test]
+fn coverage_gives_each_uncompared_slot_its_own_reason() {
+    use super::coverage::NotComparedReason as R;
+    let (b, v0, _) = templates();
+    // The Watson silent, no declination (the magnetic headings cannot be made true).
+    let mut c = AttitudeChecker::new(CheckParams::default(), Box::new(NoDeclination)).unwrap();
+    c.push_vn200(super::samples::Vn200Sample {
+        t_gps_ns: b.t_gps_ns,
+        ..v0
+    });
+    let cov = c.compare_at(&b, false).coverage;
+    assert!(cov.bahrs.compared && cov.vn200.compared);
+    assert!(cov.roll.compared && cov.pitch.compared && cov.vertical.compared);
+    assert_eq!(cov.watson.reason, Some(R::Absent));
+    assert_eq!(cov.heading.reason, Some(R::NotComparable));
+    // The VN-200 silent too: nothing compared; the vertical channel has no partner sample.
+    let mut c = AttitudeChecker::new(CheckParams::default(), Box::new(NoDeclination)).unwrap();
+    let cov = c.compare_at(&b, false).coverage;
+    assert_eq!(cov.vn200.reason, Some(R::Absent));
+    assert_eq!(cov.roll.reason, Some(R::Absent));
+    assert_eq!(cov.vertical.reason, Some(R::Absent));
+}
