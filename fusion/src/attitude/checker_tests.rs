@@ -648,8 +648,12 @@ fn the_declination_is_refreshed_after_its_period_or_a_move_beyond_a_tenth_of_a_d
             queries,
             "{what}"
         );
-        let used = rec.declination.expect("a declination").declination_deg;
-        assert!((used - decl_deg).abs() < 1e-9, "{what}: {used}");
+        let used = rec.declination.expect("a declination");
+        assert!(
+            (used.declination_deg - decl_deg).abs() < 1e-9,
+            "{what}: {used:?}"
+        );
+        assert!((used.sigma_deg - 0.3).abs() < 1e-12, "{what}: {used:?}");
     }
 }
 
@@ -907,15 +911,18 @@ fn the_watson_is_interpolated_between_its_samples() {
     let at = |dt_ns: i64, roll_deg: f64| WatsonSample {
         t_gps_ns: t + dt_ns,
         roll_rad: roll_deg * DEG,
-        pitch_rad: 0.0,
+        pitch_rad: 4.0 * DEG,
         heading_mag_rad: 0.0,
         ..w0
     };
     // Roll 0 at -20 ms and 10 deg at +60 ms: a quarter of the way, 2.5 deg.
     c.push_watson(at(-20_000_000, 0.0));
     c.push_watson(at(60_000_000, 10.0));
-    let roll = c.compare_at(&b, false).watson.roll_deg.unwrap();
+    // (The pitch, 4 deg at both ends, stays 4 deg: the slerp is about the body x axis.)
+    let w = c.compare_at(&b, false).watson;
+    let (roll, pitch) = (w.roll_deg.unwrap(), w.pitch_deg.unwrap());
     assert!((roll - 2.5).abs() < 1e-9, "{roll}");
+    assert!((pitch - 4.0).abs() < 1e-9, "{pitch}");
 }
 
 /// A declination model that cannot answer.
@@ -956,4 +963,63 @@ fn coverage_gives_each_uncompared_slot_its_own_reason() {
     assert_eq!(cov.vn200.reason, Some(R::Absent));
     assert_eq!(cov.roll.reason, Some(R::Absent));
     assert_eq!(cov.vertical.reason, Some(R::Absent));
+}
+
+/// The timing term of a pair (issue 25): the axis's Euler rate times the relative time sigma of
+/// the two samples, from the body rates of the first unit that reports them.
+#[test]
+fn the_timing_term_is_the_rate_times_the_relative_time_sigma() {
+    use super::samples::{BahrsSample, Vn200Sample};
+    let (b0, v0, _) = templates();
+    let t = b0.t_gps_ns;
+    // Level, yawing at 10 deg/s: Euler rates (0, 0, 10) deg/s. Time sigmas 3 and 4 ms: 5 ms
+    // relative. Heading term 10 x 0.005 = 0.05 deg; roll and pitch 0.
+    let b = BahrsSample {
+        roll_rad: 0.0,
+        pitch_rad: 0.0,
+        sigma_ns: 3e6,
+        rates_radps: Some([0.0, 0.0, 10.0 * DEG]),
+        ..b0
+    };
+    let mut c = checker_with(fixed(3.0));
+    c.push_vn200(Vn200Sample {
+        t_gps_ns: t,
+        sigma_ns: 4e6,
+        rates_radps: None,
+        ..v0
+    });
+    let pair = c.compare_at(&b, false).pairs.bahrs_vn200;
+    let heading = pair.heading.comparison.unwrap().timing_deg;
+    assert!((heading - 0.05).abs() < 1e-12, "{heading}");
+    let roll = pair.roll.comparison.unwrap().timing_deg;
+    assert!(roll.abs() < 1e-12, "{roll}");
+}
+
+/// The VN-200's down velocity at the comparison is interpolated between the samples around it,
+/// and held from the last one when none follows.
+#[test]
+fn the_vn200_down_velocity_is_interpolated_or_held() {
+    use super::samples::{BahrsSample, Vn200Sample};
+    let (b0, v0, _) = templates();
+    let t = b0.t_gps_ns;
+    let b = BahrsSample {
+        velocity_down_mps: 0.0,
+        ..b0
+    };
+    let vn = |dt_ns: i64, down: f64| Vn200Sample {
+        t_gps_ns: t + dt_ns,
+        vel_ned_mps: Some([0.0, 0.0, down]),
+        ..v0
+    };
+    // 1 m/s at -10 ms, 3 m/s at +30 ms: a quarter of the way, 1.5 m/s.
+    let mut c = checker_with(fixed(3.0));
+    c.push_vn200(vn(-10_000_000, 1.0));
+    c.push_vn200(vn(30_000_000, 3.0));
+    let got = c.compare_at(&b, false).vertical.velocity_down.vn200_mps;
+    assert!((got.unwrap() - 1.5).abs() < 1e-9, "{got:?}");
+    // Only the earlier one: held, 1 m/s.
+    let mut c = checker_with(fixed(3.0));
+    c.push_vn200(vn(-10_000_000, 1.0));
+    let got = c.compare_at(&b, false).vertical.velocity_down.vn200_mps;
+    assert!((got.unwrap() - 1.0).abs() < 1e-9, "{got:?}");
 }
