@@ -1023,3 +1023,52 @@ fn the_vn200_down_velocity_is_interpolated_or_held() {
     let got = c.compare_at(&b, false).vertical.velocity_down.vn200_mps;
     assert!((got.unwrap() - 1.0).abs() < 1e-9, "{got:?}");
 }
+
+/// The persistence counters integrate the time between checks: a fixed-comparator fault
+/// (`declare_after_s` = 1 s) takes the same 1 s whether the BAHRS comes at 50 Hz or, as here,
+/// 10 Hz; a check whose time does not advance counts as one nominal BAHRS period (20 ms).
+#[test]
+fn persistence_counts_the_time_between_checks() {
+    use super::samples::{BahrsSample, Vn200Sample};
+    let (b0, v0, _) = templates();
+    let t0 = b0.t_gps_ns;
+    // The BAHRS rolled 20 deg from the VN-200: 3.3 times the 6 deg fixed limit, at once.
+    let b_at = |t: i64| BahrsSample {
+        t_gps_ns: t,
+        roll_rad: b0.roll_rad + 20.0 * DEG,
+        ..b0
+    };
+    // The VN-200 moves a little each sample, so that it is never frozen.
+    let v_at = |t: i64, k: i32| Vn200Sample {
+        t_gps_ns: t,
+        attitude: v0.attitude
+            * nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, f64::from(k) * 1e-6),
+        ..v0
+    };
+    // 10 Hz: the counter is 20 ms after the first check (the nominal period) and 100 ms more at
+    // each; 0.02 + 9 x 0.1 = 0.92 s at the 10th check, 1 s (declared) at the 11th.
+    let mut c = checker_with(fixed(3.0));
+    for k in 0..11 {
+        let t = t0 + i64::from(k) * 100_000_000;
+        c.push_vn200(v_at(t, k));
+        let fixed_fault = c
+            .compare_at(&b_at(t), false)
+            .pairs
+            .bahrs_vn200
+            .roll
+            .fixed_fault;
+        assert_eq!(fixed_fault, k == 10, "check {}", k + 1);
+    }
+    // The same time over and over: 20 ms a check, declared at the 50th (not before the 49th).
+    let mut c = checker_with(fixed(3.0));
+    let mut declared_at = None;
+    for k in 0..60 {
+        c.push_vn200(v_at(t0, k));
+        let r = c.compare_at(&b_at(t0), false);
+        if r.pairs.bahrs_vn200.roll.fixed_fault && declared_at.is_none() {
+            declared_at = Some(k + 1);
+        }
+    }
+    let n = declared_at.expect("declared");
+    assert!((49..=51).contains(&n), "{n}");
+}
