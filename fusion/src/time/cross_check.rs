@@ -62,9 +62,9 @@ impl CrossCheckConfig {
     }
 }
 
-/// The host clock's view (GPS time, 1-sigma, ns) of host time `host_ns`: the better of the two
-/// relations, each extrapolated from its last accepted reference; `None` when neither was ever
-/// locked (the check cannot run).
+/// The host clock's view (GPS time, 1-sigma, ns) of host time `host_ns`: the better (smaller
+/// sigma) of the two relations, each extrapolated from its last accepted reference; `None` when
+/// neither was ever locked (the check cannot run).
 pub fn host_view(a: &HostClock, b: &HostClock, host_ns: i64) -> Option<(i64, f64)> {
     match (a.extrapolate(host_ns), b.extrapolate(host_ns)) {
         (Some(x), Some(y)) => Some(if y.1 < x.1 { y } else { x }),
@@ -86,6 +86,9 @@ mod tests {
         // 5 x sqrt(0.3^2 + 0.4^2) ms = 2.5 ms, plus 20 ms.
         assert!((c.tolerance_ns(300e3, 400e3) - 22.5e6).abs() < 1.0);
         assert!(!c.disagrees((1_000 * S + 22 * MS, 300e3), (1_000 * S, 400e3)));
+        // Exactly at the tolerance (22.5 ms, exact in binary): still agrees; 1 ns more does not.
+        assert!(!c.disagrees((1_000 * S + 22_500_000, 300e3), (1_000 * S, 400e3)));
+        assert!(c.disagrees((1_000 * S + 22_500_001, 300e3), (1_000 * S, 400e3)));
         assert!(c.disagrees((1_000 * S + 23 * MS, 300e3), (1_000 * S, 400e3)));
         assert!(c.disagrees((1_000 * S - S, 300e3), (1_000 * S, 400e3)));
     }
@@ -110,5 +113,25 @@ mod tests {
         assert!((sigma - 781_000.0).abs() < 5_000.0, "{sigma}");
         // A time a second off disagrees with it.
         assert!(CrossCheckConfig::default().disagrees((t + S, 100.0), (t, sigma)));
+    }
+
+    #[test]
+    fn the_view_is_the_relation_with_the_smaller_sigma() {
+        // Two relations 2 ms apart, from references every 10 ms: the first for 10 s, the second
+        // for 5 s only, so its last reference is older and its extrapolation wider.
+        let mut fresh = HostClock::new(HostClockConfig::default());
+        let mut older = HostClock::new(HostClockConfig::default());
+        for k in 0..1_000 {
+            let g = 1_000 * S + k * 10 * MS;
+            fresh.add(g + 3 * S, g);
+            if k < 500 {
+                older.add(g + 3 * S + 2 * MS, g);
+            }
+        }
+        let h = 1_020 * S + 3 * S;
+        let (sf, so) = (fresh.extrapolate(h).unwrap(), older.extrapolate(h).unwrap());
+        assert!(sf.1 < so.1, "{sf:?} {so:?}");
+        assert_eq!(host_view(&fresh, &older, h), Some(sf));
+        assert_eq!(host_view(&older, &fresh, h), Some(sf));
     }
 }

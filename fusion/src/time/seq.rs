@@ -241,4 +241,68 @@ mod tests {
             vec![0, 1, 2, 3, 4, 5]
         );
     }
+
+    #[test]
+    fn a_full_hold_releases_the_oldest_data_counted_and_forgets_the_oldest_time_counted() {
+        let mut m = SeqMatcher::new(500 * MS, 2);
+        assert!(m.push_data(1, 0, "a").is_none());
+        assert!(m.push_data(2, MS, "b").is_none());
+        let out = m.push_data(3, 2 * MS, "c");
+        assert_eq!(
+            out,
+            Some(Paired {
+                data: "a",
+                seq: 1,
+                host_ns: 0,
+                device_ticks: None
+            })
+        );
+        assert_eq!((m.unmatched_data, m.waiting()), (1, 2));
+
+        // Times without their data: two are held, a third forgets the oldest.
+        let mut m = SeqMatcher::<&str>::new(500 * MS, 2);
+        assert!(m.push_time(10, 0, 100).is_none());
+        assert!(m.push_time(11, 0, 110).is_none());
+        assert_eq!(m.orphan_times, 0);
+        assert!(m.push_time(12, 0, 120).is_none());
+        assert_eq!(m.orphan_times, 1);
+        assert_eq!(m.push_data(10, MS, "ten"), None);
+        assert_eq!(
+            m.push_data(11, MS, "eleven").unwrap().device_ticks,
+            Some(110)
+        );
+        assert_eq!(
+            m.push_data(12, MS, "twelve").unwrap().device_ticks,
+            Some(120)
+        );
+    }
+
+    #[test]
+    fn the_hold_expires_strictly_after_hold_ns_for_data_and_times() {
+        let mut m = SeqMatcher::new(500 * MS, 8);
+        m.push_data(1, 100 * MS, "data");
+        m.push_time(2, 100 * MS, 222);
+        // Held exactly 500 ms: both kept.
+        assert!(m.expire(600 * MS).is_empty());
+        assert_eq!((m.waiting(), m.orphan_times), (1, 0));
+        // 1 ns more: the data released unmatched, the time forgotten, both counted.
+        let out = m.expire(600 * MS + 1);
+        assert_eq!(out.len(), 1);
+        assert_eq!((out[0].data, out[0].device_ticks), ("data", None));
+        assert_eq!((m.unmatched_data, m.orphan_times), (1, 1));
+        assert_eq!(m.push_data(2, 600 * MS + 2, "late"), None);
+    }
+
+    #[test]
+    fn flush_counts_what_it_releases_and_the_times_it_forgets() {
+        let mut m = SeqMatcher::new(500 * MS, 8);
+        m.push_data(1, 0, "a");
+        m.push_data(2, 0, "b");
+        m.push_time(7, 0, 70);
+        m.push_time(8, 0, 80);
+        m.push_time(9, 0, 90);
+        assert_eq!(m.flush().len(), 2);
+        assert_eq!((m.unmatched_data, m.orphan_times), (2, 3));
+        assert_eq!(m.push_data(7, MS, "c"), None);
+    }
 }
