@@ -162,7 +162,12 @@ mod tests {
     /// A host clock equal to GPS + 5 s, with a constant 1 ms link delay, learned over 10 s
     /// ending at GPS time `until`.
     fn host_until(until: i64) -> HostClock {
-        let mut h = HostClock::new(HostClockConfig::default());
+        host_until_with(HostClockConfig::default(), until)
+    }
+
+    /// As [`host_until`], with `cfg`.
+    fn host_until_with(cfg: HostClockConfig, until: i64) -> HostClock {
+        let mut h = HostClock::new(cfg);
         let mut t = until - 10 * S;
         while t <= until {
             h.add(t + 5 * S + MS, t);
@@ -221,7 +226,12 @@ mod tests {
         };
         let a = json_ts(69_061_337, rx, &cfg, &host, stale).unwrap();
         assert_eq!(a.status, ClockStatus::Coasting);
-        assert!(a.sigma_ns > 0.99e9);
+        // sqrt(0.433 0127 ms^2 + 1 s^2) = 1 s + 93.75 ns.
+        assert!(
+            (a.sigma_ns - 1_000_000_093.75).abs() < 0.1,
+            "{}",
+            a.sigma_ns
+        );
     }
 
     #[test]
@@ -270,5 +280,60 @@ mod tests {
             raw_meta(&meta, rx, &cfg, &host, leap()),
             Some(Err(NotAligned::BadTimeStamp))
         );
+    }
+
+    /// TS1s counts from the pulse that started the second the frame was received in: the host
+    /// clock names that second from the frame's send time less the output delay and TS1s; a TS1s
+    /// of 1.1 s or more (no pulse for that long) is no stamp; a host clock too uncertain to name
+    /// the second (sigma over 0.1 s) gives none.
+    #[test]
+    fn ts1s_names_its_pulse_second_through_the_output_delay() {
+        let midnight = gps_of_unix(MIDNIGHT_UNIX * S);
+        // Received 300 ms after the pulse at midnight, sent 400 ms later (output delay), at
+        // 700 ms: midnight + 700 - 400 - 300 ms is the pulse (adding the delay instead would
+        // give 800 ms, the next second).
+        let mut cfg = TtAlignerConfig::default();
+        cfg.link.output_delay_ns = 400 * MS;
+        let host = host_until(midnight + 700 * MS);
+        let rx = Rx {
+            host_ns: midnight + 700 * MS + 5 * S + MS,
+            wire_len: 0,
+            reads: None,
+        };
+        let ts1s = |ns: u64| RxMeta {
+            ts_pps_ns: Some(ns),
+            ..Default::default()
+        };
+        let a = raw_meta(&ts1s(300_000_000), rx, &cfg, &host, leap())
+            .unwrap()
+            .unwrap();
+        assert_eq!(a.t_gps_ns, midnight + 300 * MS);
+        // 1.1 s less 1 ns since the pulse: a stamp (the pulse at midnight - 1 s: 0.7 - 0.4 -
+        // 1.1 = -0.8 s rounds to -1 s); 1.1 s: none.
+        let a = raw_meta(&ts1s(1_099_999_999), rx, &cfg, &host, leap())
+            .unwrap()
+            .unwrap();
+        assert_eq!(a.t_gps_ns, midnight - S + 1_099_999_999);
+        assert_eq!(
+            raw_meta(&ts1s(1_100_000_000), rx, &cfg, &host, leap()),
+            Some(Err(NotAligned::BadTimeStamp))
+        );
+        // A host clock whose references are uncertain by 0.2 s cannot name the second; 0.05 s
+        // can, and so can exactly 0.1 s (these references fit a line exactly, and the sample is
+        // at the last of them: no other term in the sigma).
+        for (sigma_ns, ok) in [(0.2e9, false), (0.05e9, true), (0.1e9, true)] {
+            let host = host_until_with(
+                HostClockConfig {
+                    reference_delay_sigma_ns: sigma_ns,
+                    ..HostClockConfig::default()
+                },
+                midnight + 700 * MS,
+            );
+            let got = raw_meta(&ts1s(300_000_000), rx, &cfg, &host, leap()).unwrap();
+            match got {
+                Ok(a) => assert!(ok && a.t_gps_ns == midnight + 300 * MS, "{a:?}"),
+                Err(e) => assert!(!ok && e == NotAligned::ClockUnlocked, "{e:?}"),
+            }
+        }
     }
 }
