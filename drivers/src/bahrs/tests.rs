@@ -375,6 +375,32 @@ fn nvm_page_out_of_range_is_malformed() {
     ));
 }
 
+#[test]
+fn nvm_pages_0_to_249_are_accepted_and_250_rejected_in_both_directions() {
+    // Sections 5.3 and 5.4: "from 0 to 249", for the request (0xF2) and the page data (0xF3).
+    for t in [0xF2u8, 0xF3] {
+        let frame = |page: u8| {
+            let mut body = vec![0x4E, 0x45, 3, 0, t, page];
+            if t == 0xF3 {
+                body.extend([0xA5; 32]);
+            }
+            with_crc(body)
+        };
+        for page in [0, 249] {
+            let m = one(&frame(page));
+            let got = match m {
+                Message::ReadNvmPage { page } => page,
+                Message::NvmPage(p) => p.page,
+                other => panic!("{other:?}"),
+            };
+            assert_eq!((m.type_id(), got), (t, page));
+        }
+        let (msgs, d) = decode_all(&frame(250));
+        assert!(msgs.is_empty(), "type {t:#04x}");
+        assert_eq!(d.stats().malformed, 1, "type {t:#04x}");
+    }
+}
+
 fn sample_messages() -> Vec<Message> {
     let nav = Navigation::from_si(
         1,
