@@ -315,6 +315,15 @@ mod tests {
         assert!((l.accel_mps2()[2] - 9.80665).abs() < 1e-12);
         assert!((l.velocity_mps() - 34.277_777_777_777_78).abs() < 1e-9);
         assert!((l.bank_rad() + 0.214_675_497_995_7).abs() < 1e-12);
+        // Degrees to radians by hand: 5.2 deg = 13 pi / 450, 123.4 deg = 617 pi / 900; rates
+        // 1.5, -0.3 and 10.0 deg/s = pi / 120, -pi / 600 and pi / 18 rad/s.
+        use std::f64::consts::PI;
+        assert!((l.elevation_rad() - 13.0 * PI / 450.0).abs() < 1e-12);
+        assert!((l.heading_mag_rad() - 617.0 * PI / 900.0).abs() < 1e-12);
+        let rate = l.rate_radps();
+        for (got, want) in rate.iter().zip([PI / 120.0, -PI / 600.0, PI / 18.0]) {
+            assert!((got - want).abs() < 1e-12, "{rate:?}");
+        }
         // The encoder writes the same bytes.
         assert_eq!(l.to_bytes(), EXAMPLE.to_vec());
     }
@@ -417,6 +426,31 @@ mod tests {
         assert_eq!(d.stats().malformed, 2);
         assert_eq!(d.stats().bytes_skipped, (54 + 64 + 1) as u64);
         assert_accounting(d.stats(), s.len());
+    }
+
+    #[test]
+    fn a_false_start_without_cr_is_dropped_and_the_next_line_decodes_without_eof() {
+        // An 'I' followed by 63 digits: no CR at offset 63, so not a line. The decoder must not
+        // wait for more bytes (its buffer stays bounded by one line): it drops the false start
+        // one byte at a time (no CR among them, so no malformed line) and finds the real line
+        // behind it, without the end-of-stream flush.
+        let mut bytes = vec![b'I'];
+        bytes.extend_from_slice(&[b'0'; 63]);
+        bytes.extend_from_slice(EXAMPLE);
+        let mut buf = BytesMut::from(&bytes[..]);
+        let mut d = Decoder::new();
+        assert_eq!(d.decode(&mut buf), parse_line(EXAMPLE));
+        assert!(buf.is_empty());
+        assert_eq!(d.stats().bytes_skipped, 64);
+        assert_eq!(d.stats().malformed, 0);
+        assert_eq!(d.stats().frames_decoded, 1);
+    }
+
+    #[test]
+    fn counters_written_through_stats_mut_are_the_ones_stats_reads() {
+        let mut d = Decoder::new();
+        d.stats_mut().malformed = 3;
+        assert_eq!(d.stats().malformed, 3);
     }
 
     #[test]

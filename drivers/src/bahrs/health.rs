@@ -153,6 +153,16 @@ mod tests {
     }
 
     #[test]
+    fn only_code_01_is_safe() {
+        // Section 2.4: 01 is "available and safe"; 00 unavailable, 10 integrity risk, and the
+        // undefined 11 are not.
+        assert!(Health::from_bits(0b01).is_safe());
+        for bits in [0b00, 0b10, 0b11] {
+            assert!(!Health::from_bits(bits).is_safe(), "{bits:#04b}");
+        }
+    }
+
+    #[test]
     fn inertial_word_by_hand() {
         // 0b1111_10_01_00_11_10_01 = 0xF939: fx safe, fy risk, fz undefined, wx unavailable,
         // wy safe, wz risk, reserved 0xF.
@@ -182,5 +192,23 @@ mod tests {
         assert_eq!(h.pitch(), Health::Safe);
         assert_eq!(h.heading(), Health::IntegrityRisk);
         assert_eq!(h.reserved(), 0b10_0001);
+        // A second word where the unavailable code (00) sits elsewhere, so that every field is
+        // told apart by its own bits: heading safe (01), pitch unavailable (00), roll undefined
+        // (11), vd risk (10), height unavailable (00): 0b01_00_11_10_00 = 0x138.
+        let h = NavigationHealth(0x138);
+        assert_eq!(h.pressure_height(), Health::Unavailable);
+        assert_eq!(h.velocity_down(), Health::IntegrityRisk);
+        assert_eq!(h.roll(), Health::Undefined);
+        assert_eq!(h.pitch(), Health::Unavailable);
+        assert_eq!(h.heading(), Health::Safe);
+        assert_eq!(h.reserved(), 0);
+        let rebuilt = NavigationHealth::new(
+            Health::Unavailable,
+            Health::IntegrityRisk,
+            Health::Undefined,
+            Health::Unavailable,
+            Health::Safe,
+        );
+        assert_eq!(rebuilt.0, 0x138);
     }
 }

@@ -203,6 +203,35 @@ fn accuracy_zero_means_invalid() {
 }
 
 #[test]
+fn accuracy_each_deviation_has_its_own_validity() {
+    // The other way round from the frame above: north invalid (0), east and heading valid.
+    // Section 3.3: 3 x 9.587526e-5 = 2.8762578e-4 rad; 65535 x 9.587526e-5 = 6.2831851641 rad.
+    let m = Accuracy {
+        seq: 0,
+        std_north_raw: 0,
+        std_east_raw: 3,
+        std_heading_raw: 0xFFFF,
+        mcu_time_us: 0,
+    };
+    assert_eq!(m.std_north_rad(), None);
+    assert_relative_eq!(
+        m.std_east_rad().unwrap(),
+        2.8762578e-4,
+        max_relative = 1e-12
+    );
+    assert_relative_eq!(
+        m.std_heading_rad().unwrap(),
+        6.2831851641,
+        max_relative = 1e-10
+    );
+    let none = Accuracy {
+        std_heading_raw: 0,
+        ..m
+    };
+    assert_eq!(none.std_heading_rad(), None);
+}
+
+#[test]
 fn time_messages_by_hand() {
     let nav_time = with_crc(vec![
         0x4E, 0x45, 0x03, 0x00, 0x04, 0x10, 0x33, // seq 16, navigation seq 0x33
@@ -256,6 +285,28 @@ fn time_messages_by_hand() {
             mcu_time_us: 0x0807_0605_0403_0201
         })
     );
+}
+
+#[test]
+fn sequence_counter_is_the_first_payload_byte_of_0x01_to_0x06() {
+    // Sections 3.1-3.6: byte 1 of these payloads is the sequence counter; 0x0F, 0x1F and the
+    // service messages have none. (type, LEN, PAD_LEN by hand from section 2.2).
+    for (t, len, pad) in [
+        (0x01u8, 15, 4),
+        (0x02, 13, 2),
+        (0x03, 15, 4),
+        (0x04, 10, 1),
+        (0x05, 10, 1),
+        (0x06, 9, 2),
+        (0x0F, 7, 4),
+        (0x1F, 14, 1),
+        (0xFF, 2, 0),
+    ] {
+        let mut body = vec![0x4E, 0x45, 0x03, 0x00, t, 0xA0 ^ t];
+        body.resize(5 + len + pad, 0);
+        let want = (t <= 0x06).then_some(0xA0 ^ t);
+        assert_eq!(one(&with_crc(body)).seq(), want, "type {t:#04x}");
+    }
 }
 
 #[test]
@@ -322,6 +373,32 @@ fn nvm_page_out_of_range_is_malformed() {
         d.last_error(),
         Some(Error::Malformed { page: 250, .. })
     ));
+}
+
+#[test]
+fn nvm_pages_0_to_249_are_accepted_and_250_rejected_in_both_directions() {
+    // Sections 5.3 and 5.4: "from 0 to 249", for the request (0xF2) and the page data (0xF3).
+    for t in [0xF2u8, 0xF3] {
+        let frame = |page: u8| {
+            let mut body = vec![0x4E, 0x45, 3, 0, t, page];
+            if t == 0xF3 {
+                body.extend([0xA5; 32]);
+            }
+            with_crc(body)
+        };
+        for page in [0, 249] {
+            let m = one(&frame(page));
+            let got = match m {
+                Message::ReadNvmPage { page } => page,
+                Message::NvmPage(p) => p.page,
+                other => panic!("{other:?}"),
+            };
+            assert_eq!((m.type_id(), got), (t, page));
+        }
+        let (msgs, d) = decode_all(&frame(250));
+        assert!(msgs.is_empty(), "type {t:#04x}");
+        assert_eq!(d.stats().malformed, 1, "type {t:#04x}");
+    }
 }
 
 fn sample_messages() -> Vec<Message> {

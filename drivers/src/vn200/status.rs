@@ -331,6 +331,46 @@ mod tests {
     }
 
     #[test]
+    fn status_words_with_the_other_bits_set() {
+        // The complements of the words above, so that every documented flag is seen both set and
+        // clear. TimeStatus 0b010: date valid only (Table 2.15).
+        let t = TimeStatus(0b010);
+        assert!(!t.tow_valid() && t.date_valid() && !t.utc_valid());
+        // GnssStatus 0x030C: fix (bit 2) and antenna error (bit 3), DataSource 3 = external
+        // (Table 2.62), nothing else.
+        let g = GnssStatus(0x030C);
+        assert!(!g.enabled() && !g.operational() && g.fix() && g.antenna_signal_error());
+        assert!(!g.used_for_nav() && !g.used_for_nav_curr() && !g.pps_used_for_time());
+        assert_eq!(g.data_source(), GnssDataSource::External);
+        // DataSource 2 is not in Table 2.62: kept as Other(2); bits 8-10 all set: Other(7).
+        assert_eq!(GnssStatus(0x0200).data_source(), GnssDataSource::Other(2));
+        assert_eq!(GnssStatus(0x0700).data_source(), GnssDataSource::Other(7));
+        // ImuStatus: pres/temp Failed (3), mag Saturated (2), accel NominalNotUpdated (1), gyro
+        // NominalUpdated (0): 11 10 01 00 = 0xE4.
+        let s = ImuStatus(0x00E4);
+        assert_eq!(s.gyro(), SensorState::NominalUpdated);
+        assert_eq!(s.accel(), SensorState::NominalNotUpdated);
+        assert_eq!(s.mag(), SensorState::Saturated);
+        assert_eq!(s.pres_temp(), SensorState::Failed);
+        // SensSat bits 10-15 are undocumented: never reported as a saturated sensor.
+        let u = SensSat(0xFC00);
+        assert!((0..16).all(|b| !u.saturated(b)) && !u.any());
+        assert!(SensSat(0x0200).any() && SensSat(0x0001).any());
+        // InsStatus (Table 2.78): attitude is valid only in Tracking and GnssLost, position and
+        // velocity only in Aligning and Tracking.
+        let valid = |mode: u16| {
+            let s = InsStatus(mode);
+            (s.attitude_valid(), s.position_valid())
+        };
+        assert_eq!(valid(0), (false, false), "NotTracking");
+        assert_eq!(valid(1), (false, true), "Aligning");
+        assert_eq!(valid(2), (true, true), "Tracking");
+        assert_eq!(valid(3), (true, false), "GnssLost");
+        assert_eq!(InsStatus(0).mode(), InsMode::NotTracking);
+        assert_eq!(InsStatus(3).mode(), InsMode::GnssLost);
+    }
+
+    #[test]
     fn gnss_time_sens_sat_fields() {
         // 0x1913 = bits 0,1,4 set; DataSource (8-10) = 1; bit 11 and 12 set.
         let g = GnssStatus(0x1913);
