@@ -499,4 +499,35 @@ mod tests {
             assert!((lo..=hi).contains(&v), "{name}");
         }
     }
+
+    #[test]
+    fn each_health_parameter_is_range_checked_at_its_documented_bounds() {
+        use crate::attitude::params::CheckParams;
+        // The ranges of the parameter docs: pulse_timeout_s 1.5 .. 30, status_max_age_s
+        // 0.1 .. 10, extended_outage_s 1 .. 3600. Each bound is accepted, just outside is not,
+        // and the error names the parameter.
+        let set = |which: usize, v: f64| {
+            let mut p = CheckParams::default();
+            let h = &mut p.health;
+            *[
+                &mut h.pulse_timeout_s,
+                &mut h.status_max_age_s,
+                &mut h.extended_outage_s,
+            ][which] = v;
+            p.validate()
+        };
+        let table = [
+            ("health.pulse_timeout_s", 1.5, 30.0),
+            ("health.status_max_age_s", 0.1, 10.0),
+            ("health.extended_outage_s", 1.0, 3600.0),
+        ];
+        for (i, (name, min, max)) in table.into_iter().enumerate() {
+            assert_eq!(set(i, min), Ok(()), "{name}");
+            assert_eq!(set(i, max), Ok(()), "{name}");
+            for bad in [min * 0.99, max * 1.01, f64::NAN] {
+                let e = set(i, bad).unwrap_err();
+                assert_eq!((e.name, e.min, e.max), (name, min, max));
+            }
+        }
+    }
 }
