@@ -179,3 +179,236 @@ impl FaultSummary {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::magnetic::FixedDeclination;
+    use PairVerdict::{Fail, Pass};
+
+    fn checker() -> AttitudeChecker {
+        let model = Box::new(FixedDeclination(Declination {
+            declination_rad: 0.0,
+            sigma_rad: 0.3 * DEG,
+            horizontal_nt: 20_000.0,
+            zone: MagneticZone::Normal,
+        }));
+        AttitudeChecker::new(CheckParams::default(), model).unwrap()
+    }
+
+    /// One axis of a pair: its verdict, and which detector exceeds on this sample.
+    fn axis(verdict: PairVerdict, stat: bool, fixed: bool) -> AxisPair {
+        AxisPair {
+            verdict,
+            comparison: None,
+            stat_exceeded: stat,
+            fixed_exceeded: fixed,
+            stat_fault: false,
+            fixed_fault: false,
+            cusum: 0.0,
+        }
+    }
+
+    fn joint(verdict: PairVerdict, ratio: Option<f64>) -> JointTest {
+        JointTest {
+            chi2: ratio.map(|r| r * 25.9),
+            ratio,
+            verdict,
+        }
+    }
+
+    /// A pair passing on every axis and the joint test, nothing exceeding.
+    fn passing() -> PairRecord {
+        let a = axis(Pass, false, false);
+        PairRecord {
+            roll: a,
+            pitch: a,
+            heading: a,
+            joint: joint(Pass, Some(0.1)),
+        }
+    }
+
+    fn pairs(bv: PairRecord, bw: PairRecord, vw: PairRecord) -> PairsRecord {
+        PairsRecord {
+            bahrs_vn200: bv,
+            bahrs_watson: bw,
+            vn200_watson: vw,
+        }
+    }
+
+    /// Pairs with the given heading and joint verdicts (roll and pitch passing).
+    fn heading_joint(heading: [PairVerdict; 3], joints: [PairVerdict; 3]) -> PairsRecord {
+        let [bv, bw, vw] = [0, 1, 2].map(|i| PairRecord {
+            heading: axis(heading[i], false, false),
+            joint: joint(joints[i], Some(0.1)),
+            ..passing()
+        });
+        pairs(bv, bw, vw)
+    }
+
+    #[test]
+    fn a_joint_failure_with_the_vn200_that_the_heading_explains_is_the_magnetic_disturbance() {
+        // The heading of the magnetic units agrees against the (healthy) VN-200: a magnetic
+        // disturbance. A joint failure of BAHRS-VN200 or of VN200-Watson alone is that
+        // disturbance showing through the heading, not a fault of its own.
+        let md = [Fail, Pass, Fail];
+        for joints in [[Fail, Pass, Pass], [Pass, Pass, Fail]] {
+            let r = raw_isolation(&heading_joint(md, joints), true);
+            assert_eq!(r.heading, Isolation::MagneticDisturbance, "{joints:?}");
+            assert_eq!(r.joint, Isolation::MagneticDisturbance, "{joints:?}");
+        }
+        // A joint failure of BAHRS-Watson, the two magnetic units, is not explained by it.
+        let r = raw_isolation(&heading_joint(md, [Pass, Fail, Pass]), true);
+        assert_eq!(r.joint, Isolation::DetectedNotIsolated);
+        // Without the disturbance on the heading a single joint failure is only detected.
+        for joints in [[Fail, Pass, Pass], [Pass, Pass, Fail]] {
+            let r = raw_isolation(&heading_joint([Pass; 3], joints), true);
+            assert_eq!(r.heading, Isolation::NoFault);
+            assert_eq!(r.joint, Isolation::DetectedNotIsolated, "{joints:?}");
+        }
+        // With an unhealthy VN-200 there is no magnetic excuse: the heading isolates it.
+        let r = raw_isolation(&heading_joint(md, [Fail, Pass, Pass]), false);
+        assert_eq!(r.heading, Isolation::Isolated(Unit::Vn200));
+        assert_eq!(r.joint, Isolation::DetectedNotIsolated);
+    }
+
+    /// Roll-axis pairs: BAHRS-VN200 failed and exceeding; BAHRS-Watson passing, exceeding by the
+    /// statistical detector only when `second_exceeding`; VN200-Watson passing quietly.
+    fn onset(second_exceeding: bool) -> PairsRecord {
+        let bv = PairRecord {
+            roll: axis(Fail, true, true),
+            ..passing()
+        };
+        let bw = PairRecord {
+            roll: axis(Pass, second_exceeding, false),
+            ..passing()
+        };
+        pairs(bv, bw, passing())
+    }
+
+    fn roll_at(c: &mut AttitudeChecker, t: i64, p: &PairsRecord) -> Isolation {
+        c.settle_isolation(t, raw_isolation(p, true), p).roll
+    }
+
+    #[test]
+    fn an_onset_settles_for_isolation_settle_s_while_another_pair_exceeds() {
+        // isolation_settle_s = 1 s: from the first sample of the onset at t0, "settling" up to
+        // t0 + 1 s - 1 ns, then declared "detected, not isolated" at t0 + 1 s.
+        assert_eq!(CheckParams::default().isolation_settle_s, 1.0);
+        let t0 = 1_000_000_000_000;
+        let p = onset(true);
+        let mut c = checker();
+        assert_eq!(roll_at(&mut c, t0, &p), Isolation::Settling);
+        assert_eq!(roll_at(&mut c, t0 + 999_999_999, &p), Isolation::Settling);
+        assert_eq!(
+            roll_at(&mut c, t0 + 1_000_000_000, &p),
+            Isolation::DetectedNotIsolated
+        );
+        // Once declared it is not withdrawn into settling.
+        assert_eq!(
+            roll_at(&mut c, t0 + 1_000_000_001, &p),
+            Isolation::DetectedNotIsolated
+        );
+        // A no-fault sample ends the onset: the next one settles its own full second again.
+        let quiet = pairs(passing(), passing(), passing());
+        assert_eq!(
+            roll_at(&mut c, t0 + 2_000_000_000, &quiet),
+            Isolation::NoFault
+        );
+        let t1 = t0 + 3_000_000_000;
+        assert_eq!(roll_at(&mut c, t1, &p), Isolation::Settling);
+        assert_eq!(roll_at(&mut c, t1 + 999_999_999, &p), Isolation::Settling);
+        assert_eq!(
+            roll_at(&mut c, t1 + 1_000_000_000, &p),
+            Isolation::DetectedNotIsolated
+        );
+        // Without another exceeding pair nothing is awaited: declared at once.
+        let mut c = checker();
+        assert_eq!(
+            roll_at(&mut c, t0, &onset(false)),
+            Isolation::DetectedNotIsolated
+        );
+    }
+
+    #[test]
+    fn either_detector_over_its_limit_makes_a_pair_exceeding() {
+        let t0 = 1_000_000_000_000;
+        for (stat, fixed) in [(true, false), (false, true)] {
+            let mut p = onset(false);
+            p.bahrs_watson.roll = axis(Pass, stat, fixed);
+            assert_eq!(roll_at(&mut checker(), t0, &p), Isolation::Settling);
+        }
+    }
+
+    #[test]
+    fn the_joint_test_settles_while_another_pairs_ratio_is_over_one() {
+        // The joint test's "exceeding" is its ratio over 1 (chi2 over the bound): at exactly 1 it
+        // is not, and the failure is declared at once.
+        let t0 = 1_000_000_000_000;
+        let joint_at = |bw_ratio: f64| {
+            let bv = PairRecord {
+                joint: joint(Fail, Some(1.5)),
+                ..passing()
+            };
+            let bw = PairRecord {
+                joint: joint(Pass, Some(bw_ratio)),
+                ..passing()
+            };
+            let p = pairs(bv, bw, passing());
+            checker()
+                .settle_isolation(t0, raw_isolation(&p, true), &p)
+                .joint
+        };
+        assert_eq!(joint_at(1.5), Isolation::Settling);
+        assert_eq!(joint_at(1.0f64.next_up()), Isolation::Settling);
+        assert_eq!(joint_at(1.0), Isolation::DetectedNotIsolated);
+        assert_eq!(joint_at(0.5), Isolation::DetectedNotIsolated);
+    }
+
+    #[test]
+    fn an_isolation_is_held_while_its_failed_pairs_only_clear() {
+        // BAHRS isolated on roll (BAHRS-VN200 and BAHRS-Watson failed). Then BAHRS-Watson has
+        // cleared and BAHRS-VN200 is still in its hysteresis, no longer exceeding: the BAHRS stays
+        // isolated rather than "detected, not isolated".
+        let t0 = 1_000_000_000_000;
+        let failed = |exceeding: bool| PairRecord {
+            roll: axis(Fail, exceeding, false),
+            ..passing()
+        };
+        let mut c = checker();
+        let both = pairs(failed(true), failed(true), passing());
+        assert_eq!(roll_at(&mut c, t0, &both), Isolation::Isolated(Unit::Bahrs));
+        let clearing = pairs(failed(false), passing(), passing());
+        assert_eq!(
+            roll_at(&mut c, t0 + 20_000_000, &clearing),
+            Isolation::Isolated(Unit::Bahrs)
+        );
+        // A failed pair exceeding again is a new disagreement: the hold ends.
+        let again = pairs(failed(true), passing(), passing());
+        assert_eq!(
+            roll_at(&mut c, t0 + 40_000_000, &again),
+            Isolation::DetectedNotIsolated
+        );
+    }
+
+    #[test]
+    fn two_outcomes_isolating_different_units_are_a_multiple_fault() {
+        let rec = |roll, pitch| IsolationRecord {
+            roll,
+            pitch,
+            heading: Isolation::NoFault,
+            joint: Isolation::NoFault,
+        };
+        let s = FaultSummary::of(&rec(
+            Isolation::Isolated(Unit::Bahrs),
+            Isolation::Isolated(Unit::Watson),
+        ));
+        assert!(s.fault && s.multiple && s.isolated.is_none());
+        let s = FaultSummary::of(&rec(
+            Isolation::Isolated(Unit::Bahrs),
+            Isolation::Isolated(Unit::Bahrs),
+        ));
+        assert!(s.fault && !s.multiple);
+        assert_eq!(s.isolated, Some(Unit::Bahrs));
+    }
+}

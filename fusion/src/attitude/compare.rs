@@ -288,4 +288,47 @@ mod tests {
         let fault = compare_axis(&p, Axis::Roll, 0.0, 3.0 * DEG, &terms(0.01), 4.42, 0.0);
         assert!(fault.stat_ratio > 2.0, "{}", fault.stat_ratio);
     }
+
+    #[test]
+    fn euler_rates_banked_and_pitched_by_hand() {
+        // Roll 30 deg, pitch 45 deg, body rates p, q, r = 0.1, 0.2, 0.3 rad/s. 3-2-1 kinematics:
+        // q sin(phi) + r cos(phi) = 0.1 + 0.3 x 0.866025 = 0.359808;
+        // roll rate  = p + 0.359808 x tan(45 deg) = 0.459808;
+        // pitch rate = q cos(phi) - r sin(phi) = 0.173205 - 0.15 = 0.023205;
+        // yaw rate   = 0.359808 / cos(45 deg) = 0.359808 x 1.414214 = 0.508845.
+        let e = euler_rates([0.1, 0.2, 0.3], 30.0 * DEG, 45.0 * DEG);
+        assert!((e[0] - 0.459808).abs() < 1e-6, "{e:?}");
+        assert!((e[1] - 0.023205).abs() < 1e-6, "{e:?}");
+        assert!((e[2] - 0.508845).abs() < 1e-6, "{e:?}");
+        // The same from the rotation itself: the attitude carried 1 ms along with those body
+        // rates (q(t + dt) = q(t) exp(w dt), body frame), read back as Euler angles.
+        let (phi, theta, psi) = (30.0 * DEG, 45.0 * DEG, 20.0 * DEG);
+        let dt = 1e-3;
+        let q0 = from_ypr(psi, theta, phi);
+        let step = UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(0.1, 0.2, 0.3) * dt);
+        let (y1, p1, r1) = super::super::angles::to_ypr(&(q0 * step));
+        let fd = [(r1 - phi) / dt, (p1 - theta) / dt, (y1 - psi) / dt];
+        for (got, want) in e.iter().zip(fd) {
+            assert!((got - want).abs() < 1e-3, "{e:?} against {fd:?}");
+        }
+    }
+
+    #[test]
+    fn a_pitch_or_roll_mounting_alone_is_removed_too() {
+        // A unit mounted pitched up 3 deg on a level aircraft reads pitch 3 deg; one mounted
+        // rolled 2 deg reads roll 2 deg. Unmounted, both read the aircraft's level attitude.
+        let aircraft = from_ypr(100.0 * DEG, 0.0, 0.0);
+        for (pitch_deg, roll_deg) in [(3.0, 0.0), (0.0, 2.0)] {
+            let m = Mounting {
+                pitch_deg,
+                roll_deg,
+                ..Default::default()
+            };
+            let unit = aircraft * from_ypr(0.0, pitch_deg * DEG, roll_deg * DEG);
+            let (_, p, r) = super::super::angles::to_ypr(&unit);
+            assert!((p - pitch_deg * DEG).abs() < 1e-12 && (r - roll_deg * DEG).abs() < 1e-12);
+            let back = unmount(&unit, &m);
+            assert!(back.angle_to(&aircraft) < 1e-12, "{m:?}");
+        }
+    }
 }

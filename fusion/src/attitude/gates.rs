@@ -222,6 +222,39 @@ mod tests {
         let mut s = mk(0x0002);
         s.imu_status = Some(vigil_drivers::vn200::status::ImuStatus(0b11));
         assert_eq!(vn200_source(&s), Some(GateReason::ImuFailed));
+        // ImuStatus (Table 2.18): gyro bits 0-1, accelerometer bits 2-3, 3 = failed. Either one
+        // failed closes the gate; both nominal, or saturated (2: clamped, not failed), do not.
+        for (raw, gate) in [
+            (0b0000, None),
+            (0b1010, None),
+            (0b1100, Some(GateReason::ImuFailed)),
+            (0b0011, Some(GateReason::ImuFailed)),
+        ] {
+            s.imu_status = Some(vigil_drivers::vn200::status::ImuStatus(raw));
+            assert_eq!(vn200_source(&s), gate, "ImuStatus {raw:#06b}");
+        }
+        // "Healthy" is Tracking without any error bit (Table 2.77: IMU bit 4, magnetometer or
+        // pressure bit 5, GNSS bit 6): each bit alone, or GnssLost without any, is not.
+        for raw in [0x0012, 0x0022, 0x0042, 0x0003] {
+            assert!(!vn200_healthy(&mk(raw)), "{raw:#06x}");
+        }
+        assert!(vn200_healthy(&mk(0x0002)));
+    }
+
+    #[test]
+    fn a_lower_case_watson_line_is_over_range() {
+        let mut w = WatsonSample {
+            t_gps_ns: 0,
+            sigma_ns: 0.0,
+            roll_rad: 0.0,
+            pitch_rad: 0.0,
+            heading_mag_rad: 0.0,
+            over_range: true,
+            rates_radps: [0.0; 3],
+        };
+        assert_eq!(watson_source(&w), Some(GateReason::OverRange));
+        w.over_range = false;
+        assert_eq!(watson_source(&w), None);
     }
 
     #[test]

@@ -499,4 +499,106 @@ mod tests {
             assert!((lo..=hi).contains(&v), "{name}");
         }
     }
+
+    #[test]
+    fn each_health_parameter_is_range_checked_at_its_documented_bounds() {
+        use crate::attitude::params::CheckParams;
+        // The ranges of the parameter docs: pulse_timeout_s 1.5 .. 30, status_max_age_s
+        // 0.1 .. 10, extended_outage_s 1 .. 3600. Each bound is accepted, just outside is not,
+        // and the error names the parameter.
+        let set = |which: usize, v: f64| {
+            let mut p = CheckParams::default();
+            let h = &mut p.health;
+            *[
+                &mut h.pulse_timeout_s,
+                &mut h.status_max_age_s,
+                &mut h.extended_outage_s,
+            ][which] = v;
+            p.validate()
+        };
+        let table = [
+            ("health.pulse_timeout_s", 1.5, 30.0),
+            ("health.status_max_age_s", 0.1, 10.0),
+            ("health.extended_outage_s", 1.0, 3600.0),
+        ];
+        for (i, (name, min, max)) in table.into_iter().enumerate() {
+            assert_eq!(set(i, min), Ok(()), "{name}");
+            assert_eq!(set(i, max), Ok(()), "{name}");
+            for bad in [min * 0.99, max * 1.01, f64::NAN] {
+                let e = set(i, bad).unwrap_err();
+                assert_eq!((e.name, e.min, e.max), (name, min, max));
+            }
+        }
+    }
+
+    #[test]
+    fn the_newest_reports_are_kept_with_their_ages() {
+        let mut h = HealthCheck::new(HealthParams::default());
+        assert_eq!((h.navigation_health(), h.inertial_health()), (None, None));
+        assert_eq!((h.vn200(0), h.pulse_age_s(0)), (None, None));
+        h.vn200_status(10 * S, TRACKING_FIX);
+        h.bahrs_navigation(NavigationHealth(0x155));
+        h.bahrs_inertial(InertialHealth(0x0fff));
+        h.bahrs_pulse();
+        // 2.5 s later: the status and the pulse (both at 10 s) are 2.5 s old.
+        let now = 12 * S + S / 2;
+        assert_eq!(h.vn200(now), Some((TRACKING_FIX, 2.5)));
+        assert_eq!(h.pulse_age_s(now), Some(2.5));
+        // Asked about an earlier time: age 0, never negative.
+        assert_eq!(h.vn200(9 * S), Some((TRACKING_FIX, 0.0)));
+        assert_eq!(h.navigation_health(), Some(NavigationHealth(0x155)));
+        assert_eq!(h.inertial_health(), Some(InertialHealth(0x0fff)));
+    }
+
+    #[test]
+    fn a_pulse_within_the_report_grace_of_the_fix_loss_is_not_a_contradiction() {
+        // Fix lost at 10 s: a pulse reported exactly 500 ms later may have fired with the fix
+        // still valid; one reported 1 ns after that is the first contradicting pulse.
+        let mut h = HealthCheck::new(HealthParams::default());
+        h.vn200_status(0, TRACKING_FIX);
+        h.vn200_status(10 * S, LOST_NO_FIX);
+        let grace_end = 10 * S + 500_000_000;
+        h.observe_time(grace_end);
+        h.bahrs_pulse();
+        let c = HealthCombination::PpsWithoutFix;
+        assert_eq!(h.verdict(c, grace_end), HealthVerdict::Agree);
+        h.observe_time(grace_end + 1);
+        h.bahrs_pulse();
+        assert_eq!(disagree(h.verdict(c, grace_end + 1)), Some(grace_end + 1));
+    }
+
+    #[test]
+    fn a_status_is_known_up_to_status_max_age_s_old() {
+        // status_max_age_s = 1 s: a status exactly 1 s old is used, 1 s + 1 ns is unknown.
+        let mut h = HealthCheck::new(HealthParams::default());
+        h.vn200_status(0, TRACKING_FIX);
+        let c = HealthCombination::TrackingWithoutFix;
+        assert_eq!(h.verdict(c, S), HealthVerdict::Agree);
+        assert_eq!(
+            h.verdict(c, S + 1),
+            HealthVerdict::NotCompared(NotCompared::Vn200Stale)
+        );
+    }
+
+    #[test]
+    fn pulses_without_a_fix_disagree_only_while_they_keep_coming() {
+        // No fix from 10 s, one pulse at 11 s, then none; the BAHRS keeps talking (0x02) and the
+        // VN-200 keeps reporting. pulse_timeout_s = 2.5 s: the contradiction holds until 13.5 s
+        // and is over 1 ns later.
+        let mut h = HealthCheck::new(HealthParams::default());
+        h.vn200_status(0, TRACKING_FIX);
+        h.vn200_status(10 * S, LOST_NO_FIX);
+        h.observe_time(11 * S);
+        h.bahrs_pulse();
+        let c = HealthCombination::PpsWithoutFix;
+        for (now, want) in [(13 * S + S / 2, Some(11 * S)), (13 * S + S / 2 + 1, None)] {
+            h.vn200_status(now, LOST_NO_FIX);
+            h.bahrs_navigation(NavigationHealth(0x155));
+            let v = h.verdict(c, now);
+            assert_eq!(disagree(v), want, "{v:?} at {now} ns");
+            if want.is_none() {
+                assert_eq!(v, HealthVerdict::Agree);
+            }
+        }
+    }
 }

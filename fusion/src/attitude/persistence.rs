@@ -220,4 +220,18 @@ mod tests {
         }
         assert_eq!(at, Some(59));
     }
+
+    #[test]
+    fn a_ratio_exactly_at_the_threshold_never_counts() {
+        // The counter rises while the filtered ratio exceeds 1: at exactly 1 (the first sample
+        // sets the filter, and the same ratio leaves it there) it never declares; the next
+        // double above 1 declares after declare_after_s (1 s: the 100th sample at 100 Hz).
+        let p = PersistenceParams::default();
+        let declared_at = |ratio: f64| {
+            let mut s = Persistence::default();
+            (0..200).find(|_| s.update(ratio, 0.0, 0.01, &p))
+        };
+        assert_eq!(declared_at(1.0), None);
+        assert_eq!(declared_at(1.0f64.next_up()), Some(99));
+    }
 }

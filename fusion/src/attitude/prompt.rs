@@ -466,4 +466,75 @@ mod tests {
         }));
         AttitudeChecker::new(CheckParams::default(), model).unwrap()
     }
+
+    #[test]
+    fn a_held_unit_is_carried_on_every_axis_and_its_magnetic_heading_too() {
+        // Level (roll = pitch = 0): the Euler rates are the body rates 0.1, 0.2, 0.3 rad/s. Held
+        // 0.5 s: roll 0 + 0.05, pitch 0 + 0.1, heading (2 pi - 0.05) + 0.15 = 0.1 rad after the
+        // wrap, magnetic heading 6.0 + 0.15 = 6.15 rad.
+        let held = Prepared {
+            values: Some([0.0, 0.0, std::f64::consts::TAU - 0.05]),
+            heading_mag: Some(6.0),
+            var: [0.0; 3],
+            gates: [None; 3],
+            sigma_ns: 0.0,
+            age_s: Some(0.5),
+            rates: Some([0.1, 0.2, 0.3]),
+            held_s: 0.5,
+        };
+        let u = propagate(held);
+        let [roll, pitch, heading] = u.values.unwrap();
+        let close = |x: f64, want: f64| (x - want).abs() < 1e-12;
+        assert!(close(roll, 0.05) && close(pitch, 0.1), "{u:?}");
+        assert!(close(heading, 0.1), "{u:?}");
+        assert!(close(u.heading_mag.unwrap(), 6.15), "{u:?}");
+        // Interpolated (held 0): as it was.
+        let u = propagate(Prepared {
+            held_s: 0.0,
+            ..held
+        });
+        assert_eq!((u.values, u.heading_mag), (held.values, held.heading_mag));
+    }
+
+    #[test]
+    fn the_prompts_bahrs_is_fresh_up_to_three_periods_old() {
+        // max_age_periods 3 x bahrs_period_s 20 ms: 60 ms old is fresh, 60 ms + 1 ns stale.
+        let (b, _, _) = samples();
+        let mut c = checker();
+        c.push_bahrs(b);
+        let horizon = 60_000_000;
+        let r = c.prompt(b.t_gps_ns + horizon, Unit::Vn200).unwrap();
+        assert_eq!(r.bahrs.gates.roll, None);
+        let r = c.prompt(b.t_gps_ns + horizon + 1, Unit::Vn200).unwrap();
+        assert_eq!(r.bahrs.gates.roll, Some(GateReason::Stale));
+    }
+
+    #[test]
+    fn a_fresh_checks_coverage_reasons_are_the_prompts_then_the_units_as_they_are_now() {
+        use crate::attitude::coverage::NotComparedReason as R;
+        // The BAHRS alone: its sample at t0 is checked once 0.3 s of BAHRS samples have gone by
+        // (the others' staleness horizons). Its only closed gate is its heading's (no position
+        // for the declination: the VN-200 never sent one), so the check says "not comparable"
+        // for it; the roll check's first closed gate is the VN-200's, which sent nothing.
+        let (b, _, _) = samples();
+        let t0 = b.t_gps_ns;
+        let mut later = b;
+        later.t_gps_ns = t0 + 300_000_000;
+        later.roll_rad += 0.001;
+        let mut c = checker();
+        c.push_bahrs(b);
+        c.push_bahrs(later);
+        assert_eq!(c.next_record().map(|r| r.t_gps_ns), Some(t0));
+        // 0.3 s after the check (within verdict_max_age_s, 0.5 s): its reasons, although the
+        // BAHRS sample now is open.
+        let r = c.prompt(later.t_gps_ns, Unit::Bahrs).unwrap();
+        assert_eq!(r.bahrs.gates.roll, None);
+        assert_eq!(r.coverage.bahrs.reason, Some(R::NotComparable));
+        assert_eq!(r.coverage.roll.reason, Some(R::Absent));
+        // 0.5 s after the newest BAHRS sample and 0.8 s after the check: the check is too old,
+        // and the units as they are say why: the BAHRS is stale, and the roll check with it.
+        let r = c.prompt(later.t_gps_ns + 500_000_000, Unit::Vn200).unwrap();
+        assert_eq!(r.coverage.bahrs.reason, Some(R::Stale));
+        assert_eq!(r.coverage.roll.reason, Some(R::Stale));
+    }
 }

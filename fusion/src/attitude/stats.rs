@@ -79,4 +79,14 @@ mod tests {
         assert!(chi2_3_tail(4.0) > normal_two_sided_tail(2.0));
         assert_eq!(chi2_3_tail(0.0), 1.0);
     }
+
+    #[test]
+    fn at_a_false_alarm_probability_of_one_both_thresholds_are_zero() {
+        // p = 1 (the top of the clamp): every tail value is <= 1, so the smallest threshold with
+        // tail <= p is 0. Near 0 both tails round to exactly 1.0 over a span of doubles (up to
+        // about 1e-16 sigmas, 1e-10 for the chi-square), so this also tells "tail <= p" from
+        // "tail < p", which would stop at the end of that span.
+        assert!(axis_threshold(1.0) < 1e-50, "{}", axis_threshold(1.0));
+        assert!(joint_threshold(1.0) < 1e-50, "{}", joint_threshold(1.0));
+    }
 }

@@ -96,4 +96,23 @@ mod tests {
         .unwrap();
         assert!((v.value_deg - 1.0).abs() < 1e-9);
     }
+
+    #[test]
+    fn more_than_three_values_the_middle_one_is_voted() {
+        // Five values (a caller passing duplicates): sorted 2, 3, 5, 7, 10, the median is 5, the
+        // VN-200's second value.
+        let v = vote(
+            &[
+                (Unit::Bahrs, 10.0 * DEG),
+                (Unit::Vn200, 2.0 * DEG),
+                (Unit::Watson, 3.0 * DEG),
+                (Unit::Bahrs, 7.0 * DEG),
+                (Unit::Vn200, 5.0 * DEG),
+            ],
+            false,
+        )
+        .unwrap();
+        assert!((v.value_deg - 5.0).abs() < 1e-12, "{}", v.value_deg);
+        assert_eq!(v.selected, Some(Unit::Vn200));
+    }
 }
