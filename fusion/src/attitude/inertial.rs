@@ -532,5 +532,18 @@ mod tests {
         let at = |t: i64| vn200_at(Some(&s), None, t, horizon).gate;
         assert_eq!(at(s.t_gps_ns + horizon), None);
         assert_eq!(at(s.t_gps_ns + horizon + 1), Some(GateReason::Stale));
+        // Two samples stamped the same time (a zero span): the first one's values and no slope,
+        // never a division by zero; the step is half their difference (1 m/s^2 on x, 0.1 rad/s
+        // on z: 0.5 and 0.05).
+        let s1 = Vn200Sample {
+            rates_radps: Some([0.0, 0.0, 0.1]),
+            accel_mps2: Some([1.0, 0.0, -G]),
+            ..s
+        };
+        let v = vn200_at(Some(&s), Some(&s1), s.t_gps_ns, horizon);
+        assert_eq!(v.specific_force_mps2, s.accel_mps2);
+        assert_eq!(v.angular_rate_radps, s.rates_radps);
+        assert_eq!(v.slope_per_s, [0.0; 6]);
+        assert_eq!(v.step, [0.5, 0.0, 0.0, 0.0, 0.0, 0.05]);
     }
 }
