@@ -546,4 +546,28 @@ mod tests {
         assert_eq!(v.slope_per_s, [0.0; 6]);
         assert_eq!(v.step, [0.5, 0.0, 0.0, 0.0, 0.0, 0.05]);
     }
+
+    #[test]
+    fn a_bahrs_0x01_is_compared_up_to_exactly_its_horizon() {
+        // Freshness limit 60 ms (the horizon passed in): a 0x01 exactly 60 ms before the check
+        // is compared; 1 ns older it is stale.
+        let p = CheckParams::default();
+        let k = p.axis_threshold();
+        let b = bahrs(1.0, [0.0; 3], SAFE);
+        let horizon = 60_000_000;
+        let at =
+            |t: i64| InertialChannel::default().update(Some(&b), &vn([0.0; 3]), t, horizon, k, &p);
+        let r = at(b.t_gps_ns + horizon);
+        assert!(
+            r.axes
+                .iter()
+                .all(|a| a.verdict == PairVerdict::Pass && a.gate.is_none()),
+            "{r:?}"
+        );
+        let r = at(b.t_gps_ns + horizon + 1);
+        assert!(
+            r.axes.iter().all(|a| a.gate == Some(GateReason::Stale)),
+            "{r:?}"
+        );
+    }
 }
