@@ -476,4 +476,98 @@ mod tests {
         assert!(r.axes[3].diff.unwrap().abs() < 1e-9, "{:?}", r.axes[3]);
         assert!(r.axes[4].diff.unwrap().abs() < 1e-9);
     }
+
+    #[test]
+    fn a_pitch_or_roll_mounting_alone_rotates_into_the_aircraft_frame() {
+        // A unit pitched up 30 deg: its x axis is the aircraft's (cos 30, 0, -sin 30) (z down);
+        // a unit rolled right 30 deg: its y axis is the aircraft's (0, cos 30, sin 30).
+        let m = |pitch_deg: f64, roll_deg: f64| Mounting {
+            pitch_deg,
+            roll_deg,
+            ..Default::default()
+        };
+        let c30 = 3f64.sqrt() / 2.0;
+        let close = |a: [f64; 3], b: [f64; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12);
+        let x = to_aircraft([1.0, 0.0, 0.0], mount_rotation(&m(30.0, 0.0)).as_ref());
+        assert!(close(x, [c30, 0.0, -0.5]), "{x:?}");
+        let y = to_aircraft([0.0, 1.0, 0.0], mount_rotation(&m(0.0, 30.0)).as_ref());
+        assert!(close(y, [0.0, c30, 0.5]), "{y:?}");
+        assert!(mount_rotation(&Mounting::default()).is_none());
+    }
+
+    #[test]
+    fn the_vn200_inertial_gate_imu_failures_and_freshness() {
+        use vigil_drivers::vn200::status::{ImuStatus, InsStatus};
+        let s = Vn200Sample {
+            t_gps_ns: 1_000_000_000,
+            sigma_ns: 0.0,
+            attitude: UnitQuaternion::identity(),
+            ypr_sigma_rad: None,
+            ins_status: InsStatus(0x0006),
+            imu_status: None,
+            rates_radps: Some([0.0; 3]),
+            accel_mps2: Some([0.0, 0.0, -G]),
+            lla: None,
+            vel_ned_mps: None,
+            pos_u_m: None,
+            vel_u_mps: None,
+        };
+        let horizon = 60_000_000;
+        // ImuStatus (Table 2.18): gyro bits 0-1, accelerometer bits 2-3, 3 = failed; 2 is
+        // saturated, not failed.
+        for (raw, gate) in [
+            (0b0000, None),
+            (0b1010, None),
+            (0b1100, Some(GateReason::ImuFailed)),
+            (0b0011, Some(GateReason::ImuFailed)),
+        ] {
+            let s = Vn200Sample {
+                imu_status: Some(ImuStatus(raw)),
+                ..s
+            };
+            let g = vn200_at(Some(&s), None, s.t_gps_ns, horizon).gate;
+            assert_eq!(g, gate, "ImuStatus {raw:#06b}");
+        }
+        // Held without a later sample: fresh up to the horizon (3 periods, 60 ms) exactly.
+        let at = |t: i64| vn200_at(Some(&s), None, t, horizon).gate;
+        assert_eq!(at(s.t_gps_ns + horizon), None);
+        assert_eq!(at(s.t_gps_ns + horizon + 1), Some(GateReason::Stale));
+        // Two samples stamped the same time (a zero span): the first one's values and no slope,
+        // never a division by zero; the step is half their difference (1 m/s^2 on x, 0.1 rad/s
+        // on z: 0.5 and 0.05).
+        let s1 = Vn200Sample {
+            rates_radps: Some([0.0, 0.0, 0.1]),
+            accel_mps2: Some([1.0, 0.0, -G]),
+            ..s
+        };
+        let v = vn200_at(Some(&s), Some(&s1), s.t_gps_ns, horizon);
+        assert_eq!(v.specific_force_mps2, s.accel_mps2);
+        assert_eq!(v.angular_rate_radps, s.rates_radps);
+        assert_eq!(v.slope_per_s, [0.0; 6]);
+        assert_eq!(v.step, [0.5, 0.0, 0.0, 0.0, 0.0, 0.05]);
+    }
+
+    #[test]
+    fn a_bahrs_0x01_is_compared_up_to_exactly_its_horizon() {
+        // Freshness limit 60 ms (the horizon passed in): a 0x01 exactly 60 ms before the check
+        // is compared; 1 ns older it is stale.
+        let p = CheckParams::default();
+        let k = p.axis_threshold();
+        let b = bahrs(1.0, [0.0; 3], SAFE);
+        let horizon = 60_000_000;
+        let at =
+            |t: i64| InertialChannel::default().update(Some(&b), &vn([0.0; 3]), t, horizon, k, &p);
+        let r = at(b.t_gps_ns + horizon);
+        assert!(
+            r.axes
+                .iter()
+                .all(|a| a.verdict == PairVerdict::Pass && a.gate.is_none()),
+            "{r:?}"
+        );
+        let r = at(b.t_gps_ns + horizon + 1);
+        assert!(
+            r.axes.iter().all(|a| a.gate == Some(GateReason::Stale)),
+            "{r:?}"
+        );
+    }
 }

@@ -261,4 +261,19 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn a_unit_set_is_empty_until_a_unit_goes_in_and_lists_its_units_bahrs_first() {
+        let mut s = UnitSet::default();
+        assert!(s.is_empty());
+        assert_eq!(format!("{s:?}"), "[]");
+        s.insert(Unit::Watson);
+        s.insert(Unit::Bahrs);
+        assert!(!s.is_empty());
+        assert_eq!(s.len(), 2);
+        assert_eq!(format!("{s:?}"), "[Bahrs, Watson]");
+        assert!(s == vec![Unit::Bahrs, Unit::Watson]);
+        assert!(s != vec![Unit::Watson, Unit::Bahrs]);
+        assert!(s != vec![Unit::Bahrs]);
+    }
 }

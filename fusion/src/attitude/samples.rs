@@ -328,10 +328,27 @@ mod tests {
         assert!((y - 30.0 * DEG).abs() < 1e-6 && p.abs() < 1e-7 && r.abs() < 1e-7);
         let u = s.ypr_sigma_rad.unwrap();
         assert!((u[0] - 0.5 * DEG).abs() < 1e-9 && (u[2] - 0.2 * DEG).abs() < 1e-8);
+        assert!((u[1] - 0.1 * DEG).abs() < 1e-8);
         assert_eq!(s.lla, Some([47.0, 8.0, 500.0]));
         assert_eq!(s.vel_ned_mps, Some([1.0, 2.0, -0.5]));
         assert_eq!(s.pos_u_m, Some(2.5));
         assert_eq!((s.t_gps_ns, s.sigma_ns), (1_000, 50.0));
+        // Without a quaternion the YPR is used: yaw 30, pitch 10, roll -20 deg.
+        let mut ypr_only = out.clone();
+        let c = ypr_only.common.as_mut().unwrap();
+        c.quaternion = None;
+        c.ypr = Some(Ypr {
+            yaw_deg: 30.0,
+            pitch_deg: 10.0,
+            roll_deg: -20.0,
+        });
+        let s = Vn200Sample::from_output(&time(), &ypr_only).unwrap();
+        let (y, p, r) = super::super::angles::to_ypr(&s.attitude);
+        assert!((y - 30.0 * DEG).abs() < 1e-6, "{y}");
+        assert!(
+            (p - 10.0 * DEG).abs() < 1e-6 && (r + 20.0 * DEG).abs() < 1e-6,
+            "{p} {r}"
+        );
         // Without InsStatus (validity unknown) or without attitude: no sample.
         let mut no_status = out.clone();
         no_status.common.as_mut().unwrap().ins_status = None;
