@@ -183,17 +183,12 @@ impl FaultSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::magnetic::FixedDeclination;
     use PairVerdict::{Fail, Pass};
 
     fn checker() -> AttitudeChecker {
-        let model = Box::new(FixedDeclination(Declination {
-            declination_rad: 0.0,
-            sigma_rad: 0.3 * DEG,
-            horizontal_nt: 20_000.0,
-            zone: MagneticZone::Normal,
-        }));
-        AttitudeChecker::new(CheckParams::default(), model).unwrap()
+        // Zero declination: magnetic and true headings are the same number.
+        use crate::attitude::checker_tests::{checker_with, fixed};
+        checker_with(fixed(0.0))
     }
 
     /// One axis of a pair: its verdict, and which detector exceeds on this sample.

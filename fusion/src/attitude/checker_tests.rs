@@ -9,7 +9,8 @@ use crate::magnetic::{Declination, FixedDeclination, MagneticZone, Wmm};
 
 const DEG: f64 = std::f64::consts::PI / 180.0;
 
-fn fixed(decl_deg: f64) -> Box<FixedDeclination> {
+/// A fixed declination of `decl_deg`, 0.3 deg 1-sigma, in a normal compass zone.
+pub(super) fn fixed(decl_deg: f64) -> Box<FixedDeclination> {
     Box::new(FixedDeclination(Declination {
         declination_rad: decl_deg * DEG,
         sigma_rad: 0.3 * DEG,
@@ -36,7 +37,10 @@ fn run(sc: Scenario, checker: &mut AttitudeChecker) -> Vec<(f64, AttitudeRecord)
     out
 }
 
-fn checker_with(model: Box<dyn crate::magnetic::DeclinationModel + Send>) -> AttitudeChecker {
+/// A checker with the default parameters and `model`.
+pub(super) fn checker_with(
+    model: Box<dyn crate::magnetic::DeclinationModel + Send>,
+) -> AttitudeChecker {
     AttitudeChecker::new(CheckParams::default(), model).unwrap()
 }
 

@@ -235,13 +235,8 @@ mod tests {
 
     fn checker() -> AttitudeChecker {
         // Zero declination: magnetic and true headings are the same number.
-        let model = Box::new(FixedDeclination(Declination {
-            declination_rad: 0.0,
-            sigma_rad: 0.3 * DEG,
-            horizontal_nt: 20_000.0,
-            zone: MagneticZone::Normal,
-        }));
-        AttitudeChecker::new(CheckParams::default(), model).unwrap()
+        use crate::attitude::checker_tests::{checker_with, fixed};
+        checker_with(fixed(0.0))
     }
 
     /// One sample of each unit from the synthetic stream, to edit.
