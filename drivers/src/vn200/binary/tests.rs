@@ -53,6 +53,14 @@ fn figure_a3_two_groups() {
 }
 
 #[test]
+fn group_names_are_the_variant_names_in_lower_case() {
+    // The JSON keys of the groups of Table 2.1.
+    for g in Group::ALL {
+        assert_eq!(g.name(), format!("{g:?}").to_lowercase());
+    }
+}
+
+#[test]
 fn type_masks_by_name() {
     // The benchmark's Common message: TimeGps 1, Ypr 3, Quaternion 4, AngularRate 5, PosLla 6,
     // VelNed 7, Accel 8, InsStatus 12, TimeGpsPps 14 = 0x51FA.
