@@ -76,6 +76,8 @@ fn type_masks_by_name() {
         "time_gps_pps_ns",
     ];
     assert_eq!(Group::Common.type_mask(&names), Some(0x51FA));
+    // A name given twice still selects its type (a set, not a toggle): Ypr is bit 3.
+    assert_eq!(Group::Common.type_mask(&["ypr", "ypr"]), Some(1 << 3));
     assert_eq!(
         Group::Gnss2.type_mask(&["raw_meas", "alt_msl_m"]),
         Some(1 << 16 | 1 << 18)
