@@ -163,6 +163,32 @@ fn checksum_bypass_and_crc16() {
 }
 
 #[test]
+fn a_signed_checksum_is_not_hex_digits() {
+    // 1.4: the checksum is two (XOR) or four (CRC) hex digits. Rust's from_str_radix also takes a
+    // leading '+', which must not pass for a digit.
+    // XOR of "VNRRG,18,V" by hand: the two R, the two commas and the two V cancel, leaving
+    // N ^ G ^ '1' ^ '8' = 0x4E ^ 0x47 ^ 0x31 ^ 0x38 = 0x09 ^ 0x09 = 0x00.
+    assert!(matches!(
+        scan(b"$VNRRG,18,V*00\r\n"),
+        Scan::Sentence {
+            kind: ChecksumKind::Xor8,
+            ..
+        }
+    ));
+    assert_eq!(scan(b"$VNRRG,18,V*+0\r\n"), Scan::Invalid);
+    // CRC-16/XMODEM of "VNRRG,285" is 0x0001 (the ICD's snippet of 1.4.3, run apart from this
+    // crate).
+    assert!(matches!(
+        scan(b"$VNRRG,285*0001\r\n"),
+        Scan::Sentence {
+            kind: ChecksumKind::Crc16,
+            ..
+        }
+    ));
+    assert_eq!(scan(b"$VNRRG,285*+001\r\n"), Scan::Invalid);
+}
+
+#[test]
 fn error_sentences() {
     assert_eq!(
         decode("$VNERR,03*72"),

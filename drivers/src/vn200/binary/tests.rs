@@ -53,6 +53,14 @@ fn figure_a3_two_groups() {
 }
 
 #[test]
+fn group_names_are_the_variant_names_in_lower_case() {
+    // The JSON keys of the groups of Table 2.1.
+    for g in Group::ALL {
+        assert_eq!(g.name(), format!("{g:?}").to_lowercase());
+    }
+}
+
+#[test]
 fn type_masks_by_name() {
     // The benchmark's Common message: TimeGps 1, Ypr 3, Quaternion 4, AngularRate 5, PosLla 6,
     // VelNed 7, Accel 8, InsStatus 12, TimeGpsPps 14 = 0x51FA.
@@ -68,6 +76,8 @@ fn type_masks_by_name() {
         "time_gps_pps_ns",
     ];
     assert_eq!(Group::Common.type_mask(&names), Some(0x51FA));
+    // A name given twice still selects its type (a set, not a toggle): Ypr is bit 3.
+    assert_eq!(Group::Common.type_mask(&["ypr", "ypr"]), Some(1 << 3));
     assert_eq!(
         Group::Gnss2.type_mask(&["raw_meas", "alt_msl_m"]),
         Some(1 << 16 | 1 << 18)
