@@ -563,7 +563,7 @@ fn with_two_units_a_disagreement_is_detected_but_not_isolated() {
 
 /// The first BAHRS, VN-200 and Watson samples of the default synthetic stream, as templates for
 /// hand-placed samples.
-fn templates() -> (
+pub(super) fn templates() -> (
     super::samples::BahrsSample,
     super::samples::Vn200Sample,
     super::samples::WatsonSample,

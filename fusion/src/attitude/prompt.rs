@@ -241,18 +241,7 @@ mod tests {
 
     /// One sample of each unit from the synthetic stream, to edit.
     fn samples() -> (BahrsSample, Vn200Sample, WatsonSample) {
-        let (mut b, mut v, mut w) = (None, None, None);
-        for e in Stream::new(Scenario::default()) {
-            match e {
-                Event::Bahrs(x) => b = b.or(Some(x)),
-                Event::Vn200(x) => v = v.or(Some(x)),
-                Event::Watson(x) => w = w.or(Some(x)),
-            }
-            if b.is_some() && v.is_some() && w.is_some() {
-                break;
-            }
-        }
-        (b.unwrap(), v.unwrap(), w.unwrap())
+        crate::attitude::checker_tests::templates()
     }
 
     #[test]
