@@ -570,4 +570,125 @@ mod tests {
             "{r:?}"
         );
     }
+
+    #[test]
+    fn the_vn200_is_interpolated_from_its_earlier_sample_not_from_zero() {
+        use vigil_drivers::vn200::status::InsStatus;
+        let mk = |t_ms: i64, wz: f64, fx: f64| Vn200Sample {
+            t_gps_ns: t_ms * 1_000_000,
+            sigma_ns: 500.0,
+            attitude: nalgebra::UnitQuaternion::identity(),
+            ypr_sigma_rad: None,
+            ins_status: InsStatus(0x0006),
+            imu_status: None,
+            rates_radps: Some([0.0, 0.0, wz]),
+            accel_mps2: Some([fx, 0.0, -G]),
+            lla: None,
+            vel_ned_mps: None,
+            pos_u_m: None,
+            vel_u_mps: None,
+        };
+        // Hand computation, 2.5 ms into a 10 ms span: z rate 0.2 -> 0.3 rad/s gives 0.225 rad/s,
+        // slope 0.1 / 0.01 = 10 rad/s^2, step 0.1 / 2 = 0.05 rad/s; x force 2 -> 1 m/s^2 gives
+        // 1.75, slope -100 m/s^3, step 0.5.
+        let v = vn200_at(
+            Some(&mk(0, 0.2, 2.0)),
+            Some(&mk(10, 0.3, 1.0)),
+            2_500_000,
+            60_000_000,
+        );
+        assert!(
+            (v.angular_rate_radps.unwrap()[2] - 0.225).abs() < 1e-12,
+            "{v:?}"
+        );
+        assert!(
+            (v.specific_force_mps2.unwrap()[0] - 1.75).abs() < 1e-12,
+            "{v:?}"
+        );
+        assert!((v.slope_per_s[5] - 10.0).abs() < 1e-9, "{v:?}");
+        assert!((v.slope_per_s[0] + 100.0).abs() < 1e-9, "{v:?}");
+        assert!((v.step[5] - 0.05).abs() < 1e-12, "{v:?}");
+        assert!((v.step[0] - 0.5).abs() < 1e-12, "{v:?}");
+    }
+
+    #[test]
+    fn a_vn200_mounting_alone_spreads_a_bahrs_health_gate_over_its_kind() {
+        // Rotated vectors mix the unit's axes, so one closed BAHRS axis closes the three of its
+        // kind, even when only the VN-200 is rotated on its mount.
+        let mut p = CheckParams::default();
+        p.mounting_vn200.yaw_deg = 90.0;
+        let mut h = SAFE;
+        h[1] = Health::Unavailable;
+        let b = bahrs(0.0, [0.0; 3], h);
+        let r = InertialChannel::default().update(Some(&b), &vn([0.0; 3]), 0, 60_000_000, 4.42, &p);
+        for a in 0..3 {
+            assert_eq!(
+                r.axes[a].gate,
+                Some(GateReason::HealthUnavailable),
+                "axis {a}"
+            );
+        }
+        for a in 3..6 {
+            assert_eq!(r.axes[a].gate, None, "axis {a}");
+        }
+    }
+
+    #[test]
+    fn the_sigma_sums_unit_timing_and_interpolation_terms() {
+        let p = CheckParams::default();
+        let ip = p.inertial;
+        assert_eq!(
+            (
+                ip.bahrs_angular_rate_sigma_radps,
+                ip.vn200_angular_rate_sigma_radps
+            ),
+            (0.001, 0.0006)
+        );
+        // Time sigmas 3 and 4 us: 5 us together; times a slope of 200 rad/s^2, 1e-3 rad/s. With
+        // the interpolation step 2e-3 rad/s: sigma = sqrt(1 + 0.36 + 1 + 4) e-3 = 2.5219e-3.
+        let mut b = bahrs(0.0, [0.0; 3], SAFE);
+        b.sigma_ns = 3000.0;
+        let mut v = vn([0.0; 3]);
+        v.sigma_ns = 4000.0;
+        v.slope_per_s[5] = 200.0;
+        v.step[5] = 2e-3;
+        let r = InertialChannel::default().update(Some(&b), &v, 0, 60_000_000, 4.42, &p);
+        let sigma = r.axes[5].sigma.unwrap();
+        assert!((sigma - 6.36e-6f64.sqrt()).abs() < 1e-12, "{sigma}");
+        assert!((sigma - 2.5219e-3).abs() < 1e-7, "{sigma}");
+        // The x rate has neither term: the two units' sigmas alone.
+        let sigma = r.axes[3].sigma.unwrap();
+        assert!((sigma - 1.36e-6f64.sqrt()).abs() < 1e-12, "{sigma}");
+    }
+
+    /// The persistence counts the time between 0x01 records: 1 s of a fault at 10 Hz is the
+    /// 11th record (the first counts one nominal period, 20 ms: 0.02 + 10 x 0.1 = 1.02 s); a
+    /// time that goes back counts one nominal period too.
+    #[test]
+    fn persistence_counts_the_time_between_0x01_records() {
+        let declared_at = |p: &CheckParams, step_s: f64| {
+            let ip = p.inertial;
+            let sigma = (ip.bahrs_angular_rate_sigma_radps.powi(2)
+                + ip.vn200_angular_rate_sigma_radps.powi(2))
+            .sqrt();
+            let mut ch = InertialChannel::default();
+            (1..=40).find(|&n| {
+                // 5 sigma on the z rate: ratio 5 / 4.42 = 1.13, past the threshold at once, and
+                // a CUSUM of +3 a record (slack 2), which alone would declare at the 20th.
+                let b = bahrs(10.0 + f64::from(n) * step_s, [0.0, 0.0, 5.0 * sigma], SAFE);
+                let r = ch.update(Some(&b), &vn([0.0; 3]), b.t_gps_ns, 60_000_000, 4.42, p);
+                r.axes[5].verdict == PairVerdict::Fail
+            })
+        };
+        let p = CheckParams::default();
+        assert_eq!(p.bahrs_period_s, 0.02);
+        assert_eq!(declared_at(&p, 0.1), Some(11));
+        // Going back 0.1 s a record with a nominal period of 0.15 s: 0.15 s each, declared at
+        // the 7th (1.05 s).
+        let p = CheckParams {
+            bahrs_period_s: 0.15,
+            ..CheckParams::default()
+        };
+        assert_eq!(declared_at(&p, -0.1), Some(7));
+    }
 }
