@@ -77,6 +77,10 @@ mod tests {
         );
         assert_eq!(p.surveillance_status, 0);
         assert!(!p.nic_b);
+        // ME bit 21, the T flag (DO-260B 2.2.3.2.3.5): 0 in this frame; set, the time is
+        // UTC-synchronised.
+        assert!(!p.utc_sync);
+        assert!(AirbornePosition::decode(me_of(&f) | (1 << 35)).utc_sync);
     }
 
     #[test]

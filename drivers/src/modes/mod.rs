@@ -88,3 +88,42 @@ pub(crate) fn hex_val(c: u8) -> Option<u8> {
 pub(crate) fn hex_frame(hex: &str) -> ([u8; 14], usize) {
     parse_hex_frame(hex).expect("valid hex frame")
 }
+
+#[cfg(test)]
+mod hex_tests {
+    use super::*;
+
+    #[test]
+    fn every_hex_digit_has_its_value_and_its_neighbours_none() {
+        let digits = "0123456789abcdefABCDEF";
+        let values = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+        for (c, want) in digits.bytes().zip(values.iter().chain(&values[10..])) {
+            assert_eq!(hex_val(c), Some(*want), "{}", c as char);
+        }
+        // The ASCII neighbours of each range: '/' ':' '@' 'G' '`' 'g', and NUL, space, 0xFF.
+        for c in [b'/', b':', b'@', b'G', b'`', b'g', 0, b' ', 0xFF] {
+            assert_eq!(hex_val(c), None, "{c:#04x}");
+        }
+    }
+
+    #[test]
+    fn a_frame_parses_in_either_case_into_its_bytes() {
+        // The "1090 MHz Riddle" even position frame: 14 bytes.
+        let want = [
+            0x8D, 0x40, 0x62, 0x1D, 0x58, 0xC3, 0x82, 0xD6, 0x90, 0xC8, 0xAC, 0x28, 0x63, 0xA7,
+        ];
+        for hex in [
+            "8D40621D58C382D690C8AC2863A7",
+            "8d40621d58c382d690c8ac2863a7",
+        ] {
+            assert_eq!(parse_hex_frame(hex), Some((want, 14)), "{hex}");
+        }
+        // A short frame: 7 bytes, the rest zero.
+        let (f, n) = parse_hex_frame("5D4CA2D4E0A5B7").unwrap();
+        assert_eq!(n, 7);
+        assert_eq!(f[..7], [0x5D, 0x4C, 0xA2, 0xD4, 0xE0, 0xA5, 0xB7]);
+        assert_eq!(f[7..], [0; 7]);
+        assert_eq!(parse_hex_frame("5D4CA2D4E0A5B:"), None);
+        assert_eq!(parse_hex_frame("5D4CA2D4E0A5B"), None);
+    }
+}

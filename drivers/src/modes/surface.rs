@@ -160,6 +160,9 @@ mod tests {
         assert_eq!(s.typecode, 7);
         assert_eq!(s.speed.unwrap().min_kt, 17.0);
         assert_eq!(s.track_deg, Some(90.0));
+        // ME bit 21, the T flag: clear here, set below.
+        assert!(!s.utc_sync);
+        assert!(SurfacePosition::decode(me | (1 << 35)).utc_sync);
         assert_eq!(
             s.cpr,
             CprFrame {
