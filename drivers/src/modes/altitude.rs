@@ -68,16 +68,11 @@ fn gray_to_binary(mut g: u32) -> u32 {
 fn gillham_to_feet(ac13: u16) -> Option<i32> {
     let bit = |n: u16| u32::from((ac13 >> n) & 1);
     let (c1, a1, c2, a2, c4, a4) = (bit(12), bit(11), bit(10), bit(9), bit(8), bit(7));
-    let (b1, d1, b2, d2, b4, d4) = (bit(5), bit(4), bit(3), bit(2), bit(1), bit(0));
-    let g500 = (d1 << 8)
-        | (d2 << 7)
-        | (d4 << 6)
-        | (a1 << 5)
-        | (a2 << 4)
-        | (a4 << 3)
-        | (b1 << 2)
-        | (b2 << 1)
-        | b4;
+    let (b1, b2, d2, b4, d4) = (bit(5), bit(3), bit(2), bit(1), bit(0));
+    // D1, the Gray code's top bit, shares bit 4 with Q, and this path has Q = 0: D1 is always
+    // 0 here (ICAO: "D1 not used"), which is why the code ends at 126 700 ft.
+    let g500 =
+        (d2 << 7) | (d4 << 6) | (a1 << 5) | (a2 << 4) | (a4 << 3) | (b1 << 2) | (b2 << 1) | b4;
     let g100 = (c1 << 2) | (c2 << 1) | c4;
     let n500 = gray_to_binary(g500) as i32;
     let mut n100 = match gray_to_binary(g100) {
