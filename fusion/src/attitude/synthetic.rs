@@ -383,4 +383,110 @@ mod tests {
         // Body yaw rate r = psi_dot cos(phi) cos(theta).
         assert!((r[2] - TURN_RATE * m[2].cos() * PITCH.cos()).abs() < 1e-12);
     }
+
+    /// The times where the turn-rate profile has a corner (cycle s): the derivative checks keep
+    /// away from them.
+    fn near_a_corner(t: f64) -> bool {
+        let c = t.rem_euclid(120.0);
+        [0.0, 30.0, 33.0, 57.0, 60.0, 90.0, 93.0, 117.0, 120.0]
+            .iter()
+            .any(|k| (c - k).abs() < 1e-3)
+    }
+
+    #[test]
+    fn truth_rates_are_the_derivatives_of_its_attitude_and_height() {
+        // Central differences over +-h, independent of the formulas for the rates: the yaw
+        // rate from the heading, the body rates from the rotation between the two attitudes
+        // (its rotation vector over 2h), the climb from the height.
+        let h = 1e-4;
+        let mut t = 0.05;
+        let mut checked = 0;
+        while t < 240.0 {
+            if !near_a_corner(t) {
+                let ([y0, p0, r0], _, _, h0) = truth(t - h);
+                let ([y1, p1, r1], _, _, h1) = truth(t + h);
+                let (_, w_mid, climb_mid, _) = truth(t);
+                let dq = from_ypr(y0, p0, r0).inverse() * from_ypr(y1, p1, r1);
+                let v = dq.scaled_axis() / (2.0 * h);
+                for a in 0..3 {
+                    assert!(
+                        (v[a] - w_mid[a]).abs() < 1e-7,
+                        "t {t} axis {a}: {v} {w_mid:?}"
+                    );
+                }
+                assert!(((h1 - h0) / (2.0 * h) - climb_mid).abs() < 1e-7, "t {t}");
+                checked += 1;
+            }
+            t += 0.37;
+        }
+        assert!(checked > 600, "{checked}");
+    }
+
+    #[test]
+    fn truth_by_hand_on_the_ramp_the_left_turn_and_the_climb() {
+        // 1.5 s into the right turn's 3 s ramp: turn rate 1.5 deg/s; heading 90 + 3 x 1.5^2 / 6
+        // = 91.125 deg; at the ramp's end 90 + 3 x 1.5 = 94.5 deg.
+        let ([yaw, pitch, _], _, _, _) = truth(31.5);
+        assert!((yaw / DEG - 91.125).abs() < 1e-9, "{}", yaw / DEG);
+        assert!((pitch / DEG - 2.0).abs() < 1e-12);
+        let ([yaw, ..], _, _, _) = truth(33.0);
+        assert!((yaw / DEG - 94.5).abs() < 1e-9, "{}", yaw / DEG);
+        // 2.5 s into the right turn's ramp-out (tau 29.5): rate 3 x (1 - 2.5 / 3) = 0.5 deg/s;
+        // heading 90 + 3 x (25.5 + 2.5 - 2.5^2 / 6) = 90 + 80.875 deg.
+        let ([yaw, ..], _, _, _) = truth(59.5);
+        assert!((yaw / DEG - 170.875).abs() < 1e-9, "{}", yaw / DEG);
+        // Mid left turn: bank -atan(40 x 3 deg/s / g) = -12.05 deg, yaw rate about the body
+        // z negative; back on the start heading after it.
+        let ([yaw, _, roll], w, _, _) = truth(105.0);
+        assert!((roll / DEG + 12.05).abs() < 0.01, "{}", roll / DEG);
+        assert!(w[2] < -0.05, "{w:?}");
+        assert!(
+            (yaw / DEG - (171.0 - 3.0 * 13.5)).abs() < 1e-9,
+            "{}",
+            yaw / DEG
+        );
+        // Climb: 1 m/s amplitude over 100 s, 0 at t = 0, +1 at 25 s, -1 at 75 s; height 600 m -
+        // cos(wt)/w, w = 2 pi / 100 s.
+        let w = std::f64::consts::TAU / 100.0;
+        for (t, c) in [(0.0, 0.0), (25.0, 1.0), (75.0, -1.0)] {
+            let (_, _, climb, height) = truth(t);
+            assert!((climb - c).abs() < 1e-12, "{t}");
+            assert!((height - (600.0 - (w * t).cos() / w)).abs() < 1e-9, "{t}");
+        }
+        // Straight flight: level wings, no rates.
+        let ([yaw, _, roll], w, _, _) = truth(10.0);
+        assert_eq!((yaw, roll, w), (90.0 * DEG, 0.0, [0.0; 3]));
+    }
+
+    #[test]
+    fn noise_is_xorshift64_star_and_box_muller() {
+        // The published xorshift64* (shifts 12, 25, 27; multiplier 0x2545F4914F6CDD1D), state
+        // seed x 0x9E3779B97F4A7C15 | 1, top 53 bits plus a half over 2^53: the first values
+        // for seed 1, computed apart with Python's integers.
+        let mut n = Noise::new(1);
+        let u: [f64; 4] = std::array::from_fn(|_| n.unit());
+        assert_eq!(
+            u,
+            [
+                0.05279087335850824,
+                0.3311202810018536,
+                0.657317355741249,
+                0.4899604040060455
+            ]
+        );
+        // Box-Muller on those pairs: sqrt(-2 ln u1) cos(2 pi u2).
+        let mut n = Noise::new(1);
+        assert!((n.gauss() + 1.1834038310489554).abs() < 1e-12);
+        assert!((n.gauss() + 0.9142438849714214).abs() < 1e-12);
+        // And standard normal: mean 0 and variance 1 within 4 standard errors on 100 000.
+        let mut n = Noise::new(7);
+        let x: Vec<f64> = (0..100_000).map(|_| n.gauss()).collect();
+        let mean = x.iter().sum::<f64>() / 1e5;
+        let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 1e5;
+        assert!(mean.abs() < 4.0 / 1e5f64.sqrt(), "{mean}");
+        assert!(
+            (var - 1.0).abs() < 4.0 * 2f64.sqrt() / 1e5f64.sqrt(),
+            "{var}"
+        );
+    }
 }
