@@ -176,6 +176,11 @@ impl Noise {
         let (u1, u2) = (self.unit(), self.unit());
         (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
     }
+    /// A normal value of mean `mean` and standard deviation `sigma` (same unit): how every
+    /// simulated measurement gets its noise.
+    pub fn around(&mut self, mean: f64, sigma: f64) -> f64 {
+        mean + sigma * self.gauss()
+    }
 }
 
 /// The time-ordered stream of a scenario.
@@ -241,11 +246,11 @@ impl Stream {
         let (yaw, pitch, roll) = to_ypr(&(from_ypr(yaw, pitch, roll) * from_ypr(my, mp, mr)));
         let nav = Navigation::from_si(
             self.seq,
-            height - 40.0 + 0.3 * n.gauss(),
-            -climb + 0.1 * n.gauss(),
-            roll + bias + 0.15 * DEG * n.gauss(),
-            pitch + 0.15 * DEG * n.gauss(),
-            yaw - sc.declination_deg * DEG + dist + 0.5 * DEG * n.gauss(),
+            n.around(height - 40.0, 0.3),
+            n.around(-climb, 0.1),
+            n.around(roll + bias, 0.15 * DEG),
+            n.around(pitch, 0.15 * DEG),
+            n.around(yaw - sc.declination_deg * DEG + dist, 0.5 * DEG),
             health,
         );
         // Reported accuracy: 0.3 deg tilt, 1.0 deg heading (raw LSB 2 pi / 65536).
@@ -267,8 +272,8 @@ impl Stream {
         let time = match sc.bahrs_time_sigma_ns {
             // The value is the truth at t; its stamp is off by the clock error.
             Some(sigma) => {
-                let err_ns = sigma * n.gauss();
-                self.time(t_ns + err_ns, sigma, TimeSource::HostClock)
+                let stamp_ns = n.around(t_ns, sigma);
+                self.time(stamp_ns, sigma, TimeSource::HostClock)
             }
             None => self.time(t_ns, 1e5, TimeSource::PpsDisciplined),
         };
@@ -288,9 +293,9 @@ impl Stream {
             .map(|(_, d)| d * DEG)
             .unwrap_or(0.0);
         let attitude = from_ypr(
-            yaw + 0.2 * DEG * n.gauss(),
-            pitch + 0.05 * DEG * n.gauss(),
-            roll + step + 0.05 * DEG * n.gauss(),
+            n.around(yaw, 0.2 * DEG),
+            n.around(pitch, 0.05 * DEG),
+            n.around(roll + step, 0.05 * DEG),
         );
         Vn200Sample {
             t_gps_ns: sc.t0_gps_ns + t_ns as i64,
@@ -301,8 +306,8 @@ impl Stream {
             imu_status: None,
             rates_radps: Some(rates),
             accel_mps2: None,
-            lla: Some([sc.lla[0], sc.lla[1], height + 0.5 * n.gauss()]),
-            vel_ned_mps: Some([0.0, SPEED_MPS, -climb + 0.05 * n.gauss()]),
+            lla: Some([sc.lla[0], sc.lla[1], n.around(height, 0.5)]),
+            vel_ned_mps: Some([0.0, SPEED_MPS, n.around(-climb, 0.05)]),
             pos_u_m: Some(if lost { 50.0 } else { 2.0 }),
             vel_u_mps: Some(0.1),
         }
@@ -326,10 +331,10 @@ impl Stream {
         WatsonSample {
             t_gps_ns: sc.t0_gps_ns + t_ns as i64,
             sigma_ns: 2e6,
-            roll_rad: q01(roll + 0.3 * DEG * n.gauss()),
-            pitch_rad: q01(pitch + pstep + 0.3 * DEG * n.gauss()),
+            roll_rad: q01(n.around(roll, 0.3 * DEG)),
+            pitch_rad: q01(n.around(pitch + pstep, 0.3 * DEG)),
             heading_mag_rad: q01(wrap_2pi(
-                yaw - sc.declination_deg * DEG + dist + 0.8 * DEG * n.gauss(),
+                n.around(yaw - sc.declination_deg * DEG + dist, 0.8 * DEG),
             )),
             over_range: false,
             rates_radps: rates.map(q01),
@@ -488,5 +493,144 @@ mod tests {
             (var - 1.0).abs() < 4.0 * 2f64.sqrt() / 1e5f64.sqrt(),
             "{var}"
         );
+    }
+
+    /// Mean and standard deviation.
+    fn stats(v: &[f64]) -> (f64, f64) {
+        let n = v.len() as f64;
+        let m = v.iter().sum::<f64>() / n;
+        (
+            m,
+            (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / n).sqrt(),
+        )
+    }
+
+    /// `v`'s mean is `mean` within 4 standard errors and its standard deviation `sd` within
+    /// `tol` (relative); `sd` includes the uniform quantisation of a step `lsb` (lsb^2 / 12).
+    fn assert_noise(what: &str, v: &[f64], mean: f64, sd: f64, lsb: f64, tol: f64) {
+        let sd = (sd * sd + lsb * lsb / 12.0).sqrt();
+        let (m, s) = stats(v);
+        let se = sd / (v.len() as f64).sqrt();
+        assert!(
+            (m - mean).abs() < 4.0 * se,
+            "{what}: mean {m} for {mean} (se {se})"
+        );
+        assert!((s / sd - 1.0).abs() < tol, "{what}: sd {s} for {sd}");
+    }
+
+    #[test]
+    fn each_unit_reports_the_truth_with_its_documented_offsets_and_noise() {
+        use super::super::angles::wrap_pi;
+        use vigil_drivers::bahrs::{
+            ANGLE_RAD_PER_LSB, ANGULAR_RATE_RADPS_PER_LSB, HEIGHT_M_PER_LSB, VELOCITY_MPS_PER_LSB,
+        };
+        let sc = Scenario::default();
+        let (t0, decl) = (sc.t0_gps_ns, sc.declination_deg * DEG);
+        let mut b: [Vec<f64>; 5] = Default::default();
+        let mut v: [Vec<f64>; 5] = Default::default();
+        let mut w: [Vec<f64>; 3] = Default::default();
+        let mut n = [0usize; 3];
+        let mut last = i64::MIN;
+        for e in Stream::new(sc) {
+            let t_ns = match e {
+                Event::Bahrs(s) => s.t_gps_ns,
+                Event::Vn200(s) => s.t_gps_ns,
+                Event::Watson(s) => s.t_gps_ns,
+            };
+            assert!(t_ns >= last, "time-ordered");
+            last = t_ns;
+            let t = (t_ns - t0) as f64 * 1e-9;
+            let ([yaw, pitch, roll], rates, climb, height) = truth(t);
+            match e {
+                Event::Bahrs(s) => {
+                    // 50 Hz from 0.
+                    assert_eq!(t_ns - t0, n[0] as i64 * 20_000_000);
+                    n[0] += 1;
+                    assert_eq!((s.sigma_ns, s.health.roll()), (1e5, Health::Safe));
+                    b[0].push(s.pressure_height_m - height);
+                    b[1].push(s.velocity_down_mps + climb);
+                    b[2].push(s.roll_rad - roll);
+                    b[3].push(s.pitch_rad - pitch);
+                    b[4].push(wrap_pi(s.heading_mag_rad - (yaw - decl)));
+                    // Reported accuracy 0.3, 0.3 and 1 deg, to the LSB (2 pi / 65536).
+                    let acc = s.accuracy_rad.unwrap().map(Option::unwrap);
+                    for (a, want) in acc.iter().zip([0.3, 0.3, 1.0]) {
+                        assert!((a - want * DEG).abs() <= ANGLE_RAD_PER_LSB / 2.0, "{acc:?}");
+                    }
+                    let r = s.rates_radps.unwrap();
+                    for (got, want) in r.iter().zip(rates) {
+                        assert!((got - want).abs() <= ANGULAR_RATE_RADPS_PER_LSB / 2.0);
+                    }
+                }
+                Event::Vn200(s) => {
+                    // 50 Hz from 7 ms.
+                    assert_eq!(t_ns - t0, 7_000_000 + n[1] as i64 * 20_000_000);
+                    n[1] += 1;
+                    assert_eq!(s.ins_status, InsStatus(0x0006));
+                    assert_eq!((s.sigma_ns, s.pos_u_m), (1e3, Some(2.0)));
+                    let (y, p, r) = to_ypr(&s.attitude);
+                    v[0].push(wrap_pi(y - yaw));
+                    v[1].push(p - pitch);
+                    v[2].push(r - roll);
+                    v[3].push(s.lla.unwrap()[2] - height);
+                    let vel = s.vel_ned_mps.unwrap();
+                    assert_eq!(vel[..2], [0.0, SPEED_MPS]);
+                    v[4].push(vel[2] + climb);
+                    assert_eq!(s.rates_radps, Some(rates));
+                }
+                Event::Watson(s) => {
+                    // 11.85 Hz from 3 ms.
+                    let want = 3e6 + n[2] as f64 * 1e9 / 11.85;
+                    assert!(((t_ns - t0) as f64 - want).abs() <= 1.0, "{t_ns}");
+                    n[2] += 1;
+                    assert_eq!(s.sigma_ns, 2e6);
+                    w[0].push(s.roll_rad - roll);
+                    w[1].push(s.pitch_rad - pitch);
+                    w[2].push(wrap_pi(s.heading_mag_rad - (yaw - decl)));
+                    // Rates rounded to 0.1 deg/s.
+                    for (got, want) in s.rates_radps.iter().zip(rates) {
+                        assert!((got - want).abs() <= 0.05 * DEG + 1e-12);
+                    }
+                }
+            }
+        }
+        // 120 s: 6000 BAHRS and VN-200 samples, and Watson at 0.003 + k / 11.85 < 120 s,
+        // k = 0 ..= 1421.
+        assert_eq!(n, [6000, 6000, 1422]);
+        let a = ANGLE_RAD_PER_LSB;
+        assert_noise("BAHRS height", &b[0], -40.0, 0.3, HEIGHT_M_PER_LSB, 0.05);
+        assert_noise("BAHRS v down", &b[1], 0.0, 0.1, VELOCITY_MPS_PER_LSB, 0.05);
+        assert_noise("BAHRS roll", &b[2], 0.0, 0.15 * DEG, a, 0.05);
+        assert_noise("BAHRS pitch", &b[3], 0.0, 0.15 * DEG, a, 0.05);
+        assert_noise("BAHRS heading", &b[4], 0.0, 0.5 * DEG, a, 0.05);
+        assert_noise("VN-200 yaw", &v[0], 0.0, 0.2 * DEG, 0.0, 0.05);
+        assert_noise("VN-200 pitch", &v[1], 0.0, 0.05 * DEG, 0.0, 0.05);
+        assert_noise("VN-200 roll", &v[2], 0.0, 0.05 * DEG, 0.0, 0.05);
+        assert_noise("VN-200 height", &v[3], 0.0, 0.5, 0.0, 0.05);
+        assert_noise("VN-200 v down", &v[4], 0.0, 0.05, 0.0, 0.05);
+        // Watson: rounded to 0.1 deg.
+        assert_noise("Watson roll", &w[0], 0.0, 0.3 * DEG, 0.1 * DEG, 0.08);
+        assert_noise("Watson pitch", &w[1], 0.0, 0.3 * DEG, 0.1 * DEG, 0.08);
+        assert_noise("Watson heading", &w[2], 0.0, 0.8 * DEG, 0.1 * DEG, 0.08);
+    }
+
+    #[test]
+    fn a_host_clock_bahrs_is_stamped_with_its_time_error() {
+        // 1 ms of clock error: the stamps scatter about the true times with that sigma, and
+        // say so.
+        let sc = Scenario {
+            bahrs_time_sigma_ns: Some(1e6),
+            duration_s: 60.0,
+            ..Scenario::default()
+        };
+        let mut err = Vec::new();
+        for e in Stream::new(sc) {
+            if let Event::Bahrs(s) = e {
+                assert_eq!(s.sigma_ns, 1e6);
+                err.push((s.t_gps_ns - sc.t0_gps_ns) as f64 - err.len() as f64 * 20e6);
+            }
+        }
+        assert_eq!(err.len(), 3000);
+        assert_noise("stamp error", &err, 0.0, 1e6, 1.0, 0.05);
     }
 }
