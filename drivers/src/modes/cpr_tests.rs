@@ -313,3 +313,43 @@ fn pymodes_published_surface_vectors() {
         Err(CprError::ZoneMismatch)
     );
 }
+
+#[test]
+fn a_pair_of_one_format_is_refused_whichever_format() {
+    // Each decode needs one even and one odd frame: two of either format is an error, not a
+    // position (the wrong-roles case is in riddle_global_pair).
+    let e = CprFrame {
+        odd: false,
+        lat: 93_000,
+        lon: 51_372,
+    };
+    let o = CprFrame { odd: true, ..e };
+    for (a, b) in [(e, e), (o, o)] {
+        assert_eq!(global_airborne(a, b, false), Err(CprError::SameFormat));
+        assert_eq!(
+            global_surface(a, b, false, 52.0, 4.0),
+            Err(CprError::SameFormat)
+        );
+    }
+}
+
+#[test]
+fn one_latitude_just_beyond_the_pole_refuses_the_pair() {
+    // By hand: even lat 130 810, odd 98 305 (of 2^17): j = floor(59 x 0.998001 - 60 x 0.750008
+    // + 0.5) = floor(14.38) = 14; even 6 x (14 + 0.998001) = 89.988 deg, odd 360/59 x (14 +
+    // 0.750008) = 90.00005 deg: the odd one is not a latitude, so neither is the pair.
+    let even = CprFrame {
+        odd: false,
+        lat: 130_810,
+        lon: 0,
+    };
+    let odd = CprFrame {
+        odd: true,
+        lat: 98_305,
+        lon: 0,
+    };
+    assert_eq!(
+        global_airborne(even, odd, false),
+        Err(CprError::LatitudeOutOfRange)
+    );
+}
