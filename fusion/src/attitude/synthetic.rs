@@ -633,4 +633,30 @@ mod tests {
         assert_eq!(err.len(), 3000);
         assert_noise("stamp error", &err, 0.0, 1e6, 1.0, 0.05);
     }
+
+    #[test]
+    fn the_bahrs_roll_ramp_adds_to_the_roll() {
+        // A ramp of +0.5 deg/s from 10 s: the BAHRS roll error is +0.5 (t - 10) deg on
+        // average (its noise is 0.15 deg), before 10 s zero.
+        let sc = Scenario {
+            roll_ramp: Some((10.0, 0.5)),
+            duration_s: 20.0,
+            ..Scenario::default()
+        };
+        let (mut before, mut after) = (Vec::new(), Vec::new());
+        for e in Stream::new(sc) {
+            if let Event::Bahrs(s) = e {
+                let t = (s.t_gps_ns - sc.t0_gps_ns) as f64 * 1e-9;
+                let err = s.roll_rad - truth(t).0[2];
+                if t < 10.0 {
+                    before.push(err);
+                } else {
+                    after.push(err - 0.5 * (t - 10.0) * DEG);
+                }
+            }
+        }
+        let a = vigil_drivers::bahrs::ANGLE_RAD_PER_LSB;
+        assert_noise("roll before", &before, 0.0, 0.15 * DEG, a, 0.1);
+        assert_noise("roll on the ramp", &after, 0.0, 0.15 * DEG, a, 0.1);
+    }
 }
