@@ -635,28 +635,47 @@ mod tests {
     }
 
     #[test]
-    fn the_bahrs_roll_ramp_adds_to_the_roll() {
-        // A ramp of +0.5 deg/s from 10 s: the BAHRS roll error is +0.5 (t - 10) deg on
-        // average (its noise is 0.15 deg), before 10 s zero.
+    fn injected_errors_add_with_their_sign() {
+        // From 10 s: a BAHRS roll ramp of +0.5 deg/s, a VN-200 roll step of +2 deg and a Watson
+        // pitch step of +3 deg. Each unit's error, less the injected one, is its noise about
+        // zero (0.15, 0.05 and 0.3 deg; Watson rounded to 0.1 deg), before and after.
         let sc = Scenario {
             roll_ramp: Some((10.0, 0.5)),
+            vn200_roll_step: Some((10.0, 2.0)),
+            watson_pitch_step: Some((10.0, 3.0)),
             duration_s: 20.0,
             ..Scenario::default()
         };
-        let (mut before, mut after) = (Vec::new(), Vec::new());
+        let mut err: [Vec<f64>; 6] = Default::default();
         for e in Stream::new(sc) {
-            if let Event::Bahrs(s) = e {
-                let t = (s.t_gps_ns - sc.t0_gps_ns) as f64 * 1e-9;
-                let err = s.roll_rad - truth(t).0[2];
-                if t < 10.0 {
-                    before.push(err);
-                } else {
-                    after.push(err - 0.5 * (t - 10.0) * DEG);
+            let t_ns = match e {
+                Event::Bahrs(s) => s.t_gps_ns,
+                Event::Vn200(s) => s.t_gps_ns,
+                Event::Watson(s) => s.t_gps_ns,
+            };
+            let t = (t_ns - sc.t0_gps_ns) as f64 * 1e-9;
+            let ([_, pitch, roll], ..) = truth(t);
+            let on = usize::from(t >= 10.0);
+            match e {
+                Event::Bahrs(s) => {
+                    let injected = 0.5 * (t - 10.0).max(0.0) * DEG;
+                    err[on].push(s.roll_rad - roll - injected);
+                }
+                Event::Vn200(s) => {
+                    let injected = if t >= 10.0 { 2.0 * DEG } else { 0.0 };
+                    err[2 + on].push(to_ypr(&s.attitude).2 - roll - injected);
+                }
+                Event::Watson(s) => {
+                    let injected = if t >= 10.0 { 3.0 * DEG } else { 0.0 };
+                    err[4 + on].push(s.pitch_rad - pitch - injected);
                 }
             }
         }
         let a = vigil_drivers::bahrs::ANGLE_RAD_PER_LSB;
-        assert_noise("roll before", &before, 0.0, 0.15 * DEG, a, 0.1);
-        assert_noise("roll on the ramp", &after, 0.0, 0.15 * DEG, a, 0.1);
+        for k in 0..2 {
+            assert_noise("BAHRS roll", &err[k], 0.0, 0.15 * DEG, a, 0.1);
+            assert_noise("VN-200 roll", &err[2 + k], 0.0, 0.05 * DEG, 0.0, 0.1);
+            assert_noise("Watson pitch", &err[4 + k], 0.0, 0.3 * DEG, 0.1 * DEG, 0.15);
+        }
     }
 }
