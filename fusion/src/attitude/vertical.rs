@@ -737,4 +737,358 @@ mod tests {
         let rs = fly(&mut ch, (64.0, 65.0), &climb, &climb, &|_| None);
         assert_eq!(rs[0].1.third.not_compared, Some(TtNotCompared::Stale));
     }
+
+    /// A BAHRS sample at the exact GPS time `t_ns` (ns): pressure height `h` m, down velocity
+    /// `vd` m/s, all health safe.
+    fn b_ns(t_ns: i64, h: f64, vd: f64) -> BahrsSample {
+        BahrsSample {
+            t_gps_ns: t_ns,
+            ..b(0.0, h, vd)
+        }
+    }
+
+    /// The down-velocity comparison's sigma is the root sum square of the BAHRS sigma and the
+    /// VN-200's (its VelU when stated, else the table's default), params.rs defaults 0.5 and 0.2.
+    #[test]
+    fn velocity_sigma_is_the_root_sum_square_of_both_units_sigmas() {
+        let p = CheckParams::default();
+        let mut ch = VerticalChannel::default();
+        // sqrt(0.5^2 + 0.2^2) = sqrt(0.29) = 0.538516.
+        let r = ch.update(&b(0.0, 0.0, 1.0), &vn(0.0, 0.0), 0.02, 4.42, &p);
+        assert!((r.velocity_down.sigma_mps.unwrap() - 0.538_516).abs() < 1e-6);
+        assert_eq!(r.velocity_down.diff_mps, Some(1.0));
+        // VelU 0.4 m/s stated: sqrt(0.5^2 + 0.4^2) = sqrt(0.41) = 0.640312.
+        let mut v = vn(0.0, 0.0);
+        v.vel_u_mps = Some(0.4);
+        let r = ch.update(&b(0.02, 0.0, 1.0), &v, 0.02, 4.42, &p);
+        assert!((r.velocity_down.sigma_mps.unwrap() - 0.640_312).abs() < 1e-6);
+    }
+
+    /// The height rates need a span of at least 0.8 window (0.8 s at the default 1 s): at 0.7 s
+    /// not compared, at 0.8 s compared, each rate divided by the 0.8 s span, and the VN-200 rate
+    /// sigma bounded below by its PosU: sqrt 2 x PosU / span.
+    #[test]
+    fn height_rate_starts_at_0_8_window_over_the_actual_span_with_the_posu_bound() {
+        let p = CheckParams::default();
+        let mut ch = VerticalChannel::default();
+        let mut v = vn(0.0, 0.0);
+        v.pos_u_m = Some(2.0);
+        let mut at = |ms: i64| {
+            let t = ms as f64 * 1e-3;
+            // BAHRS climbs at 2 m/s, the VN-200 at 3 m/s.
+            v.alt_m = Some(500.0 + 3.0 * t);
+            ch.update(
+                &b_ns(ms * 1_000_000, 100.0 + 2.0 * t, 0.0),
+                &v,
+                0.1,
+                4.42,
+                &p,
+            )
+        };
+        for ms in (0..700).step_by(100) {
+            at(ms);
+        }
+        let r = at(700);
+        assert_eq!(r.height_rate.verdict, PairVerdict::NotCompared);
+        assert_eq!(r.height_rate.gate, Some(GateReason::NoData));
+        let r = at(800);
+        assert_eq!(r.height_rate.gate, None);
+        // 1.6 m / 0.8 s and 2.4 m / 0.8 s.
+        assert!((r.height_rate.bahrs_mps.unwrap() - 2.0).abs() < 1e-9);
+        assert!((r.height_rate.vn200_mps.unwrap() - 3.0).abs() < 1e-9);
+        // sqrt(0.7^2 + max(0.3, sqrt 2 x 2 / 0.8)^2) = sqrt(0.49 + 8 / 0.64) = sqrt(12.99)
+        // = 3.604164.
+        assert!((r.height_rate.sigma_mps.unwrap() - 3.604_164).abs() < 1e-6);
+    }
+
+    /// The rate's older end is the newest sample at least one window (1 s) old: with samples at
+    /// 0, 0.5, 1 and 1.5 s, the rate at 1.5 s is over 0.5 .. 1.5 s, not 0 .. 1.5 s. The pressure
+    /// height steps from 0 to 3 m after 0 s, so the first gives 0 m/s, the second 2 m/s.
+    #[test]
+    fn height_rate_older_end_is_exactly_one_window_back() {
+        let p = CheckParams::default();
+        let mut ch = VerticalChannel::default();
+        let mut last = None;
+        for (ms, h) in [(0, 0.0), (500, 3.0), (1000, 3.0), (1500, 3.0)] {
+            last = Some(ch.update(&b_ns(ms * 1_000_000, h, 0.0), &vn(0.0, 0.0), 0.5, 4.42, &p));
+        }
+        assert_eq!(last.unwrap().height_rate.bahrs_mps, Some(0.0));
+    }
+
+    /// The height-rate history is capped at 4096 samples: at 5 kHz (0.2 ms) the window's 1 s
+    /// holds 5000, so after 4200 samples the older end is 4095 intervals back (0.819 s, over the
+    /// 0.8 s minimum). The pressure height steps 0 -> 1 m after that sample: 1 m / 0.819 s.
+    #[test]
+    fn height_rate_history_keeps_the_newest_4096_samples() {
+        let p = CheckParams::default();
+        let mut ch = VerticalChannel::default();
+        let n = 4200;
+        let mut last = None;
+        for i in 0..n {
+            let h = if i <= n - 4096 { 0.0 } else { 1.0 };
+            last = Some(ch.update(&b_ns(i * 200_000, h, 0.0), &vn(0.0, 0.0), 2e-4, 4.42, &p));
+        }
+        let r = last.unwrap().height_rate;
+        assert!((r.bahrs_mps.unwrap() - 1.0 / 0.819).abs() < 1e-9, "{r:?}");
+    }
+
+    /// The pressure port blocks at 30 s but the BAHRS down velocity stays right: only the height
+    /// rate miscompares (its CUSUM: 2 m/s is 2.63 sigma, over the slack of 2), and that alone is a
+    /// BAHRS-VN-200 miscompare the third opinion isolates to the BAHRS.
+    #[test]
+    fn a_height_rate_miscompare_alone_is_isolated_by_the_third_opinion() {
+        let mut ch = VerticalChannel::default();
+        let rs = fly(
+            &mut ch,
+            (0.0, 60.0),
+            &|t| (100.0 + 2.0 * t.min(30.0), -2.0),
+            &|t| (500.0 + 2.0 * t, -2.0),
+            &|t| Some(Some(520.0 + 2.0 * t)),
+        );
+        let last = rs.last().unwrap().1;
+        assert_eq!(last.velocity_down.verdict, PairVerdict::Pass);
+        assert_eq!(last.height_rate.verdict, PairVerdict::Fail);
+        assert_eq!(last.third.isolated, Some(Unit::Bahrs));
+    }
+
+    /// Without a BAHRS-VN-200 miscompare the third opinion isolates nothing, even when it fails
+    /// one unit: the BAHRS climbs at 3.4 m/s, the VN-200 and the TT GNSS at 2. Over 1 s the
+    /// difference 1.4 m/s is 1.84 sigma (0.76 m/s): under the threshold and the CUSUM slack
+    /// (2), it passes; over 20 s it is 1.4 / 0.285 = 4.9 sigma against the TT, over 4.42.
+    #[test]
+    fn a_third_opinion_failure_without_a_miscompare_isolates_nothing() {
+        let mut ch = VerticalChannel::default();
+        let rs = fly(
+            &mut ch,
+            (0.0, 40.0),
+            &|t| (100.0 + 3.4 * t, -2.0),
+            &|t| (500.0 + 2.0 * t, -2.0),
+            &|t| Some(Some(520.0 + 2.0 * t)),
+        );
+        let last = rs.last().unwrap().1;
+        assert_eq!(last.height_rate.verdict, PairVerdict::Pass);
+        assert_eq!(last.velocity_down.verdict, PairVerdict::Pass);
+        assert_eq!(last.third.bahrs_vs_tt.verdict, PairVerdict::Fail);
+        assert_eq!(last.third.vn200_vs_tt.verdict, PairVerdict::Pass);
+        assert!(rs.iter().all(|(_, r)| r.third.isolated.is_none()));
+    }
+
+    /// The TT history keeps 64 epochs. The window's older end is the newest epoch at least
+    /// 19.5 s (20 s - 0.5 s) before the newest; at one epoch every 0.31 s that is 63 epochs back
+    /// (63 x 0.31 = 19.53 s; 62 x 0.31 = 19.22 s is too recent), the oldest of the 64 kept after
+    /// 71 epochs. With 63 kept there would be no older end (window filling).
+    #[test]
+    fn tt_history_keeps_64_epochs() {
+        let p = CheckParams::default();
+        let mut ch = VerticalChannel::default();
+        let mut next = 0_i64;
+        let mut last = None;
+        for i in 0..=1085_i64 {
+            let t_ns = i * 20_000_000;
+            while next * 310_000_000 <= t_ns {
+                let te = next as f64 * 0.31;
+                ch.push_tt_gnss(next * 310_000_000, Some(520.0 + 2.0 * te));
+                next += 1;
+            }
+            let t = t_ns as f64 * 1e-9;
+            last = Some(ch.update(
+                &b_ns(t_ns, 100.0 + 2.0 * t, -2.0),
+                &vn(500.0 + 2.0 * t, -2.0),
+                0.02,
+                4.42,
+                &p,
+            ));
+        }
+        // The newest epoch is 70 (21.7 s): 71 pushed, epochs 7 .. 70 kept.
+        assert_eq!(next, 71);
+        let third = last.unwrap().third;
+        assert_eq!(third.not_compared, None);
+        assert!((third.span_s.unwrap() - 19.53).abs() < 1e-9, "{third:?}");
+    }
+
+    /// The longest window the third opinion takes (1.2 x 20 = 24 s) compared at the stale limit
+    /// (the newest epoch exactly 2.5 s old: not yet stale) needs BAHRS heights up to 26.5 s old,
+    /// and one sample more for the interpolation at the older end: the height history keeps
+    /// them (27.5 s). BAHRS at 100 Hz on a 5 ms offset (0.995, 1.005, ...), one sample more at
+    /// 27.5 s; TT epochs at 1 s and 25 s, received late, just before that sample. The older end
+    /// 1 s lies between the samples at 0.995 s (26.505 s old) and 1.005 s.
+    #[test]
+    fn third_opinion_takes_the_longest_window_at_the_stale_limit() {
+        let mut ch = VerticalChannel::default();
+        for k in 0..2750_i64 {
+            climb_2mps(&mut ch, 5_000_000 + k * 10_000_000);
+        }
+        // TT climbing at 2.5 m/s: (570 - 510) / 24 s.
+        ch.push_tt_gnss(1_000_000_000, Some(510.0));
+        ch.push_tt_gnss(25_000_000_000, Some(570.0));
+        // The VN-200 states PosU 2 m.
+        let third = climb_2mps_posu(&mut ch, 27_500_000_000, Some(2.0)).third;
+        assert_eq!(third.not_compared, None, "{third:?}");
+        assert_eq!(third.span_s, Some(24.0));
+        assert!((third.tt_rate_mps.unwrap() - 2.5).abs() < 1e-9);
+        assert!((third.bahrs_vs_tt.bahrs_mps.unwrap() - 2.0).abs() < 1e-9);
+        assert!((third.vn200_vs_tt.bahrs_mps.unwrap() - 2.0).abs() < 1e-9);
+        // Sigmas over 24 s: the TT's sqrt 2 x 4 / 24 (its square 32 / 576); the BAHRS rate's
+        // 0.7 m/s stated for 1 s, x 1 / 24; the VN-200's max(0.3 / 24, sqrt 2 x PosU / 24), PosU
+        // winning (its square 8 / 576). BAHRS: sqrt((0.7 / 24)^2 + 32 / 576) = 0.237500;
+        // VN-200: sqrt(40 / 576) = 0.263523.
+        assert!((third.bahrs_vs_tt.sigma_mps.unwrap() - 0.237_500).abs() < 1e-6);
+        assert!((third.vn200_vs_tt.sigma_mps.unwrap() - 0.263_523).abs() < 1e-6);
+        // 1 ns later the epoch is stale.
+        let third = climb_2mps(&mut ch, 27_500_000_001).third;
+        assert_eq!(third.not_compared, Some(TtNotCompared::Stale));
+    }
+
+    /// One BAHRS and VN-200 sample at `t_ns`, both climbing at 2 m/s and agreeing; the VN-200
+    /// states PosU `pos_u_m`.
+    fn climb_2mps_posu(
+        ch: &mut VerticalChannel,
+        t_ns: i64,
+        pos_u_m: Option<f64>,
+    ) -> VerticalRecord {
+        let p = CheckParams::default();
+        let t = t_ns as f64 * 1e-9;
+        let v = Vn200Vertical {
+            pos_u_m,
+            ..vn(500.0 + 2.0 * t, -2.0)
+        };
+        ch.update(&b_ns(t_ns, 100.0 + 2.0 * t, -2.0), &v, 0.01, 4.42, &p)
+    }
+
+    /// [`climb_2mps_posu`] without PosU.
+    fn climb_2mps(ch: &mut VerticalChannel, t_ns: i64) -> VerticalRecord {
+        climb_2mps_posu(ch, t_ns, None)
+    }
+
+    /// The third opinion's height history is capped at 8192 samples. At 400 Hz (2.5 ms) 8200
+    /// samples span 20.4975 s, inside the 27.5 s kept by age, so only the cap drops: the window's
+    /// older end at the 8192nd newest sample (8191 x 2.5 ms = 20.4775 s back) is kept and
+    /// compared; at the 8193rd (20.48 s back) it was dropped, and neither unit's height is there
+    /// (no partner).
+    #[test]
+    fn third_opinion_height_history_keeps_the_newest_8192_samples() {
+        let run = |back: i64| {
+            let mut ch = VerticalChannel::default();
+            let n = 8200_i64;
+            for i in 0..n - 1 {
+                climb_2mps(&mut ch, i * 2_500_000);
+            }
+            let t1 = (n - 1) * 2_500_000;
+            let t0 = t1 - back * 2_500_000;
+            ch.push_tt_gnss(t0, Some(500.0));
+            ch.push_tt_gnss(t1, Some(500.0 + 2.0 * (t1 - t0) as f64 * 1e-9));
+            climb_2mps(&mut ch, t1).third
+        };
+        let kept = run(8191);
+        assert_eq!(kept.not_compared, None, "{kept:?}");
+        assert!((kept.span_s.unwrap() - 20.4775).abs() < 1e-9);
+        assert!((kept.bahrs_vs_tt.bahrs_mps.unwrap() - 2.0).abs() < 1e-9);
+        assert_eq!(run(8192).not_compared, Some(TtNotCompared::NoPartner));
+    }
+
+    /// Without PosU the VN-200 rate's sigma is its stated 0.3 m/s (for 1 s) scaled to the window,
+    /// and the persistence of the third opinion counts the time between epochs: it declares
+    /// after 2 s over the limit, four epochs at 2 Hz. Epochs every 0.5 s; the TT altitude steps
+    /// up 80 m at 30 s; the window is then 19.5 s (the newest epoch at least 19.5 s back), so the
+    /// TT rate is 80 / 19.5 m/s over the others' for the next 19.5 s. Its sigma:
+    /// sqrt((0.7 / 19.5)^2 + (sqrt 2 x 4 / 19.5)^2) = sqrt(0.49 + 32) / 19.5 = 5.7 / 19.5, so
+    /// 80 / 5.7 = 14.0 sigma, ratio 3.2 at 4.42: the filter (alpha 0.5 / (0.5 + 0.5) = 0.5) is
+    /// over 1 from the first epoch, the counter rises 0.5 s per epoch and reaches 2 s at the
+    /// fourth (31.5 s); the CUSUM (+12 per epoch, limit 60) is still under its limit then.
+    #[test]
+    fn third_opinion_persistence_counts_the_epoch_interval() {
+        let p = CheckParams::default();
+        let mut ch = VerticalChannel::default();
+        let mut at_epochs = Vec::new();
+        for i in 0..=1600_i64 {
+            let t_ns = i * 20_000_000;
+            let t = t_ns as f64 * 1e-9;
+            if i % 25 == 0 {
+                let step = if t >= 30.0 { 80.0 } else { 0.0 };
+                ch.push_tt_gnss(t_ns, Some(520.0 + 2.0 * t + step));
+            }
+            let r = ch.update(
+                &b_ns(t_ns, 100.0 + 2.0 * t, -2.0),
+                &vn(500.0 + 2.0 * t, -2.0),
+                0.02,
+                4.42,
+                &p,
+            );
+            if i % 25 == 0 {
+                at_epochs.push((i / 25, r.third));
+            }
+        }
+        let at = |t: f64| at_epochs[(t * 2.0) as usize].1;
+        let r = at(20.0);
+        assert_eq!(r.span_s, Some(19.5));
+        // sqrt((0.3 / 19.5)^2 + 32 / 19.5^2) = sqrt(32.09) / 19.5 = 0.290502.
+        assert!((r.vn200_vs_tt.sigma_mps.unwrap() - 0.290_502).abs() < 1e-6);
+        assert!((r.bahrs_vs_tt.sigma_mps.unwrap() - 5.7 / 19.5).abs() < 1e-9);
+        for t in [29.5, 30.0, 30.5, 31.0] {
+            assert_eq!(at(t).bahrs_vs_tt.verdict, PairVerdict::Pass, "{t}");
+        }
+        assert!((at(30.0).bahrs_vs_tt.diff_mps.unwrap() + 80.0 / 19.5).abs() < 1e-9);
+        assert_eq!(at(31.5).bahrs_vs_tt.verdict, PairVerdict::Fail);
+        assert_eq!(at(31.5).vn200_vs_tt.verdict, PairVerdict::Fail);
+    }
+
+    /// With the BAHRS pressure height unusable (integrity risk) throughout, the VN-200 altitude
+    /// rate is still compared with the TT rate; the BAHRS side says it had no data.
+    #[test]
+    fn third_opinion_compares_the_unit_whose_heights_are_usable() {
+        let p = CheckParams::default();
+        let mut ch = VerticalChannel::default();
+        let mut last = None;
+        for i in 0..=1250_i64 {
+            let t_ns = i * 20_000_000;
+            let t = t_ns as f64 * 1e-9;
+            if i % 50 == 0 {
+                ch.push_tt_gnss(t_ns, Some(520.0 + 2.0 * t));
+            }
+            let mut s = b_ns(t_ns, 100.0 + 2.0 * t, -2.0);
+            s.health = NavigationHealth::new(
+                Health::IntegrityRisk,
+                Health::Safe,
+                Health::Safe,
+                Health::Safe,
+                Health::Safe,
+            );
+            last = Some(ch.update(&s, &vn(500.0 + 2.0 * t, -2.0), 0.02, 4.42, &p));
+        }
+        let third = last.unwrap().third;
+        assert_eq!(third.not_compared, None, "{third:?}");
+        assert_eq!(third.bahrs_vs_tt.verdict, PairVerdict::NotCompared);
+        assert_eq!(third.bahrs_vs_tt.gate, Some(GateReason::NoData));
+        assert_eq!(third.bahrs_vs_tt.vn200_mps, third.tt_rate_mps);
+        assert!((third.vn200_vs_tt.bahrs_mps.unwrap() - 2.0).abs() < 1e-9);
+        assert_eq!(third.vn200_vs_tt.verdict, PairVerdict::Pass);
+    }
+
+    /// `height_at` interpolates between the samples bracketing `t` when they are at most 0.2 s
+    /// apart, takes a sample at `t` itself (even the first, with nothing before it), and gives
+    /// nothing across a longer gap or at an unusable sample.
+    #[test]
+    fn height_at_interpolates_only_within_0_2_s() {
+        let ms = |m: i64| m * 1_000_000;
+        let hist: VecDeque<Heights> = [
+            (ms(1000), Some(1.0), None),
+            (ms(1200), Some(3.0), Some(7.0)),
+            (ms(1500), Some(6.0), Some(8.0)),
+        ]
+        .into();
+        let bahrs = |t| height_at(&hist, t, |e| e.1);
+        let vn200 = |t| height_at(&hist, t, |e| e.2);
+        assert_eq!(bahrs(ms(1000)), Some(1.0));
+        assert_eq!(bahrs(ms(1200)), Some(3.0));
+        // Exactly 0.2 s apart: 1 + (3 - 1) x 50 / 200 = 1.5.
+        assert_eq!(bahrs(ms(1050)), Some(1.5));
+        // 0.3 s apart: none.
+        assert_eq!(bahrs(ms(1300)), None);
+        // Before the first and after the last sample: none.
+        assert_eq!(bahrs(ms(1000) - 1), None);
+        assert_eq!(bahrs(ms(1500) + 1), None);
+        // The VN-200 height is unusable at 1 s: none between 1 and 1.2 s, but 7 at 1.2 s.
+        assert_eq!(vn200(ms(1100)), None);
+        assert_eq!(vn200(ms(1200)), Some(7.0));
+    }
 }
