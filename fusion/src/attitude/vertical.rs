@@ -277,10 +277,11 @@ impl VerticalChannel {
                 break;
             }
         }
-        let Some((t0, a0)) = start.filter(|(t0, _)| {
-            let span = (t1 - t0) as f64 * 1e-9;
-            (0.8 * TT_RATE_WINDOW_S..=1.2 * TT_RATE_WINDOW_S).contains(&span)
-        }) else {
+        // The older end is at least the window less 0.5 s back by its choice above; a gap in
+        // the epochs can make it older, up to 1.2 windows.
+        let Some((t0, a0)) =
+            start.filter(|(t0, _)| (t1 - t0) as f64 * 1e-9 <= 1.2 * TT_RATE_WINDOW_S)
+        else {
             return self.tt_not_compared(TtNotCompared::WindowFilling);
         };
         let span = (t1 - t0) as f64 * 1e-9;
