@@ -353,3 +353,15 @@ fn one_latitude_just_beyond_the_pole_refuses_the_pair() {
         Err(CprError::LatitudeOutOfRange)
     );
 }
+
+#[test]
+fn encode_gives_back_the_riddle_frames() {
+    // Each Riddle frame's decoded position lies on its own CPR grid, so encoding it gives the
+    // frame's fields exactly (to the LSB: encode rounds to the nearest step).
+    let even = frame_of("8D40621D58C382D690C8AC2863A7");
+    let odd = frame_of("8D40621D58C386435CC412692AD6");
+    let (lat, lon) = global_airborne(even, odd, false).unwrap();
+    assert_eq!(encode(lat, lon, false, false), even);
+    let (lat, lon) = global_airborne(even, odd, true).unwrap();
+    assert_eq!(encode(lat, lon, true, false), odd);
+}
