@@ -187,4 +187,12 @@ mod tests {
         assert_eq!(syndrome(&f), 0xABCDEF);
         assert_eq!(syndrome(&f[..2]), u32::MAX);
     }
+
+    #[test]
+    fn four_bytes_is_the_shortest_frame_with_a_syndrome() {
+        // One zero data byte (remainder 0) and the parity field: the syndrome is the parity.
+        assert_eq!(syndrome(&[0, 0, 0, 0]), 0);
+        assert_eq!(syndrome(&[0, 0x12, 0x34, 0x56]), 0x12_3456);
+        assert_eq!(syndrome(&[0, 0, 0]), u32::MAX);
+    }
 }

@@ -483,3 +483,43 @@ fn track_of_71be34_against_its_kml() {
         assert!((g.2 - w.2).abs() < 0.05, "{i}: {g:?} vs {w:?}");
     }
 }
+
+#[test]
+fn the_decoder_counters_include_the_trackers_evictions_and_cpr_rejections() {
+    // A table of one aircraft: the second address evicts the first. Then a pair straddling the
+    // NL boundary at 10.47 deg (zone_mismatch_is_rejected_and_counted): one rejection.
+    let line = |f: &[u8]| {
+        let hex: String = f.iter().map(|b| format!("{b:02X}")).collect();
+        format!("*{hex};\r\n")
+    };
+    let pos = |icao, lat, odd| {
+        crate::modes::encode::airborne_position(
+            icao,
+            &crate::modes::encode::AirbornePositionFields {
+                typecode: 11,
+                surveillance_status: 0,
+                nic_b: false,
+                altitude_ft: Some(10_000),
+                lat_deg: lat,
+                lon_deg: 20.0,
+                odd,
+            },
+        )
+        .unwrap()
+    };
+    let text = [
+        line(&pos(1, 45.0, false)),
+        line(&pos(2, 10.46, false)),
+        line(&pos(2, 10.48, true)),
+    ]
+    .concat();
+    let cfg = TrackerConfig {
+        capacity: 1,
+        ..TrackerConfig::default()
+    };
+    let mut d = ModesDecoder::hex(cfg, DecodeOptions::default());
+    assert_eq!(decode_slice(&mut d, text.as_bytes()).len(), 3);
+    let c = d.counters();
+    assert_eq!((c.evictions, c.cpr_rejections), (1, 1));
+    assert_eq!(c.df_counts[17], 3);
+}

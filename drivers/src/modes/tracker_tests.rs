@@ -323,3 +323,64 @@ fn fast_distance_check_agrees_with_the_exact_one() {
         );
     }
 }
+
+#[test]
+fn report_flags_ground_emergency_and_relay() {
+    // Airborne DF17 pair: none of the flags.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, false, false), at(0.0));
+    let r = feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, true, false), at(0.5))
+        .report
+        .unwrap();
+    assert!(!r.flags.on_ground && !r.flags.emergency && !r.flags.relayed);
+    // TC 28 subtype 1 with emergency code 1 (general emergency; ME bits 6-8 subtype, 9-11
+    // code), then a position: the emergency flag and the code.
+    let me = (28u64 << 51) | (1 << 48) | (1 << 45);
+    feed(&mut tr, &encode::df17(5, 7, me), at(0.6));
+    let r = feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, false, false), at(1.0))
+        .report
+        .unwrap();
+    assert!(r.flags.emergency && !r.flags.on_ground && !r.flags.relayed);
+    assert_eq!(r.emergency_code, Some(1));
+    // Code 0 is "no emergency".
+    feed(
+        &mut tr,
+        &encode::df17(5, 7, (28u64 << 51) | (1 << 48)),
+        at(1.1),
+    );
+    let r = feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, true, false), at(1.5))
+        .report
+        .unwrap();
+    assert!(!r.flags.emergency);
+    // The same pair as DF18 with CF 6 (ADS-R, DO-260B 2.2.18): relayed.
+    let df18 = |mut f: [u8; 14]| {
+        f[0] = (18 << 3) | 6;
+        crate::modes::crc::set_parity(&mut f, 0);
+        f
+    };
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(
+        &mut tr,
+        &df18(pos_frame(8, 11, 45.0, 7.0, false, false)),
+        at(0.0),
+    );
+    let r = feed(
+        &mut tr,
+        &df18(pos_frame(8, 11, 45.0, 7.0, true, false)),
+        at(0.5),
+    )
+    .report
+    .unwrap();
+    assert!(r.flags.relayed && !r.flags.on_ground);
+    // A surface pair (with the receiver's position): on the ground.
+    let cfg = TrackerConfig {
+        receiver: Some((51.99, 4.375)),
+        ..TrackerConfig::default()
+    };
+    let mut tr = Tracker::new(cfg);
+    feed(&mut tr, &surface_frame(9, 52.3206, 4.7347, true), at(0.0));
+    let r = feed(&mut tr, &surface_frame(9, 52.3207, 4.7348, false), at(1.0))
+        .report
+        .unwrap();
+    assert!(r.flags.on_ground && !r.flags.relayed && !r.flags.emergency);
+}
