@@ -194,5 +194,14 @@ mod tests {
         assert_eq!(syndrome(&[0, 0, 0, 0]), 0);
         assert_eq!(syndrome(&[0, 0x12, 0x34, 0x56]), 0x12_3456);
         assert_eq!(syndrome(&[0, 0, 0]), u32::MAX);
+        // set_parity on the same shortest frame: the parity of one data byte 0x80 (its
+        // remainder, non-zero), so that the syndrome becomes 0; a 3-byte slice is left alone.
+        let mut f = [0x80, 0, 0, 0];
+        set_parity(&mut f, 0);
+        assert_ne!(f[1..], [0, 0, 0]);
+        assert_eq!(syndrome(&f), 0);
+        let mut g = [0x80, 0, 0];
+        set_parity(&mut g, 0);
+        assert_eq!(g, [0x80, 0, 0]);
     }
 }
