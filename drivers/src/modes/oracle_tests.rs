@@ -523,3 +523,74 @@ fn the_decoder_counters_include_the_trackers_evictions_and_cpr_rejections() {
     assert_eq!((c.evictions, c.cpr_rejections), (1, 1));
     assert_eq!(c.df_counts[17], 3);
 }
+
+#[test]
+fn every_rejected_frame_is_counted_once_with_its_bytes() {
+    // One line of each kind, by hand (each HEX line is '*', the digits, ';', CR LF):
+    //  a  Mode A/C 7700                          passed on       8 bytes
+    //  b  the Riddle's even frame, last byte +1  parity          32
+    //  c  DF5 AP from 400159, not yet known      unknown address 18
+    //  d  DF11 from 400159                       passed          18
+    //  e  the DF5 again, address now known       passed          18
+    //  f  DF1 (no such downlink format)          unknown type    18
+    //  g  DF17 in 7 bytes                        malformed       18
+    //  h  UAT basic frame, 18 zero bytes         passed on       40
+    //  i, j an even/odd pair straddling the 10.47 deg NL boundary: both passed, the position
+    //       rejected (invalid value)             32 each
+    let pos = |lat, odd| {
+        let f = crate::modes::encode::airborne_position(
+            2,
+            &crate::modes::encode::AirbornePositionFields {
+                typecode: 11,
+                surveillance_status: 0,
+                nic_b: false,
+                altitude_ft: Some(10_000),
+                lat_deg: lat,
+                lon_deg: 20.0,
+                odd,
+            },
+        )
+        .unwrap();
+        let hex: String = f.iter().map(|b| format!("{b:02X}")).collect();
+        format!("*{hex};\r\n")
+    };
+    let text = [
+        "*7700;\r\n".to_string(),
+        "*8D40621D58C382D690C8AC2863A8;\r\n".into(),
+        "*282018154A9D59;\r\n".into(),
+        "*5F4001594B0FBB;\r\n".into(),
+        "*282018154A9D59;\r\n".into(),
+        "*08000000000000;\r\n".into(),
+        "*8D4840D6202CC3;\r\n".into(),
+        format!("*{};\r\n", "00".repeat(18)),
+        pos(10.46, false),
+        pos(10.48, true),
+    ]
+    .concat();
+    assert_eq!(text.len(), 8 + 32 + 5 * 18 + 40 + 2 * 32);
+    let mut d = ModesDecoder::hex(TrackerConfig::default(), DecodeOptions::default());
+    // Through `decode` alone (not at the end of the stream): the first line comes out.
+    let mut buf = bytes::BytesMut::from(text.as_bytes());
+    assert!(matches!(d.decode(&mut buf), Some(ModesMessage::ModeAc(_))));
+    let mut rest = decode_slice(&mut d, &buf);
+    assert_eq!(rest.len(), 5);
+    assert!(matches!(rest.remove(2), ModesMessage::Uat(_)));
+    let c = d.counters();
+    assert_eq!((c.mode_ac_frames, c.uat_frames, c.mode_s_frames), (1, 1, 8));
+    assert_eq!((c.parity_failures, c.unknown_address), (1, 1));
+    assert_eq!(
+        (c.df_counts[5], c.df_counts[11], c.df_counts[17]),
+        (1, 1, 2)
+    );
+    assert_eq!(c.cpr_rejections, 1);
+    let s = *d.stats();
+    assert_eq!(s.frames_decoded, 6);
+    assert_eq!(s.checksum_failures, 2, "parity and unknown address");
+    assert_eq!((s.unknown_types, s.malformed, s.invalid_values), (1, 1, 1));
+    assert_eq!(s.bytes_consumed, text.len() as u64);
+    assert_eq!(s.bytes_skipped, 32 + 18 + 18 + 18);
+    crate::testkit::assert_accounting(&s, text.len());
+    // stats_mut reaches the same counters (until the next call recomputes them).
+    d.stats_mut().bytes_skipped += 5;
+    assert_eq!(d.stats().bytes_skipped, 32 + 18 + 18 + 18 + 5);
+}
