@@ -321,3 +321,57 @@ fn pymodes_published_surveillance_vectors() {
         assert_eq!(s.to_string(), sq);
     }
 }
+
+#[test]
+fn status_is_vs_for_df0_and_df16_and_fs_for_the_others() {
+    // Annex 10 Vol IV 3.1.2.8.2: DF0 and DF16 carry VS (bit 6: 1 = on the ground), DF4, 5, 20
+    // and 21 FS (bits 6-8). First word by hand: DF << 27 | the field.
+    let status = |word: u32, len: usize| {
+        let mut f = [0u8; 14];
+        f[..4].copy_from_slice(&word.to_be_bytes());
+        crate::modes::crc::set_parity(&mut f[..len], 0x40_0940);
+        match decode(&f[..len], DecodeOptions::default()).unwrap().content {
+            Content::Surveillance { status, .. } => status,
+            c => panic!("{c:?}"),
+        }
+    };
+    // DF0, VS = 1 (bit 6 is 1 << 26); FS-shaped bits 7-8 set alongside it do not count.
+    assert_eq!(status(1 << 26, 7), 1);
+    assert_eq!(status(3 << 24, 7), 0);
+    // DF16, VS = 1.
+    assert_eq!(status((16 << 27) | (1 << 26), 14), 1);
+    // DF4 and DF20: FS = 5 (bits 6-8 = 101).
+    assert_eq!(status((4 << 27) | (5 << 24), 7), 5);
+    assert_eq!(status((20 << 27) | (5 << 24), 14), 5);
+}
+
+#[test]
+fn a_single_bit_correction_is_counted_when_enabled() {
+    // The Riddle's even frame with bit 60 flipped: repaired only with the option, and counted.
+    use crate::modes::ModesDecoder;
+    use crate::modes::decoder::ModesMessage;
+    use crate::{DeviceDecoder, decode_slice};
+    let (mut f, _) = hex_frame("8D40621D58C382D690C8AC2863A7");
+    f[7] ^= 0x10;
+    let hex: String = f.iter().map(|b| format!("{b:02X}")).collect();
+    let line = format!("*{hex};\r\n");
+    let cfg = crate::modes::TrackerConfig::default();
+    let mut on = ModesDecoder::hex(
+        cfg,
+        DecodeOptions {
+            correct_df17_single_bit: true,
+        },
+    );
+    assert!(matches!(
+        decode_slice(&mut on, line.as_bytes())[..],
+        [ModesMessage::ModeS(_)]
+    ));
+    assert_eq!(on.counters().corrected, 1);
+    let mut off = ModesDecoder::hex(cfg, DecodeOptions::default());
+    assert!(decode_slice(&mut off, line.as_bytes()).is_empty());
+    assert_eq!(
+        (off.counters().corrected, off.counters().parity_failures),
+        (0, 1)
+    );
+    assert_eq!(off.stats().checksum_failures, 1);
+}
