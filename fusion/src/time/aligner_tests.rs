@@ -882,3 +882,27 @@ fn a_ttmrf_ts_is_checked_with_the_coasting_host_clocks_grown_sigma() {
     assert_eq!(a.source, TimeSource::HostClock);
     assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
 }
+
+#[test]
+fn a_ttmrf_ts_is_checked_with_the_ports_output_delay_sigma() {
+    // A TT-Multi-RF port whose output delay is known to 10 ms (1 sigma) only.
+    let mut cfg = AlignerConfig::default();
+    cfg.ttmrf.link.output_delay_sigma_ns = 10e6;
+    let mut al = Aligner::new(cfg);
+    for k in 0..400 {
+        let (s, rx) = vn200(G0 + k * 25 * MS);
+        al.handle(s, rx);
+    }
+    // Tolerance: 5 * sqrt(0.433^2 (the ms stamp) + s_host^2) + 20 ms, where the host view's
+    // sigma carries the port's 10 ms and the locked host clock's ~0.5 ms:
+    // 5 * sqrt(0.19 + 100 + 0.25) + 20 = 70.1 ms. A `ts` 60 ms late agrees (without the port's
+    // sigma: 5 * 0.7 + 20 = 23.5 ms, it would not); 80 ms late does not.
+    let t = G0 + 9_500 * MS;
+    let a = tt_out(&mut al, json_at(t, t + 60 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+    assert!(al.clock_disagreements().is_empty());
+    let t = G0 + 9_600 * MS;
+    let a = tt_out(&mut al, json_at(t, t + 80 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::HostClock);
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+}

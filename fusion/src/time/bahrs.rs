@@ -887,4 +887,244 @@ mod tests {
         // Re-locked (times given again) within 5 s of the reset.
         assert!(relocked_at.unwrap() - reset < 5 * S, "{:?}", relocked_at);
     }
+
+    // --- issue 23: behaviours the mutation run found unpinned ---
+
+    /// Host = GPS + this, for the small streams below.
+    const HOST_OFF: i64 = 777 * S;
+
+    fn pulse(ticks: u64) -> Message {
+        Message::SyncPulseTime(SyncPulseTime {
+            seq: 0,
+            mcu_time_us: ticks,
+        })
+    }
+
+    /// A BAHRS aligner after `seconds` of 100 Hz inertial pairs and a pulse on every whole
+    /// second (MCU clock `mcu`), with the host clock learned from a VN-200 (references at GPS +
+    /// [`HOST_OFF`] + 1 ms): its PPS model is locked. Returns the aligner and the host clock.
+    fn locked(mcu: &Mcu, seconds: i64) -> (BahrsAligner, HostClock) {
+        let mut host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        let mut al = BahrsAligner::new(BahrsAlignerConfig::default());
+        for k in 0..seconds * 100 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS, gps);
+            let s = k as u8;
+            let rx = gps + HOST_OFF + 2 * MS;
+            let data = Message::Inertial(Inertial {
+                seq: s,
+                specific_force_raw: [0; 3],
+                angular_rate_raw: [0; 3],
+                health: InertialHealth(0),
+            });
+            al.handle(data, rx, &host, &refs);
+            let time = Message::InertialTime(DataTime {
+                seq: s,
+                data_seq: s,
+                mcu_time_us: mcu.ticks(gps),
+            });
+            al.handle(time, rx + MS, &host, &refs);
+            if k % 100 == 0 {
+                al.handle(pulse(mcu.ticks(gps)), gps + HOST_OFF + 3 * MS, &host, &refs);
+            }
+            al.expire(rx + MS, &host);
+        }
+        (al, host)
+    }
+
+    fn accuracy(ticks: u64) -> Message {
+        Message::Accuracy(vigil_drivers::bahrs::Accuracy {
+            seq: 0,
+            std_north_raw: 1,
+            std_east_raw: 1,
+            std_heading_raw: 1,
+            mcu_time_us: ticks,
+        })
+    }
+
+    const MCU: Mcu = Mcu {
+        offset_us: 5_000_000,
+        ppm: 15.0,
+        reset_at: None,
+    };
+
+    #[test]
+    fn a_pulse_reported_at_the_wrong_edge_raises_the_clock_disagreement_until_a_right_one() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        assert!(!al.clock_disagreement());
+        assert!(al.stats().pulses_used >= 8, "{:?}", al.stats());
+        // A 0x03 (own MCU time) now goes through the PPS clock: not a host fallback.
+        let fallbacks = al.stats().host_fallback;
+        let g = G0 + 12_200 * MS;
+        let a = al.handle(accuracy(MCU.ticks(g)), g + HOST_OFF + 2 * MS, &host, &refs);
+        assert_eq!(a[0].time.unwrap().source, TimeSource::PpsDisciplined);
+        assert_eq!(al.stats().host_fallback, fallbacks);
+        // A report of an "edge" 300 ms after the 12 s one: named 12 s (the nearest second) by
+        // the host clock, while its MCU time maps 300 ms later, far beyond 5 sigma of ~1 ms.
+        let bad = G0 + 12_300 * MS;
+        let a = al.handle(pulse(MCU.ticks(bad)), bad + HOST_OFF + 3 * MS, &host, &refs);
+        assert!(al.clock_disagreement());
+        assert_eq!(al.stats().pulses_disagreeing, 1);
+        // The PPS model is dropped: the 0x06 itself (a sample at its MCU time) and the next
+        // 0x03 take the host fallback, counted, each at its instant within its (wider) sigma.
+        let g = G0 + 12_400 * MS;
+        let b = al.handle(accuracy(MCU.ticks(g)), g + HOST_OFF + 2 * MS, &host, &refs);
+        for (out, truth) in [(a, bad), (b, g)] {
+            let t = out[0].time.unwrap();
+            assert_eq!(t.source, TimeSource::DeviceClockViaHost);
+            assert!(
+                ((t.t_gps_ns - truth).abs() as f64) < 3.0 * t.sigma_ns,
+                "{t:?}"
+            );
+        }
+        assert_eq!(al.stats().host_fallback, fallbacks + 2);
+        // The next right pulse clears it.
+        let good = G0 + 13 * S;
+        al.handle(
+            pulse(MCU.ticks(good)),
+            good + HOST_OFF + 3 * MS,
+            &host,
+            &refs,
+        );
+        assert!(!al.clock_disagreement());
+    }
+
+    #[test]
+    fn navigation_pairs_and_accuracy_messages_are_placed_by_their_mcu_time() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        // A 0x02 and its 0x04 sampled at g: both at g through the PPS clock (the tick is
+        // truncated to the us).
+        let g = G0 + 11_995 * MS;
+        let h = g + HOST_OFF + 2 * MS;
+        let nav = Message::Navigation(vigil_drivers::bahrs::Navigation {
+            seq: 9,
+            pressure_height_raw: 0,
+            velocity_down_raw: 0,
+            roll_raw: 0,
+            pitch_raw: 0,
+            heading_raw: 0,
+            health: vigil_drivers::bahrs::NavigationHealth(0),
+        });
+        let mut out = al.handle(nav, h, &host, &refs);
+        let time = Message::NavigationTime(DataTime {
+            seq: 9,
+            data_seq: 9,
+            mcu_time_us: MCU.ticks(g),
+        });
+        out.extend(al.handle(time, h + MS, &host, &refs));
+        // A 0x03 carries its own MCU time.
+        let g3 = G0 + 11_997 * MS;
+        out.extend(al.handle(
+            accuracy(MCU.ticks(g3)),
+            g3 + HOST_OFF + 2 * MS,
+            &host,
+            &refs,
+        ));
+        let kinds: Vec<u8> = out.iter().map(|a| a.message.type_id()).collect();
+        assert_eq!(kinds, vec![0x02, 0x04, 0x03]);
+        for (a, truth) in out.iter().zip([g, g, g3]) {
+            let t = a.time.unwrap();
+            assert_eq!(t.source, TimeSource::PpsDisciplined, "{a:?}");
+            assert!((t.t_gps_ns - truth).abs() <= 5_000, "{a:?}");
+        }
+    }
+
+    #[test]
+    fn an_invalid_time_message_comes_out_device_time_invalid_and_is_counted() {
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        // Sections 3.4 / 3.5: data sequence 0 and time 0 mark a time message invalid.
+        let invalid = DataTime {
+            seq: 3,
+            data_seq: 0,
+            mcu_time_us: 0,
+        };
+        let out = al.handle(Message::InertialTime(invalid), G0, &host, &refs);
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].time, Err(NotAligned::DeviceTimeInvalid));
+        let out = al.handle(Message::NavigationTime(invalid), G0, &host, &refs);
+        assert_eq!(out[0].time, Err(NotAligned::DeviceTimeInvalid));
+        let st = al.stats();
+        assert_eq!((st.invalid_time_messages, st.not_aligned), (2, 2));
+    }
+
+    #[test]
+    fn unpaired_data_and_samples_without_a_clock_are_released_after_their_holds() {
+        // No host clock, no pulses.
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        let h0 = G0;
+        let inertial = Message::Inertial(Inertial {
+            seq: 1,
+            specific_force_raw: [0; 3],
+            angular_rate_raw: [0; 3],
+            health: InertialHealth(0),
+        });
+        let nav = Message::Navigation(vigil_drivers::bahrs::Navigation {
+            seq: 2,
+            pressure_height_raw: 0,
+            velocity_down_raw: 0,
+            roll_raw: 0,
+            pitch_raw: 0,
+            heading_raw: 0,
+            health: vigil_drivers::bahrs::NavigationHealth(0),
+        });
+        for m in [inertial, nav, accuracy(1_000_000)] {
+            assert!(al.handle(m, h0, &host, &refs).is_empty());
+        }
+        // The data wait 0.5 s (`pair_hold_s`) for their time messages.
+        assert!(al.expire(h0 + 400 * MS, &host).is_empty());
+        let out = al.expire(h0 + 600 * MS, &host);
+        let kinds: Vec<(u8, _)> = out.iter().map(|a| (a.message.type_id(), a.time)).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (0x01, Err(NotAligned::NoTimeMessage)),
+                (0x02, Err(NotAligned::NoTimeMessage))
+            ]
+        );
+        // The 0x03 waits 2 s (`clock_wait_s`) for a clock, released once it waited longer (the
+        // same strict rule as the pairing hold).
+        assert!(al.expire(h0 + 1_500 * MS, &host).is_empty());
+        assert!(al.expire(h0 + 2_000 * MS, &host).is_empty());
+        let out = al.expire(h0 + 2_500 * MS, &host);
+        assert_eq!(out.len(), 1);
+        assert_eq!(
+            (out[0].message.type_id(), out[0].time),
+            (0x03, Err(NotAligned::ClockUnlocked))
+        );
+        assert_eq!(al.stats().not_aligned, 3);
+    }
+
+    #[test]
+    fn a_host_timed_message_takes_its_frame_time_at_the_set_baud_rate_off() {
+        // A host clock 5 s ahead of GPS.
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_000 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + 5 * S + MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let at = G0 + 9 * S + 5 * S;
+        let ack = Message::Ack(vigil_drivers::bahrs::Ack {
+            acked_type: 0x10,
+            status: 0,
+        });
+        let place = |baud: Option<u32>| {
+            let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+            if let Some(b) = baud {
+                al.set_baud(b);
+            }
+            al.handle(ack, at, &host, &refs)[0].time.unwrap().t_gps_ns
+        };
+        // 10 bits per byte: the frame takes len * 10 / 9600 s instead of len * 10 / 115 200 s.
+        let len = ack.to_frame().len() as i64;
+        let longer = len * 10 * S / 9_600 - len * 10 * S / 115_200;
+        assert_eq!(place(None) - place(Some(9_600)), longer);
+    }
 }
