@@ -1127,4 +1127,159 @@ mod tests {
         let longer = len * 10 * S / 9_600 - len * 10 * S / 115_200;
         assert_eq!(place(None) - place(Some(9_600)), longer);
     }
+
+    #[test]
+    fn a_sample_waits_for_the_pulse_model_only_while_pulses_are_reported() {
+        // A host clock on GPS + HOST_OFF (+1 ms link), 12 s of references.
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_200 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        // 0x03 at 100 Hz from 3 s build the envelope (first byte 0.5 ms after the sample, its
+        // frame on the wire at 115 200 baud, the VN-200's 1 ms link); with no pulse reported
+        // they take the host fallback.
+        let tx = accuracy(0).to_frame().len() as i64 * 10 * S / 115_200;
+        let acc_at = |al: &mut BahrsAligner, g: i64| {
+            al.handle(
+                accuracy(MCU.ticks(g)),
+                g + HOST_OFF + MS / 2 + tx + MS,
+                &host,
+                &refs,
+            )
+        };
+        for k in 300..500 {
+            acc_at(&mut al, G0 + k * 10 * MS);
+        }
+        // A pulse report at 5 s handed in with no host clock (not established at that moment):
+        // its second cannot be named, it is not used, but pulses are flowing from then on.
+        let p = G0 + 5 * S;
+        let none = HostClock::new(HostClockConfig::default());
+        al.handle(pulse(MCU.ticks(p)), p + HOST_OFF + 3 * MS, &none, &refs);
+        assert_eq!(al.stats().pulses_unidentified, 1);
+        for k in 0..150 {
+            acc_at(&mut al, p + k * 10 * MS);
+        }
+        // 1.5 s after the report (within `clock_wait_s`, 2 s): a 0x03 waits for the pulse model
+        // although the host fallback could place it.
+        let g = p + 1_500 * MS;
+        assert!(al.fallback(MCU.ticks(g), &host).is_some());
+        assert!(acc_at(&mut al, g).is_empty());
+        // 2.5 s after it, no pulse is flowing: the fallback places it at once.
+        for k in 151..250 {
+            acc_at(&mut al, p + k * 10 * MS);
+        }
+        let g = p + 2_500 * MS;
+        let out = acc_at(&mut al, g);
+        let placed = out
+            .iter()
+            .find(|a| matches!(a.message, Message::Accuracy(x) if x.mcu_time_us == MCU.ticks(g)))
+            .expect("placed at once");
+        let t = placed.time.unwrap();
+        assert_eq!(t.source, TimeSource::DeviceClockViaHost);
+        assert!(((t.t_gps_ns - g).abs() as f64) < 3.0 * t.sigma_ns, "{t:?}");
+    }
+
+    #[test]
+    fn samples_waiting_for_a_clock_are_capped_oldest_first() {
+        // No clock at all: every 0x03 waits; the 513th pushes the first out (512 waiting at
+        // most), marked.
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        for k in 0..512u64 {
+            let out = al.handle(accuracy(1_000_000 + k * 10_000), G0, &host, &refs);
+            assert!(out.is_empty(), "{k}");
+        }
+        let out = al.handle(accuracy(1_000_000 + 512 * 10_000), G0, &host, &refs);
+        assert_eq!(out.len(), 1);
+        assert!(matches!(out[0].message, Message::Accuracy(a) if a.mcu_time_us == 1_000_000));
+        assert_eq!(out[0].time, Err(NotAligned::ClockUnlocked));
+    }
+
+    #[test]
+    fn a_device_reset_marks_what_waits_from_the_old_epoch_and_counts_it() {
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        assert!(al.handle(accuracy(50_000_000), G0, &host, &refs).is_empty());
+        // The MCU time restarts near 0 (50 s backwards): the waiting 0x03 cannot be mapped any
+        // more.
+        let out = al.handle(accuracy(1_000), G0 + 10 * MS, &host, &refs);
+        assert_eq!(out.len(), 1);
+        assert!(matches!(out[0].message, Message::Accuracy(a) if a.mcu_time_us == 50_000_000));
+        assert_eq!(out[0].time, Err(NotAligned::OutsideClockEpoch));
+        assert_eq!(al.stats().not_aligned, 1);
+    }
+
+    #[test]
+    fn repeated_and_late_pulse_reports_are_counted_not_used() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        let used = al.stats().pulses_used;
+        // The 11 s pulse reported again, then the 10 s one (late: not a reset).
+        for s in [11, 10] {
+            let g = G0 + s * S;
+            al.handle(pulse(MCU.ticks(g)), G0 + 12 * S + HOST_OFF, &host, &refs);
+        }
+        let st = al.stats();
+        assert_eq!(
+            (
+                st.pulse_reports_repeated,
+                st.pulse_reports_stale,
+                st.pulses_used
+            ),
+            (1, 1, used)
+        );
+    }
+
+    #[test]
+    fn the_host_fallback_places_a_sample_at_its_instant_with_the_stated_sigma() {
+        // VN-200 references to the host clock (host = GPS + HOST_OFF + link) with a link of
+        // 0.5 ms or 1.5 ms alternately: smallest 0.5 ms, mean excess over it 0.5 ms.
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_000 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS / 2 + (k % 2) * MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        // The port is read every 10 ms, at the middle of the interval for every message: 5 ms.
+        al.set_read_interval(10 * MS as u64);
+        // 0x03 at 100 Hz: first byte 0.5 ms (the assumed output delay) after the sample, a link
+        // of 0.5 ms (+ 20 us in odd host seconds, so the envelope's minima scatter) or 1.5 ms
+        // alternately, the 5 ms read wait; stamped at its last byte.
+        let len = accuracy(0).to_frame().len() as i64;
+        let tx = len * 10 * S / 115_200;
+        for k in 0..1_000 {
+            let g = G0 + k * 10 * MS;
+            let link = MS / 2 + (k % 2) * MS + ((k / 100) % 2) * 20_000;
+            let rx = g + HOST_OFF + MS / 2 + link + 5 * MS + tx;
+            al.handle(accuracy(MCU.ticks(g)), rx, &host, &refs);
+        }
+        // A sample at g: its first byte at the smallest delay is at g + HOST_OFF + 6 ms; the host
+        // clock maps that as a receive at 1 ms (0.5 + 0.5) to g + 5 ms; + 0.5 ms excess - 0.5 ms
+        // output delay - 5 ms wait = g (within the envelope's fit).
+        let g = G0 + 9_005 * MS;
+        let ticks = MCU.ticks(g);
+        let a = al.fallback(ticks, &host).unwrap();
+        assert!((a.t_gps_ns - g).abs() < 50_000, "{}", a.t_gps_ns - g);
+        assert_eq!(a.source, TimeSource::DeviceClockViaHost);
+        // Sigma: root-sum-square of the host clock's at that host time, the envelope's, the
+        // output delay's 0.5 ms and the read interval's 10 ms / sqrt(12).
+        let (h, env) = al
+            .mcu_host()
+            .host_ns(ticks, G0 + 10 * S + HOST_OFF)
+            .unwrap();
+        assert!(env > 1_000.0, "{env}");
+        let (_, host_sigma) = host.to_gps(h).unwrap();
+        let expected = (host_sigma.powi(2) + env.powi(2) + 0.25e12 + 100e12 / 12.0).sqrt();
+        assert!(
+            (a.sigma_ns - expected).abs() < 1.0,
+            "{} {expected}",
+            a.sigma_ns
+        );
+    }
 }
