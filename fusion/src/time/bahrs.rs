@@ -1238,11 +1238,11 @@ mod tests {
     #[test]
     fn the_host_fallback_places_a_sample_at_its_instant_with_the_stated_sigma() {
         // VN-200 references to the host clock (host = GPS + HOST_OFF + link) with a link of
-        // 0.5 ms or 1.5 ms alternately: smallest 0.5 ms, mean excess over it 0.5 ms.
+        // 0.5 ms or 2.5 ms alternately: smallest 0.5 ms, mean excess over it 1 ms.
         let mut host = HostClock::new(HostClockConfig::default());
         for k in 0..1_000 {
             let gps = G0 + k * 10 * MS;
-            host.add(gps + HOST_OFF + MS / 2 + (k % 2) * MS, gps);
+            host.add(gps + HOST_OFF + MS / 2 + (k % 2) * 2 * MS, gps);
         }
         let refs = PpsReferences::new();
         let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
@@ -1260,7 +1260,7 @@ mod tests {
             al.handle(accuracy(MCU.ticks(g)), rx, &host, &refs);
         }
         // A sample at g: its first byte at the smallest delay is at g + HOST_OFF + 6 ms; the host
-        // clock maps that as a receive at 1 ms (0.5 + 0.5) to g + 5 ms; + 0.5 ms excess - 0.5 ms
+        // clock maps that as a receive at 1.5 ms (0.5 + 1) to g + 4.5 ms; + 1 ms excess - 0.5 ms
         // output delay - 5 ms wait = g (within the envelope's fit).
         let g = G0 + 9_005 * MS;
         let ticks = MCU.ticks(g);
@@ -1281,5 +1281,61 @@ mod tests {
             "{} {expected}",
             a.sigma_ns
         );
+    }
+
+    #[test]
+    fn a_pulse_within_the_cross_check_but_off_the_fit_is_rejected_as_an_outlier() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        let used = al.stats().pulses_used;
+        // The 12 s pulse reported with the MCU time of 1 ms after the edge: within the host
+        // cross-check (5 sigma of ~0.7 ms) but 1 ms off the PPS fit (limit 200 us).
+        let off = G0 + 12 * S + MS;
+        al.handle(pulse(MCU.ticks(off)), off + HOST_OFF + 3 * MS, &host, &refs);
+        let st = al.stats();
+        assert_eq!((st.pulses_disagreeing, st.pulses_rejected), (0, 1));
+        assert_eq!(st.pulses_used, used);
+    }
+
+    #[test]
+    fn samples_waiting_for_the_pulse_model_are_placed_by_it_once_a_pulse_is_used() {
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_200 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        // As above: an envelope from 0x03 at 100 Hz, then a pulse report that cannot be named.
+        let tx = accuracy(0).to_frame().len() as i64 * 10 * S / 115_200;
+        let acc_at = |al: &mut BahrsAligner, g: i64| {
+            al.handle(
+                accuracy(MCU.ticks(g)),
+                g + HOST_OFF + MS / 2 + tx + MS,
+                &host,
+                &refs,
+            )
+        };
+        for k in 300..500 {
+            acc_at(&mut al, G0 + k * 10 * MS);
+        }
+        let none = HostClock::new(HostClockConfig::default());
+        let p = G0 + 5 * S;
+        al.handle(pulse(MCU.ticks(p)), p + HOST_OFF + 3 * MS, &none, &refs);
+        // A 0x03 at 5.5 s waits for the pulse model.
+        let g = p + 500 * MS;
+        assert!(acc_at(&mut al, g).is_empty());
+        // The 6 s pulse, named by the host clock and cross-checked, forms the model: the waiting
+        // 0x03 comes out through it, at its instant (one pulse: the nominal rate, 15 ppm of
+        // 0.5 s = 7.5 us off).
+        let q = G0 + 6 * S;
+        let out = al.handle(pulse(MCU.ticks(q)), q + HOST_OFF + 3 * MS, &host, &refs);
+        let placed = out
+            .iter()
+            .find(|a| matches!(a.message, Message::Accuracy(x) if x.mcu_time_us == MCU.ticks(g)))
+            .expect("released by the pulse");
+        let t = placed.time.unwrap();
+        assert_eq!(t.source, TimeSource::PpsDisciplined);
+        assert!((t.t_gps_ns - g).abs() < 20_000, "{t:?}");
     }
 }
