@@ -744,6 +744,7 @@ fn tt_out(al: &mut Aligner, (s, rx): (Sample, Rx)) -> Result<AlignedTime, NotAli
 fn a_ttmrf_ts_a_second_off_is_reported_counted_and_replaced_by_the_host_clock() {
     let mut al = locked_on_vn200();
     assert!(al.clock_disagreements().is_empty());
+    assert_eq!(al.ttmrf_times_disagreeing(), 0);
     // `ts` names the instant 1 s later than the message was sent: far beyond the 5-sigma +
     // 20 ms tolerance of the cross-check.
     let t = G0 + 9_500 * MS;
@@ -905,4 +906,76 @@ fn a_ttmrf_ts_is_checked_with_the_ports_output_delay_sigma() {
     let a = tt_out(&mut al, json_at(t, t + 80 * MS)).unwrap();
     assert_eq!(a.source, TimeSource::HostClock);
     assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+}
+
+#[test]
+fn a_watson_line_waits_for_the_host_clock_at_most_host_wait_ns() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let rx = |h: i64| Rx {
+        host_ns: h,
+        wire_len: 64,
+        reads: None,
+    };
+    let h0 = G0 + OFF;
+    // No clock: each line waits; the first is released, marked, once it waited longer than
+    // `host_wait_ns` (3 s), not at 3 s exactly.
+    assert!(al.handle(watson(), rx(h0)).is_empty());
+    assert!(al.handle(watson(), rx(h0 + 2_900 * MS)).is_empty());
+    assert!(al.handle(watson(), rx(h0 + 3 * S)).is_empty());
+    let out = al.handle(watson(), rx(h0 + 3_500 * MS));
+    let released: Vec<(u64, _)> = out.iter().map(|o| (o.index, o.aligned.time)).collect();
+    assert_eq!(released, vec![(0, Err(NotAligned::HostClockUnknown))]);
+}
+
+#[test]
+fn the_bahrs_clock_report_follows_the_latest_mcu_time_of_any_timed_message() {
+    use vigil_drivers::bahrs::{Accuracy, SyncPulseTime};
+    let (mut al, _) = pulses_near_vn200(None);
+    // The MCU clock of `pulses_near_vn200`: 3 s at G0, 20 ppm fast. At G0 + x its offset from
+    // GPS is 3e9 - G0 + x * 20e-6 ns.
+    let ticks = |gps: i64| 3_000_000 + ((gps - G0) as f64 * (1.0 + 20e-6) / 1000.0) as u64;
+    let offset_at = |x_s: f64| 3e9 - G0 as f64 + x_s * 1e9 * 20e-6;
+    let report = |al: &Aligner| {
+        al.clock_report(G0 + 30 * S + OFF)
+            .into_iter()
+            .find(|r| r.device == Device::Bahrs)
+            .unwrap()
+            .offset_ns
+            .unwrap()
+    };
+    let rx = |gps: i64| Rx {
+        host_ns: gps + OFF + 2 * MS,
+        wire_len: 20,
+        reads: None,
+    };
+    // A 0x03 sampled at G0 + 25 s: 500 us.
+    let g = G0 + 25 * S;
+    let acc = Accuracy {
+        seq: 0,
+        std_north_raw: 1,
+        std_east_raw: 1,
+        std_heading_raw: 1,
+        mcu_time_us: ticks(g),
+    };
+    al.handle(Sample::Bahrs(bahrs::Message::Accuracy(acc)), rx(g));
+    assert!((report(&al) - offset_at(25.0)).abs() < 5_000.0);
+    // A 0x06 of the pulse at G0 + 26 s: 520 us.
+    let g = G0 + 26 * S;
+    let p = SyncPulseTime {
+        seq: 26,
+        mcu_time_us: ticks(g),
+    };
+    al.handle(Sample::Bahrs(bahrs::Message::SyncPulseTime(p)), rx(g));
+    assert!((report(&al) - offset_at(26.0)).abs() < 5_000.0);
+    // An invalid 0x05 (data sequence and time 0) carries no MCU time: the report stays.
+    let invalid = DataTime {
+        seq: 1,
+        data_seq: 0,
+        mcu_time_us: 0,
+    };
+    al.handle(
+        Sample::Bahrs(bahrs::Message::InertialTime(invalid)),
+        rx(g + 10 * MS),
+    );
+    assert!((report(&al) - offset_at(26.0)).abs() < 5_000.0);
 }
