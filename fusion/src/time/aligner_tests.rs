@@ -11,6 +11,7 @@ use vigil_drivers::watson::{Kind, Line};
 
 use super::*;
 use crate::time::TimeSource;
+use crate::time::host::{HostClock, HostClockConfig};
 use crate::time::host_timed::tx_ns;
 
 const MS: i64 = 1_000_000;
@@ -549,4 +550,432 @@ fn vn200_without_gps_time_or_startup_clock_is_host_timed() {
     // The host clock coasts 2 s after its last reference.
     let last = out.last().unwrap().1.aligned.time.unwrap();
     assert_eq!(last.status, ClockStatus::Coasting);
+}
+
+// --- issue 23: behaviours the mutation run found unpinned ---
+
+/// An aligner whose host clock is locked on 10 s of the synthetic VN-200 (G0 .. G0 + 10 s).
+fn locked_on_vn200() -> Aligner {
+    let mut al = Aligner::new(AlignerConfig::default());
+    for k in 0..400 {
+        let (s, rx) = vn200(G0 + k * 25 * MS);
+        al.handle(s, rx);
+    }
+    al
+}
+
+/// The time `al` gives a Watson line received as `rx`.
+fn watson_time(al: &mut Aligner, rx: Rx) -> AlignedTime {
+    al.handle(watson(), rx)
+        .into_iter()
+        .find(|o| o.device == Device::Watson)
+        .unwrap()
+        .aligned
+        .time
+        .unwrap()
+}
+
+#[test]
+fn a_paced_watson_port_behind_a_latency_timer_takes_both_waits_off_and_adds_their_variances() {
+    let mut al = locked_on_vn200();
+    // Unpaced: the line of G0 + 9.5 s, received as `watson_rx` says, is placed at its instant.
+    let w1 = G0 + 9_500 * MS;
+    let base = watson_time(&mut al, watson_rx(w1));
+    assert!(
+        (base.t_gps_ns - w1).abs() < 100_000,
+        "{}",
+        base.t_gps_ns - w1
+    );
+    // Read every 10 ms behind a 4 ms latency timer: two uniform waits, on average 10/2 + 4/2 =
+    // 7 ms; variances 10^2/12 + 4^2/12 = 116/12 ms^2 added to the sigma^2.
+    al.set_read_interval(Device::Watson, 10 * MS as u64);
+    al.set_latency_timer(Device::Watson, 4 * MS as u64);
+    let w2 = G0 + 9_510 * MS;
+    let mut rx = watson_rx(w2);
+    rx.host_ns += 7 * MS;
+    let paced = watson_time(&mut al, rx);
+    assert!(
+        (paced.t_gps_ns - w2).abs() < 100_000,
+        "{}",
+        paced.t_gps_ns - w2
+    );
+    let added_ms2 = (paced.sigma_ns.powi(2) - base.sigma_ns.powi(2)) / 1e12;
+    assert!((added_ms2 - 116.0 / 12.0).abs() < 0.05, "{added_ms2}");
+}
+
+#[test]
+fn a_paced_ttmrf_port_takes_half_the_interval_off_its_host_timed_messages() {
+    // A JSON message without `ts`: host-timed with the port's link.
+    let csv = || Sample::TtText(Box::new(TextMessage::Json(Box::default())));
+    let time = |al: &mut Aligner, rx| {
+        al.handle(csv(), rx)
+            .into_iter()
+            .find(|o| o.device == Device::Ttmrf)
+            .unwrap()
+            .aligned
+            .time
+            .unwrap()
+    };
+    let mut al = locked_on_vn200();
+    // A message of 80 bytes at 921 600 baud, first byte at its instant (output delay 0), read 1 ms
+    // (the VN-200's link) after its last byte.
+    let rx = |t: i64| Rx {
+        host_ns: t + OFF + tx_ns(80, 921_600) + MS,
+        wire_len: 80,
+        reads: None,
+    };
+    let t1 = G0 + 9_500 * MS;
+    let base = time(&mut al, rx(t1));
+    assert!(
+        (base.t_gps_ns - t1).abs() < 100_000,
+        "{}",
+        base.t_gps_ns - t1
+    );
+    // Read every 10 ms: 5 ms later on average, 100/12 ms^2 more variance.
+    al.set_read_interval(Device::Ttmrf, 10 * MS as u64);
+    let t2 = G0 + 9_510 * MS;
+    let mut r = rx(t2);
+    r.host_ns += 5 * MS;
+    let paced = time(&mut al, r);
+    assert!(
+        (paced.t_gps_ns - t2).abs() < 100_000,
+        "{}",
+        paced.t_gps_ns - t2
+    );
+    let added_ms2 = (paced.sigma_ns.powi(2) - base.sigma_ns.powi(2)) / 1e12;
+    assert!((added_ms2 - 100.0 / 12.0).abs() < 0.05, "{added_ms2}");
+}
+
+#[test]
+fn a_watson_port_at_another_baud_rate_is_timed_with_it_and_zero_keeps_it() {
+    let mut al = locked_on_vn200();
+    al.set_baud(Device::Watson, 19_200);
+    // 0: "keep the built-in rate" must not undo or break the one set.
+    al.set_baud(Device::Watson, 0);
+    // 64 bytes at 19 200 baud take 33.3 ms on the wire (at the built-in 9600: 66.7 ms).
+    let w = G0 + 9_500 * MS;
+    let rx = Rx {
+        host_ns: w + OFF + MS + tx_ns(64, 19_200) + MS,
+        wire_len: 64,
+        reads: None,
+    };
+    let a = watson_time(&mut al, rx);
+    assert!((a.t_gps_ns - w).abs() < 100_000, "{}", a.t_gps_ns - w);
+}
+
+#[test]
+fn bahrs_clock_report_gives_its_mcu_clock_minus_gps_time() {
+    let (al, _) = pulses_near_vn200(None);
+    // The last BAHRS message is the 0x05 of the sample at G0 + 19.98 s: MCU time
+    // 3 s + 19.98 s * (1 + 20 ppm). MCU clock minus GPS time there:
+    // 3e9 + 19.98e9 * (1 + 20e-6) - (G0 + 19.98e9) = 3e9 - G0 + 399 600 ns.
+    let expected = 3e9 - G0 as f64 + 399_600.0;
+    let r = al.clock_report(G0 + 20 * S + OFF);
+    let b = r.iter().find(|r| r.device == Device::Bahrs).unwrap();
+    let offset = b.offset_ns.unwrap();
+    // The tick is truncated to the us, the fit is within a few us.
+    assert!((offset - expected).abs() < 5_000.0, "{}", offset - expected);
+    assert!(
+        (b.drift_ppm.unwrap() - 20.0).abs() < 1.0,
+        "{:?}",
+        b.drift_ppm
+    );
+}
+
+/// A host clock with a reference every 25 ms from GPS time `G0 + from_ms` to `G0 + to_ms`
+/// (host = GPS + OFF + 1 ms link).
+fn host_clock(from_ms: i64, to_ms: i64) -> HostClock {
+    let mut c = HostClock::new(HostClockConfig::default());
+    for g in (from_ms..to_ms).step_by(25).map(|ms| G0 + ms * MS) {
+        c.add(g + OFF + MS, g);
+    }
+    c
+}
+
+#[test]
+fn pick_takes_the_coasting_clock_with_the_smaller_sigma_and_the_vn200_on_a_tie() {
+    // Both coasting at G0 + 15 s: the one silent for 3 s (references to 12 s) has grown less
+    // sigma than the one silent for 5 s (references to 10 s).
+    let h = G0 + 15 * S + OFF;
+    let (short, long) = (host_clock(0, 10_000), host_clock(0, 12_000));
+    assert_eq!(short.status(h), ClockStatus::Coasting);
+    assert_eq!(long.status(h), ClockStatus::Coasting);
+    assert!(std::ptr::eq(Aligner::pick(&short, &long, h), &long));
+    assert!(std::ptr::eq(Aligner::pick(&long, &short, h), &long));
+    // Equal sigmas (the same references): the VN-200's stays.
+    let twin = host_clock(0, 10_000);
+    assert!(std::ptr::eq(Aligner::pick(&short, &twin, h), &short));
+    // A VN-200 model that never had a reference: the TT-Multi-RF's, whatever its state.
+    let none = HostClock::new(HostClockConfig::default());
+    assert!(std::ptr::eq(Aligner::pick(&none, &long, h), &long));
+}
+
+/// A TT-Multi-RF JSON message sent at GPS time `t` with `ts` = the UTC ms of day of GPS time
+/// `ts_of` (UTC midnight at G0 + 10 s, and whole days from it): 200 bytes at 921 600 baud, first
+/// byte at `t`, read 1 ms (the VN-200's link delay) after the last.
+fn json_at(t: i64, ts_of: i64) -> (Sample, Rx) {
+    let midnight = G0 + 10 * S;
+    let json = JsonMessage {
+        ts_ms: Some(((ts_of - midnight).rem_euclid(86_400 * S) / MS) as u32),
+        ..Default::default()
+    };
+    let rx = Rx {
+        host_ns: t + OFF + tx_ns(200, 921_600) + MS,
+        wire_len: 200,
+        reads: None,
+    };
+    (
+        Sample::TtText(Box::new(TextMessage::Json(Box::new(json)))),
+        rx,
+    )
+}
+
+/// The TT-Multi-RF output of handling `(s, rx)`.
+fn tt_out(al: &mut Aligner, (s, rx): (Sample, Rx)) -> Result<AlignedTime, NotAligned> {
+    al.handle(s, rx)
+        .into_iter()
+        .find(|o| o.device == Device::Ttmrf)
+        .unwrap()
+        .aligned
+        .time
+}
+
+#[test]
+fn a_ttmrf_ts_a_second_off_is_reported_counted_and_replaced_by_the_host_clock() {
+    let mut al = locked_on_vn200();
+    assert!(al.clock_disagreements().is_empty());
+    assert_eq!(al.ttmrf_times_disagreeing(), 0);
+    // `ts` names the instant 1 s later than the message was sent: far beyond the 5-sigma +
+    // 20 ms tolerance of the cross-check.
+    let t = G0 + 9_500 * MS;
+    let a = tt_out(&mut al, json_at(t, t + S)).unwrap();
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+    assert_eq!(al.ttmrf_times_disagreeing(), 1);
+    // Placed by the host clock instead, at its instant (the host clock's 1 ms link is the
+    // port's; exact but for rounding).
+    assert_eq!(a.source, TimeSource::HostClock);
+    assert!((a.t_gps_ns - t).abs() < 100_000, "{}", a.t_gps_ns - t);
+    // A right `ts` clears the report; the count stays.
+    let t = G0 + 9_600 * MS;
+    let a = tt_out(&mut al, json_at(t, t)).unwrap();
+    assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+    assert!(al.clock_disagreements().is_empty());
+    assert_eq!(al.ttmrf_times_disagreeing(), 1);
+}
+
+#[test]
+fn only_a_locked_ttmrf_time_of_day_teaches_the_second_host_clock() {
+    // 500 days after G0 (2027-10-14), past the leap-second table's end (2027-07-01): a JSON `ts`
+    // is placed, but coasting (a leap second may have been announced since), and is no
+    // reference.
+    let g1 = G0 + 500 * 86_400 * S;
+    let mut al = Aligner::new(AlignerConfig::default());
+    for k in 0..400 {
+        let (s, rx) = vn200(g1 + k * 25 * MS);
+        al.handle(s, rx);
+    }
+    let t = g1 + 9_500 * MS;
+    let a = tt_out(&mut al, json_at(t, t)).unwrap();
+    assert_eq!(
+        (a.source, a.status),
+        (TimeSource::UtcTimeOfDay, ClockStatus::Coasting)
+    );
+    assert_eq!(al.tt_host_clock().last_reference_host_ns(), None);
+    // Host-timed TT output (a JSON without `ts`) and Watson lines are no references either.
+    let mut al = locked_on_vn200();
+    let (_, rx) = json_at(G0 + 9_300 * MS, G0);
+    let s = Sample::TtText(Box::new(TextMessage::Json(Box::default())));
+    assert_eq!(
+        tt_out(&mut al, (s, rx)).unwrap().source,
+        TimeSource::HostClock
+    );
+    watson_time(&mut al, watson_rx(G0 + 9_400 * MS));
+    assert_eq!(al.tt_host_clock().last_reference_host_ns(), None);
+    // Locked: the host time its first byte left (200 bytes at 921 600 baud before the read, no
+    // output delay assumed).
+    let t = G0 + 9_500 * MS;
+    let (s, rx) = json_at(t, t);
+    assert_eq!(
+        tt_out(&mut al, (s, rx)).unwrap().status,
+        ClockStatus::Locked
+    );
+    assert_eq!(
+        al.tt_host_clock().last_reference_host_ns(),
+        Some(rx.host_ns - tx_ns(200, 921_600))
+    );
+}
+
+#[test]
+fn the_vn200_pps_times_are_kept_for_the_bahrs_pulses() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    assert!(al.vn200_pps().nearest(G0 + OFF).is_none());
+    // Sampled 0.5 s after a whole GPS second: its last PPS was that second.
+    let g = G0 + 500 * MS;
+    let (s, rx) = vn200_pps(g, 0b110);
+    al.handle(s, rx);
+    let r = al.vn200_pps().nearest(rx.host_ns).unwrap();
+    assert_eq!((r.t_gps_ns, r.pps_gps_ns), (g, G0));
+}
+
+#[test]
+fn a_bahrs_sample_left_unpaired_comes_out_when_another_device_moves_host_time_on() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let data = Sample::Bahrs(bahrs::Message::Inertial(Inertial {
+        seq: 7,
+        specific_force_raw: [0; 3],
+        angular_rate_raw: [0; 3],
+        health: InertialHealth(0),
+    }));
+    let h0 = G0 + OFF;
+    assert!(
+        al.handle(
+            data,
+            Rx {
+                host_ns: h0,
+                wire_len: 28,
+                reads: None
+            }
+        )
+        .is_empty()
+    );
+    // Its 0x05 never comes; the pairing hold is 0.5 s. A Watson line 1 s later (itself held for
+    // the host clock) releases it, marked.
+    let out = al.handle(
+        watson(),
+        Rx {
+            host_ns: h0 + S,
+            wire_len: 64,
+            reads: None,
+        },
+    );
+    assert_eq!(out.len(), 1, "{out:?}");
+    assert_eq!((out[0].device, out[0].index), (Device::Bahrs, 0));
+    assert!(out[0].aligned.time.is_err());
+}
+
+#[test]
+fn a_ttmrf_ts_is_checked_with_the_coasting_host_clocks_grown_sigma() {
+    // A host clock whose rate is known to 100 ppm only: 60 s after its last VN-200 reference
+    // (G0 + 10 s) its view has grown a 6 ms sigma.
+    let cfg = AlignerConfig {
+        host: HostClockConfig {
+            rate_sigma_ppm: 100.0,
+            ..HostClockConfig::default()
+        },
+        ..AlignerConfig::default()
+    };
+    let mut al = Aligner::new(cfg);
+    for k in 0..400 {
+        let (s, rx) = vn200(G0 + k * 25 * MS);
+        al.handle(s, rx);
+    }
+    // Tolerance (cross_check's rule): 5 * sqrt(s_dev^2 + s_host^2) + 20 ms, with s_dev the ms
+    // stamp's 0.433 ms and s_host = sqrt(6^2 + 0.5^2 (reference delay) + 0.5^2 (the port's
+    // output delay) + ~0) ms = 6.04 ms: 5 * 6.06 + 20 = 50.3 ms. A `ts` 35 ms late agrees
+    // (without the host's sigma it would not: 5 * 0.8 + 20 = 24 ms).
+    let t = G0 + 70 * S;
+    let a = tt_out(&mut al, json_at(t, t + 35 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+    assert!(al.clock_disagreements().is_empty());
+    // 60 ms late does not.
+    let t = G0 + 70_100 * MS;
+    let a = tt_out(&mut al, json_at(t, t + 60 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::HostClock);
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+}
+
+#[test]
+fn a_ttmrf_ts_is_checked_with_the_ports_output_delay_sigma() {
+    // A TT-Multi-RF port whose output delay is known to 10 ms (1 sigma) only.
+    let mut cfg = AlignerConfig::default();
+    cfg.ttmrf.link.output_delay_sigma_ns = 10e6;
+    let mut al = Aligner::new(cfg);
+    for k in 0..400 {
+        let (s, rx) = vn200(G0 + k * 25 * MS);
+        al.handle(s, rx);
+    }
+    // Tolerance: 5 * sqrt(0.433^2 (the ms stamp) + s_host^2) + 20 ms, where the host view's
+    // sigma carries the port's 10 ms and the locked host clock's ~0.5 ms:
+    // 5 * sqrt(0.19 + 100 + 0.25) + 20 = 70.1 ms. A `ts` 60 ms late agrees (without the port's
+    // sigma: 5 * 0.7 + 20 = 23.5 ms, it would not); 80 ms late does not.
+    let t = G0 + 9_500 * MS;
+    let a = tt_out(&mut al, json_at(t, t + 60 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+    assert!(al.clock_disagreements().is_empty());
+    let t = G0 + 9_600 * MS;
+    let a = tt_out(&mut al, json_at(t, t + 80 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::HostClock);
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+}
+
+#[test]
+fn a_watson_line_waits_for_the_host_clock_at_most_host_wait_ns() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let rx = |h: i64| Rx {
+        host_ns: h,
+        wire_len: 64,
+        reads: None,
+    };
+    let h0 = G0 + OFF;
+    // No clock: each line waits; the first is released, marked, once it waited longer than
+    // `host_wait_ns` (3 s), not at 3 s exactly.
+    assert!(al.handle(watson(), rx(h0)).is_empty());
+    assert!(al.handle(watson(), rx(h0 + 2_900 * MS)).is_empty());
+    assert!(al.handle(watson(), rx(h0 + 3 * S)).is_empty());
+    let out = al.handle(watson(), rx(h0 + 3_500 * MS));
+    let released: Vec<(u64, _)> = out.iter().map(|o| (o.index, o.aligned.time)).collect();
+    assert_eq!(released, vec![(0, Err(NotAligned::HostClockUnknown))]);
+}
+
+#[test]
+fn the_bahrs_clock_report_follows_the_latest_mcu_time_of_any_timed_message() {
+    use vigil_drivers::bahrs::{Accuracy, SyncPulseTime};
+    let (mut al, _) = pulses_near_vn200(None);
+    // The MCU clock of `pulses_near_vn200`: 3 s at G0, 20 ppm fast. At G0 + x its offset from
+    // GPS is 3e9 - G0 + x * 20e-6 ns.
+    let ticks = |gps: i64| 3_000_000 + ((gps - G0) as f64 * (1.0 + 20e-6) / 1000.0) as u64;
+    let offset_at = |x_s: f64| 3e9 - G0 as f64 + x_s * 1e9 * 20e-6;
+    let report = |al: &Aligner| {
+        al.clock_report(G0 + 30 * S + OFF)
+            .into_iter()
+            .find(|r| r.device == Device::Bahrs)
+            .unwrap()
+            .offset_ns
+            .unwrap()
+    };
+    let rx = |gps: i64| Rx {
+        host_ns: gps + OFF + 2 * MS,
+        wire_len: 20,
+        reads: None,
+    };
+    // A 0x03 sampled at G0 + 25 s: 500 us.
+    let g = G0 + 25 * S;
+    let acc = Accuracy {
+        seq: 0,
+        std_north_raw: 1,
+        std_east_raw: 1,
+        std_heading_raw: 1,
+        mcu_time_us: ticks(g),
+    };
+    al.handle(Sample::Bahrs(bahrs::Message::Accuracy(acc)), rx(g));
+    assert!((report(&al) - offset_at(25.0)).abs() < 5_000.0);
+    // A 0x06 of the pulse at G0 + 26 s: 520 us.
+    let g = G0 + 26 * S;
+    let p = SyncPulseTime {
+        seq: 26,
+        mcu_time_us: ticks(g),
+    };
+    al.handle(Sample::Bahrs(bahrs::Message::SyncPulseTime(p)), rx(g));
+    assert!((report(&al) - offset_at(26.0)).abs() < 5_000.0);
+    // An invalid 0x05 (data sequence and time 0) carries no MCU time: the report stays.
+    let invalid = DataTime {
+        seq: 1,
+        data_seq: 0,
+        mcu_time_us: 0,
+    };
+    al.handle(
+        Sample::Bahrs(bahrs::Message::InertialTime(invalid)),
+        rx(g + 10 * MS),
+    );
+    assert!((report(&al) - offset_at(26.0)).abs() < 5_000.0);
 }

@@ -887,4 +887,455 @@ mod tests {
         // Re-locked (times given again) within 5 s of the reset.
         assert!(relocked_at.unwrap() - reset < 5 * S, "{:?}", relocked_at);
     }
+
+    // --- issue 23: behaviours the mutation run found unpinned ---
+
+    /// Host = GPS + this, for the small streams below.
+    const HOST_OFF: i64 = 777 * S;
+
+    fn pulse(ticks: u64) -> Message {
+        Message::SyncPulseTime(SyncPulseTime {
+            seq: 0,
+            mcu_time_us: ticks,
+        })
+    }
+
+    /// A BAHRS aligner after `seconds` of 100 Hz inertial pairs and a pulse on every whole
+    /// second (MCU clock `mcu`), with the host clock learned from a VN-200 (references at GPS +
+    /// [`HOST_OFF`] + 1 ms): its PPS model is locked. Returns the aligner and the host clock.
+    fn locked(mcu: &Mcu, seconds: i64) -> (BahrsAligner, HostClock) {
+        let mut host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        let mut al = BahrsAligner::new(BahrsAlignerConfig::default());
+        for k in 0..seconds * 100 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS, gps);
+            let s = k as u8;
+            let rx = gps + HOST_OFF + 2 * MS;
+            let data = Message::Inertial(Inertial {
+                seq: s,
+                specific_force_raw: [0; 3],
+                angular_rate_raw: [0; 3],
+                health: InertialHealth(0),
+            });
+            al.handle(data, rx, &host, &refs);
+            let time = Message::InertialTime(DataTime {
+                seq: s,
+                data_seq: s,
+                mcu_time_us: mcu.ticks(gps),
+            });
+            al.handle(time, rx + MS, &host, &refs);
+            if k % 100 == 0 {
+                al.handle(pulse(mcu.ticks(gps)), gps + HOST_OFF + 3 * MS, &host, &refs);
+            }
+            al.expire(rx + MS, &host);
+        }
+        (al, host)
+    }
+
+    fn accuracy(ticks: u64) -> Message {
+        Message::Accuracy(vigil_drivers::bahrs::Accuracy {
+            seq: 0,
+            std_north_raw: 1,
+            std_east_raw: 1,
+            std_heading_raw: 1,
+            mcu_time_us: ticks,
+        })
+    }
+
+    const MCU: Mcu = Mcu {
+        offset_us: 5_000_000,
+        ppm: 15.0,
+        reset_at: None,
+    };
+
+    #[test]
+    fn a_pulse_reported_at_the_wrong_edge_raises_the_clock_disagreement_until_a_right_one() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        assert!(!al.clock_disagreement());
+        assert!(al.stats().pulses_used >= 8, "{:?}", al.stats());
+        // A 0x03 (own MCU time) now goes through the PPS clock: not a host fallback.
+        let fallbacks = al.stats().host_fallback;
+        let g = G0 + 12_200 * MS;
+        let a = al.handle(accuracy(MCU.ticks(g)), g + HOST_OFF + 2 * MS, &host, &refs);
+        assert_eq!(a[0].time.unwrap().source, TimeSource::PpsDisciplined);
+        assert_eq!(al.stats().host_fallback, fallbacks);
+        // A report of an "edge" 300 ms after the 12 s one: named 12 s (the nearest second) by
+        // the host clock, while its MCU time maps 300 ms later, far beyond 5 sigma of ~1 ms.
+        let bad = G0 + 12_300 * MS;
+        let a = al.handle(pulse(MCU.ticks(bad)), bad + HOST_OFF + 3 * MS, &host, &refs);
+        assert!(al.clock_disagreement());
+        assert_eq!(al.stats().pulses_disagreeing, 1);
+        // The PPS model is dropped: the 0x06 itself (a sample at its MCU time) and the next
+        // 0x03 take the host fallback, counted, each at its instant within its (wider) sigma.
+        let g = G0 + 12_400 * MS;
+        let b = al.handle(accuracy(MCU.ticks(g)), g + HOST_OFF + 2 * MS, &host, &refs);
+        for (out, truth) in [(a, bad), (b, g)] {
+            let t = out[0].time.unwrap();
+            assert_eq!(t.source, TimeSource::DeviceClockViaHost);
+            assert!(
+                ((t.t_gps_ns - truth).abs() as f64) < 3.0 * t.sigma_ns,
+                "{t:?}"
+            );
+        }
+        assert_eq!(al.stats().host_fallback, fallbacks + 2);
+        // The next right pulse clears it.
+        let good = G0 + 13 * S;
+        al.handle(
+            pulse(MCU.ticks(good)),
+            good + HOST_OFF + 3 * MS,
+            &host,
+            &refs,
+        );
+        assert!(!al.clock_disagreement());
+    }
+
+    #[test]
+    fn navigation_pairs_and_accuracy_messages_are_placed_by_their_mcu_time() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        // A 0x02 and its 0x04 sampled at g: both at g through the PPS clock (the tick is
+        // truncated to the us).
+        let g = G0 + 11_995 * MS;
+        let h = g + HOST_OFF + 2 * MS;
+        let nav = Message::Navigation(vigil_drivers::bahrs::Navigation {
+            seq: 9,
+            pressure_height_raw: 0,
+            velocity_down_raw: 0,
+            roll_raw: 0,
+            pitch_raw: 0,
+            heading_raw: 0,
+            health: vigil_drivers::bahrs::NavigationHealth(0),
+        });
+        let mut out = al.handle(nav, h, &host, &refs);
+        let time = Message::NavigationTime(DataTime {
+            seq: 9,
+            data_seq: 9,
+            mcu_time_us: MCU.ticks(g),
+        });
+        out.extend(al.handle(time, h + MS, &host, &refs));
+        // A 0x03 carries its own MCU time.
+        let g3 = G0 + 11_997 * MS;
+        out.extend(al.handle(
+            accuracy(MCU.ticks(g3)),
+            g3 + HOST_OFF + 2 * MS,
+            &host,
+            &refs,
+        ));
+        let kinds: Vec<u8> = out.iter().map(|a| a.message.type_id()).collect();
+        assert_eq!(kinds, vec![0x02, 0x04, 0x03]);
+        for (a, truth) in out.iter().zip([g, g, g3]) {
+            let t = a.time.unwrap();
+            assert_eq!(t.source, TimeSource::PpsDisciplined, "{a:?}");
+            assert!((t.t_gps_ns - truth).abs() <= 5_000, "{a:?}");
+        }
+    }
+
+    #[test]
+    fn an_invalid_time_message_comes_out_device_time_invalid_and_is_counted() {
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        // Sections 3.4 / 3.5: data sequence 0 and time 0 mark a time message invalid.
+        let invalid = DataTime {
+            seq: 3,
+            data_seq: 0,
+            mcu_time_us: 0,
+        };
+        let out = al.handle(Message::InertialTime(invalid), G0, &host, &refs);
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].time, Err(NotAligned::DeviceTimeInvalid));
+        let out = al.handle(Message::NavigationTime(invalid), G0, &host, &refs);
+        assert_eq!(out[0].time, Err(NotAligned::DeviceTimeInvalid));
+        let st = al.stats();
+        assert_eq!((st.invalid_time_messages, st.not_aligned), (2, 2));
+    }
+
+    #[test]
+    fn unpaired_data_and_samples_without_a_clock_are_released_after_their_holds() {
+        // No host clock, no pulses.
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        let h0 = G0;
+        let inertial = Message::Inertial(Inertial {
+            seq: 1,
+            specific_force_raw: [0; 3],
+            angular_rate_raw: [0; 3],
+            health: InertialHealth(0),
+        });
+        let nav = Message::Navigation(vigil_drivers::bahrs::Navigation {
+            seq: 2,
+            pressure_height_raw: 0,
+            velocity_down_raw: 0,
+            roll_raw: 0,
+            pitch_raw: 0,
+            heading_raw: 0,
+            health: vigil_drivers::bahrs::NavigationHealth(0),
+        });
+        for m in [inertial, nav, accuracy(1_000_000)] {
+            assert!(al.handle(m, h0, &host, &refs).is_empty());
+        }
+        // The data wait 0.5 s (`pair_hold_s`) for their time messages.
+        assert!(al.expire(h0 + 400 * MS, &host).is_empty());
+        let out = al.expire(h0 + 600 * MS, &host);
+        let kinds: Vec<(u8, _)> = out.iter().map(|a| (a.message.type_id(), a.time)).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (0x01, Err(NotAligned::NoTimeMessage)),
+                (0x02, Err(NotAligned::NoTimeMessage))
+            ]
+        );
+        // The 0x03 waits 2 s (`clock_wait_s`) for a clock, released once it waited longer (the
+        // same strict rule as the pairing hold).
+        assert!(al.expire(h0 + 1_500 * MS, &host).is_empty());
+        assert!(al.expire(h0 + 2_000 * MS, &host).is_empty());
+        let out = al.expire(h0 + 2_500 * MS, &host);
+        assert_eq!(out.len(), 1);
+        assert_eq!(
+            (out[0].message.type_id(), out[0].time),
+            (0x03, Err(NotAligned::ClockUnlocked))
+        );
+        assert_eq!(al.stats().not_aligned, 3);
+    }
+
+    #[test]
+    fn a_host_timed_message_takes_its_frame_time_at_the_set_baud_rate_off() {
+        // A host clock 5 s ahead of GPS.
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_000 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + 5 * S + MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let at = G0 + 9 * S + 5 * S;
+        let ack = Message::Ack(vigil_drivers::bahrs::Ack {
+            acked_type: 0x10,
+            status: 0,
+        });
+        let place = |baud: Option<u32>| {
+            let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+            if let Some(b) = baud {
+                al.set_baud(b);
+            }
+            al.handle(ack, at, &host, &refs)[0].time.unwrap().t_gps_ns
+        };
+        // 10 bits per byte: the frame takes len * 10 / 9600 s instead of len * 10 / 115 200 s.
+        let len = ack.to_frame().len() as i64;
+        let longer = len * 10 * S / 9_600 - len * 10 * S / 115_200;
+        assert_eq!(place(None) - place(Some(9_600)), longer);
+    }
+
+    #[test]
+    fn a_sample_waits_for_the_pulse_model_only_while_pulses_are_reported() {
+        // A host clock on GPS + HOST_OFF (+1 ms link), 12 s of references.
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_200 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        // 0x03 at 100 Hz from 3 s build the envelope (first byte 0.5 ms after the sample, its
+        // frame on the wire at 115 200 baud, the VN-200's 1 ms link); with no pulse reported
+        // they take the host fallback.
+        let tx = accuracy(0).to_frame().len() as i64 * 10 * S / 115_200;
+        let acc_at = |al: &mut BahrsAligner, g: i64| {
+            al.handle(
+                accuracy(MCU.ticks(g)),
+                g + HOST_OFF + MS / 2 + tx + MS,
+                &host,
+                &refs,
+            )
+        };
+        for k in 300..500 {
+            acc_at(&mut al, G0 + k * 10 * MS);
+        }
+        // A pulse report at 5 s handed in with no host clock (not established at that moment):
+        // its second cannot be named, it is not used, but pulses are flowing from then on.
+        let p = G0 + 5 * S;
+        let none = HostClock::new(HostClockConfig::default());
+        al.handle(pulse(MCU.ticks(p)), p + HOST_OFF + 3 * MS, &none, &refs);
+        assert_eq!(al.stats().pulses_unidentified, 1);
+        for k in 0..150 {
+            acc_at(&mut al, p + k * 10 * MS);
+        }
+        // 1.5 s after the report (within `clock_wait_s`, 2 s): a 0x03 waits for the pulse model
+        // although the host fallback could place it.
+        let g = p + 1_500 * MS;
+        assert!(al.fallback(MCU.ticks(g), &host).is_some());
+        assert!(acc_at(&mut al, g).is_empty());
+        // 2.5 s after it, no pulse is flowing: the fallback places it at once.
+        for k in 151..250 {
+            acc_at(&mut al, p + k * 10 * MS);
+        }
+        let g = p + 2_500 * MS;
+        let out = acc_at(&mut al, g);
+        let placed = out
+            .iter()
+            .find(|a| matches!(a.message, Message::Accuracy(x) if x.mcu_time_us == MCU.ticks(g)))
+            .expect("placed at once");
+        let t = placed.time.unwrap();
+        assert_eq!(t.source, TimeSource::DeviceClockViaHost);
+        assert!(((t.t_gps_ns - g).abs() as f64) < 3.0 * t.sigma_ns, "{t:?}");
+    }
+
+    #[test]
+    fn samples_waiting_for_a_clock_are_capped_oldest_first() {
+        // No clock at all: every 0x03 waits; the 513th pushes the first out (512 waiting at
+        // most), marked.
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        for k in 0..512u64 {
+            let out = al.handle(accuracy(1_000_000 + k * 10_000), G0, &host, &refs);
+            assert!(out.is_empty(), "{k}");
+        }
+        let out = al.handle(accuracy(1_000_000 + 512 * 10_000), G0, &host, &refs);
+        assert_eq!(out.len(), 1);
+        assert!(matches!(out[0].message, Message::Accuracy(a) if a.mcu_time_us == 1_000_000));
+        assert_eq!(out[0].time, Err(NotAligned::ClockUnlocked));
+    }
+
+    #[test]
+    fn a_device_reset_marks_what_waits_from_the_old_epoch_and_counts_it() {
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        let host = HostClock::new(HostClockConfig::default());
+        let refs = PpsReferences::new();
+        assert!(al.handle(accuracy(50_000_000), G0, &host, &refs).is_empty());
+        // The MCU time restarts near 0 (50 s backwards): the waiting 0x03 cannot be mapped any
+        // more.
+        let out = al.handle(accuracy(1_000), G0 + 10 * MS, &host, &refs);
+        assert_eq!(out.len(), 1);
+        assert!(matches!(out[0].message, Message::Accuracy(a) if a.mcu_time_us == 50_000_000));
+        assert_eq!(out[0].time, Err(NotAligned::OutsideClockEpoch));
+        assert_eq!(al.stats().not_aligned, 1);
+    }
+
+    #[test]
+    fn repeated_and_late_pulse_reports_are_counted_not_used() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        let used = al.stats().pulses_used;
+        // The 11 s pulse reported again, then the 10 s one (late: not a reset).
+        for s in [11, 10] {
+            let g = G0 + s * S;
+            al.handle(pulse(MCU.ticks(g)), G0 + 12 * S + HOST_OFF, &host, &refs);
+        }
+        let st = al.stats();
+        assert_eq!(
+            (
+                st.pulse_reports_repeated,
+                st.pulse_reports_stale,
+                st.pulses_used
+            ),
+            (1, 1, used)
+        );
+    }
+
+    #[test]
+    fn the_host_fallback_places_a_sample_at_its_instant_with_the_stated_sigma() {
+        // VN-200 references to the host clock (host = GPS + HOST_OFF + link) with a link of
+        // 0.5 ms or 2.5 ms alternately: smallest 0.5 ms, mean excess over it 1 ms.
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_000 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS / 2 + (k % 2) * 2 * MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        // The port is read every 10 ms, at the middle of the interval for every message: 5 ms.
+        al.set_read_interval(10 * MS as u64);
+        // 0x03 at 100 Hz: first byte 0.5 ms (the assumed output delay) after the sample, a link
+        // of 0.5 ms (+ 20 us in odd host seconds, so the envelope's minima scatter) or 1.5 ms
+        // alternately, the 5 ms read wait; stamped at its last byte.
+        let len = accuracy(0).to_frame().len() as i64;
+        let tx = len * 10 * S / 115_200;
+        for k in 0..1_000 {
+            let g = G0 + k * 10 * MS;
+            let link = MS / 2 + (k % 2) * MS + ((k / 100) % 2) * 20_000;
+            let rx = g + HOST_OFF + MS / 2 + link + 5 * MS + tx;
+            al.handle(accuracy(MCU.ticks(g)), rx, &host, &refs);
+        }
+        // A sample at g: its first byte at the smallest delay is at g + HOST_OFF + 6 ms; the host
+        // clock maps that as a receive at 1.5 ms (0.5 + 1) to g + 4.5 ms; + 1 ms excess - 0.5 ms
+        // output delay - 5 ms wait = g (within the envelope's fit).
+        let g = G0 + 9_005 * MS;
+        let ticks = MCU.ticks(g);
+        let a = al.fallback(ticks, &host).unwrap();
+        assert!((a.t_gps_ns - g).abs() < 50_000, "{}", a.t_gps_ns - g);
+        assert_eq!(a.source, TimeSource::DeviceClockViaHost);
+        // Sigma: root-sum-square of the host clock's at that host time, the envelope's, the
+        // output delay's 0.5 ms and the read interval's 10 ms / sqrt(12).
+        let (h, env) = al
+            .mcu_host()
+            .host_ns(ticks, G0 + 10 * S + HOST_OFF)
+            .unwrap();
+        assert!(env > 1_000.0, "{env}");
+        let (_, host_sigma) = host.to_gps(h).unwrap();
+        let expected = (host_sigma.powi(2) + env.powi(2) + 0.25e12 + 100e12 / 12.0).sqrt();
+        assert!(
+            (a.sigma_ns - expected).abs() < 1.0,
+            "{} {expected}",
+            a.sigma_ns
+        );
+    }
+
+    #[test]
+    fn a_pulse_within_the_cross_check_but_off_the_fit_is_rejected_as_an_outlier() {
+        let (mut al, host) = locked(&MCU, 12);
+        let refs = PpsReferences::new();
+        let used = al.stats().pulses_used;
+        // The 12 s pulse reported with the MCU time of 1 ms after the edge: within the host
+        // cross-check (5 sigma of ~0.7 ms) but 1 ms off the PPS fit (limit 200 us).
+        let off = G0 + 12 * S + MS;
+        al.handle(pulse(MCU.ticks(off)), off + HOST_OFF + 3 * MS, &host, &refs);
+        let st = al.stats();
+        assert_eq!((st.pulses_disagreeing, st.pulses_rejected), (0, 1));
+        assert_eq!(st.pulses_used, used);
+    }
+
+    #[test]
+    fn samples_waiting_for_the_pulse_model_are_placed_by_it_once_a_pulse_is_used() {
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..1_200 {
+            let gps = G0 + k * 10 * MS;
+            host.add(gps + HOST_OFF + MS, gps);
+        }
+        let refs = PpsReferences::new();
+        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
+        // As above: an envelope from 0x03 at 100 Hz, then a pulse report that cannot be named.
+        let tx = accuracy(0).to_frame().len() as i64 * 10 * S / 115_200;
+        let acc_at = |al: &mut BahrsAligner, g: i64| {
+            al.handle(
+                accuracy(MCU.ticks(g)),
+                g + HOST_OFF + MS / 2 + tx + MS,
+                &host,
+                &refs,
+            )
+        };
+        for k in 300..500 {
+            acc_at(&mut al, G0 + k * 10 * MS);
+        }
+        let none = HostClock::new(HostClockConfig::default());
+        let p = G0 + 5 * S;
+        al.handle(pulse(MCU.ticks(p)), p + HOST_OFF + 3 * MS, &none, &refs);
+        // A 0x03 at 5.5 s waits for the pulse model.
+        let g = p + 500 * MS;
+        assert!(acc_at(&mut al, g).is_empty());
+        // The 6 s pulse, named by the host clock and cross-checked, forms the model: the waiting
+        // 0x03 comes out through it, at its instant (one pulse: the nominal rate, 15 ppm of
+        // 0.5 s = 7.5 us off).
+        let q = G0 + 6 * S;
+        let out = al.handle(pulse(MCU.ticks(q)), q + HOST_OFF + 3 * MS, &host, &refs);
+        let placed = out
+            .iter()
+            .find(|a| matches!(a.message, Message::Accuracy(x) if x.mcu_time_us == MCU.ticks(g)))
+            .expect("released by the pulse");
+        let t = placed.time.unwrap();
+        assert_eq!(t.source, TimeSource::PpsDisciplined);
+        assert!((t.t_gps_ns - g).abs() < 20_000, "{t:?}");
+    }
 }

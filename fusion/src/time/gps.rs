@@ -233,4 +233,32 @@ mod tests {
         assert!(resolve_time_of_day(-1, reference, 18).is_err());
         assert!(resolve_time_of_day(86_401 * NS_PER_S, reference, 18).is_err());
     }
+
+    #[test]
+    fn civil_from_days_at_the_ends_of_a_400_year_era() {
+        // 2000-01-01 is day 10 957 (30 years of 365 days + 7 leap days since 1970).
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(10_957), (2000, 1, 1));
+        // + 31 (January) + 28: 2000-02-29, the last day of the era that began 1600-03-01 (a
+        // century year divisible by 400 is a leap year); the next is the era's first day.
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(11_017), (2000, 3, 1));
+        // 2100 is a century year not divisible by 400: no Feb 29. 2100-03-01 is 36 524 days
+        // (100 years, 24 leap days) after 2000-03-01.
+        assert_eq!(civil_from_days(11_017 + 36_524), (2100, 3, 1));
+        assert_eq!(civil_from_days(11_017 + 36_523), (2100, 2, 28));
+    }
+
+    #[test]
+    fn a_leap_second_stamp_is_within_the_day() {
+        // 23:59:60.500 (86 400.5 s since midnight) exists on a leap-second day: placed, counted
+        // on from that day's midnight with the offset given (the one in force before the leap).
+        let day = days_from_civil(2026, 11, 22) * S_PER_DAY * NS_PER_S;
+        let gps = |unix_ns: i64| gps_ns_from_unix_ns(unix_ns).0;
+        let reference = gps(day - 10_000_000);
+        assert_eq!(
+            resolve_time_of_day(86_400_500_000_000, reference, 18),
+            Ok(gps(day + 500_000_000))
+        );
+    }
 }
