@@ -484,33 +484,34 @@ fn track_of_71be34_against_its_kml() {
     }
 }
 
+/// A HEX line (`*`, the digits, `;`, CR LF) of a TC 11 airborne position at 10 000 ft and
+/// 20 deg E from `icao`.
+fn position_line(icao: u32, lat_deg: f64, odd: bool) -> String {
+    let f = crate::modes::encode::airborne_position(
+        icao,
+        &crate::modes::encode::AirbornePositionFields {
+            typecode: 11,
+            surveillance_status: 0,
+            nic_b: false,
+            altitude_ft: Some(10_000),
+            lat_deg,
+            lon_deg: 20.0,
+            odd,
+        },
+    )
+    .unwrap();
+    let hex: String = f.iter().map(|b| format!("{b:02X}")).collect();
+    format!("*{hex};\r\n")
+}
+
 #[test]
 fn the_decoder_counters_include_the_trackers_evictions_and_cpr_rejections() {
     // A table of one aircraft: the second address evicts the first. Then a pair straddling the
     // NL boundary at 10.47 deg (zone_mismatch_is_rejected_and_counted): one rejection.
-    let line = |f: &[u8]| {
-        let hex: String = f.iter().map(|b| format!("{b:02X}")).collect();
-        format!("*{hex};\r\n")
-    };
-    let pos = |icao, lat, odd| {
-        crate::modes::encode::airborne_position(
-            icao,
-            &crate::modes::encode::AirbornePositionFields {
-                typecode: 11,
-                surveillance_status: 0,
-                nic_b: false,
-                altitude_ft: Some(10_000),
-                lat_deg: lat,
-                lon_deg: 20.0,
-                odd,
-            },
-        )
-        .unwrap()
-    };
     let text = [
-        line(&pos(1, 45.0, false)),
-        line(&pos(2, 10.46, false)),
-        line(&pos(2, 10.48, true)),
+        position_line(1, 45.0, false),
+        position_line(2, 10.46, false),
+        position_line(2, 10.48, true),
     ]
     .concat();
     let cfg = TrackerConfig {
@@ -537,23 +538,6 @@ fn every_rejected_frame_is_counted_once_with_its_bytes() {
     //  h  UAT basic frame, 18 zero bytes         passed on       40
     //  i, j an even/odd pair straddling the 10.47 deg NL boundary: both passed, the position
     //       rejected (invalid value)             32 each
-    let pos = |lat, odd| {
-        let f = crate::modes::encode::airborne_position(
-            2,
-            &crate::modes::encode::AirbornePositionFields {
-                typecode: 11,
-                surveillance_status: 0,
-                nic_b: false,
-                altitude_ft: Some(10_000),
-                lat_deg: lat,
-                lon_deg: 20.0,
-                odd,
-            },
-        )
-        .unwrap();
-        let hex: String = f.iter().map(|b| format!("{b:02X}")).collect();
-        format!("*{hex};\r\n")
-    };
     let text = [
         "*7700;\r\n".to_string(),
         "*8D40621D58C382D690C8AC2863A8;\r\n".into(),
@@ -563,8 +547,8 @@ fn every_rejected_frame_is_counted_once_with_its_bytes() {
         "*08000000000000;\r\n".into(),
         "*8D4840D6202CC3;\r\n".into(),
         format!("*{};\r\n", "00".repeat(18)),
-        pos(10.46, false),
-        pos(10.48, true),
+        position_line(2, 10.46, false),
+        position_line(2, 10.48, true),
     ]
     .concat();
     assert_eq!(text.len(), 8 + 32 + 5 * 18 + 40 + 2 * 32);

@@ -375,6 +375,25 @@ mod tests {
 
     const SAFE: [Health; 6] = [Health::Safe; 6];
 
+    /// A VN-200 sample at `t_ms` with a z rate `wz` (rad/s) and x specific force `fx` (m/s^2),
+    /// level (z force -g).
+    fn vn_sample(t_ms: i64, wz: f64, fx: f64) -> Vn200Sample {
+        Vn200Sample {
+            t_gps_ns: t_ms * 1_000_000,
+            sigma_ns: 500.0,
+            attitude: nalgebra::UnitQuaternion::identity(),
+            ypr_sigma_rad: None,
+            ins_status: vigil_drivers::vn200::status::InsStatus(0x0006),
+            imu_status: None,
+            rates_radps: Some([0.0, 0.0, wz]),
+            accel_mps2: Some([fx, 0.0, -G]),
+            lla: None,
+            vel_ned_mps: None,
+            pos_u_m: None,
+            vel_u_mps: None,
+        }
+    }
+
     #[test]
     fn a_constant_rate_error_of_ten_sigma_fails_on_its_axis_only() {
         let p = CheckParams::default();
@@ -431,21 +450,7 @@ mod tests {
 
     #[test]
     fn the_vn200_is_interpolated_to_the_bahrs_time_with_its_slope() {
-        use vigil_drivers::vn200::status::InsStatus;
-        let mk = |t_ms: i64, wz: f64| Vn200Sample {
-            t_gps_ns: t_ms * 1_000_000,
-            sigma_ns: 500.0,
-            attitude: nalgebra::UnitQuaternion::identity(),
-            ypr_sigma_rad: None,
-            ins_status: InsStatus(0x0006),
-            imu_status: None,
-            rates_radps: Some([0.0, 0.0, wz]),
-            accel_mps2: Some([0.0, 0.0, -G]),
-            lla: None,
-            vel_ned_mps: None,
-            pos_u_m: None,
-            vel_u_mps: None,
-        };
+        let mk = |t_ms, wz| vn_sample(t_ms, wz, 0.0);
         let (a, b) = (mk(0, 0.0), mk(10, 0.1));
         // Hand computation: 2.5 ms into a 10 ms span, z rate 0.1 x 0.25 = 0.025 rad/s, slope
         // 0.1 / 0.01 = 10 rad/s^2, interpolation sigma 0.1 / 2 = 0.05 rad/s.
@@ -573,21 +578,7 @@ mod tests {
 
     #[test]
     fn the_vn200_is_interpolated_from_its_earlier_sample_not_from_zero() {
-        use vigil_drivers::vn200::status::InsStatus;
-        let mk = |t_ms: i64, wz: f64, fx: f64| Vn200Sample {
-            t_gps_ns: t_ms * 1_000_000,
-            sigma_ns: 500.0,
-            attitude: nalgebra::UnitQuaternion::identity(),
-            ypr_sigma_rad: None,
-            ins_status: InsStatus(0x0006),
-            imu_status: None,
-            rates_radps: Some([0.0, 0.0, wz]),
-            accel_mps2: Some([fx, 0.0, -G]),
-            lla: None,
-            vel_ned_mps: None,
-            pos_u_m: None,
-            vel_u_mps: None,
-        };
+        let mk = vn_sample;
         // Hand computation, 2.5 ms into a 10 ms span: z rate 0.2 -> 0.3 rad/s gives 0.225 rad/s,
         // slope 0.1 / 0.01 = 10 rad/s^2, step 0.1 / 2 = 0.05 rad/s; x force 2 -> 1 m/s^2 gives
         // 1.75, slope -100 m/s^3, step 0.5.

@@ -1128,31 +1128,39 @@ mod tests {
         assert_eq!(place(None) - place(Some(9_600)), longer);
     }
 
-    #[test]
-    fn a_sample_waits_for_the_pulse_model_only_while_pulses_are_reported() {
-        // A host clock on GPS + HOST_OFF (+1 ms link), 12 s of references.
+    /// A host clock on GPS + HOST_OFF (+1 ms link) over 12 s of references, and an aligner
+    /// whose host envelope was built from 0x03 at 100 Hz from 3 s to 5 s, no pulse reported.
+    fn envelope_without_pulses() -> (HostClock, BahrsAligner) {
         let mut host = HostClock::new(HostClockConfig::default());
         for k in 0..1_200 {
             let gps = G0 + k * 10 * MS;
             host.add(gps + HOST_OFF + MS, gps);
         }
-        let refs = PpsReferences::new();
         let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
-        // 0x03 at 100 Hz from 3 s build the envelope (first byte 0.5 ms after the sample, its
-        // frame on the wire at 115 200 baud, the VN-200's 1 ms link); with no pulse reported
-        // they take the host fallback.
-        let tx = accuracy(0).to_frame().len() as i64 * 10 * S / 115_200;
-        let acc_at = |al: &mut BahrsAligner, g: i64| {
-            al.handle(
-                accuracy(MCU.ticks(g)),
-                g + HOST_OFF + MS / 2 + tx + MS,
-                &host,
-                &refs,
-            )
-        };
         for k in 300..500 {
-            acc_at(&mut al, G0 + k * 10 * MS);
+            accuracy_at(&mut al, &host, G0 + k * 10 * MS);
         }
+        (host, al)
+    }
+
+    /// Hands in the 0x03 of the sample at GPS time `g`: its first byte 0.5 ms after the
+    /// sample, its frame on the wire at 115 200 baud, then the VN-200's 1 ms link.
+    fn accuracy_at(al: &mut BahrsAligner, host: &HostClock, g: i64) -> Vec<Aligned<Message>> {
+        let tx = accuracy(0).to_frame().len() as i64 * 10 * S / 115_200;
+        al.handle(
+            accuracy(MCU.ticks(g)),
+            g + HOST_OFF + MS / 2 + tx + MS,
+            host,
+            &PpsReferences::new(),
+        )
+    }
+
+    #[test]
+    fn a_sample_waits_for_the_pulse_model_only_while_pulses_are_reported() {
+        // With no pulse reported, the envelope's 0x03 take the host fallback.
+        let (host, mut al) = envelope_without_pulses();
+        let refs = PpsReferences::new();
+        let acc_at = |al: &mut BahrsAligner, g: i64| accuracy_at(al, &host, g);
         // A pulse report at 5 s handed in with no host clock (not established at that moment):
         // its second cannot be named, it is not used, but pulses are flowing from then on.
         let p = G0 + 5 * S;
@@ -1299,26 +1307,10 @@ mod tests {
 
     #[test]
     fn samples_waiting_for_the_pulse_model_are_placed_by_it_once_a_pulse_is_used() {
-        let mut host = HostClock::new(HostClockConfig::default());
-        for k in 0..1_200 {
-            let gps = G0 + k * 10 * MS;
-            host.add(gps + HOST_OFF + MS, gps);
-        }
+        // An envelope from 0x03 at 100 Hz, then a pulse report that cannot be named.
+        let (host, mut al) = envelope_without_pulses();
         let refs = PpsReferences::new();
-        let mut al: BahrsAligner = BahrsAligner::new(BahrsAlignerConfig::default());
-        // As above: an envelope from 0x03 at 100 Hz, then a pulse report that cannot be named.
-        let tx = accuracy(0).to_frame().len() as i64 * 10 * S / 115_200;
-        let acc_at = |al: &mut BahrsAligner, g: i64| {
-            al.handle(
-                accuracy(MCU.ticks(g)),
-                g + HOST_OFF + MS / 2 + tx + MS,
-                &host,
-                &refs,
-            )
-        };
-        for k in 300..500 {
-            acc_at(&mut al, G0 + k * 10 * MS);
-        }
+        let acc_at = |al: &mut BahrsAligner, g: i64| accuracy_at(al, &host, g);
         let none = HostClock::new(HostClockConfig::default());
         let p = G0 + 5 * S;
         al.handle(pulse(MCU.ticks(p)), p + HOST_OFF + 3 * MS, &none, &refs);
