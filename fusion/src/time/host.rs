@@ -457,4 +457,73 @@ mod tests {
             msg_est - gps
         );
     }
+
+    /// A clock whose mapped sigma holds no reference-delay or rate term: the excess spread and
+    /// the scatter of the bucket minima alone.
+    fn bare() -> HostClock {
+        HostClock::new(HostClockConfig {
+            reference_delay_sigma_ns: 0.0,
+            rate_sigma_ppm: 0.0,
+            ..HostClockConfig::default()
+        })
+    }
+
+    /// References received at host times `host_ns` with link delays `delay_ns`.
+    fn add_all(c: &mut HostClock, refs: &[(i64, i64)]) {
+        for &(host, delay) in refs {
+            c.add(host, host - delay);
+        }
+    }
+
+    #[test]
+    fn the_scatter_of_the_bucket_minima_is_part_of_the_sigma() {
+        // One reference a second (one per bucket: no excess spread), delays 1 ms + 0, 100, 0,
+        // 100, 0 ns; the sixth starts a bucket and fits the five complete ones. By hand: x at
+        // 0 .. 4 s, y 0, 100, 0, 100, 0: slope 0, mean 40, residuals -40, 60, -40, 60, -40,
+        // ss = 12 000 ns^2, scatter sqrt(12 000 / (5 - 2)) = 63.2456 ns.
+        let mut c = bare();
+        let refs: Vec<(i64, i64)> = [0, 100, 0, 100, 0, 0]
+            .iter()
+            .enumerate()
+            .map(|(k, extra)| (1_000 * S + k as i64 * S + 500 * MS, MS + extra))
+            .collect();
+        add_all(&mut c, &refs);
+        let (_, sigma) = c.to_gps(refs[5].0).unwrap();
+        assert!((sigma - 4_000f64.sqrt()).abs() < 1e-9, "{sigma}");
+    }
+
+    #[test]
+    fn a_tie_of_bucket_minima_keeps_the_first_ones_time() {
+        // Bucket 0 has its minimum twice, at 0.2 s and 0.8 s; buckets 1-4 one each at k + 0.2 s,
+        // 1 us more delay a second: through the first of the tie the minima lie on a line of
+        // exactly 1 ppm (through the second they would give 1.12 ppm).
+        let mut c = bare();
+        let t0 = 1_000 * S;
+        let mut refs = vec![(t0 + 200 * MS, MS), (t0 + 800 * MS, MS)];
+        refs.extend((1..=5).map(|k| (t0 + k * S + 200 * MS, MS + k * 1_000)));
+        add_all(&mut c, &refs);
+        let ppm = c.drift_ppm().unwrap();
+        assert!((ppm - 1.0).abs() < 1e-9, "{ppm}");
+    }
+
+    #[test]
+    fn host_time_going_back_more_than_a_bucket_starts_over() {
+        // Locked on 6 s of references (one bucket a second). A reference exactly one bucket
+        // before the newest is kept; one 1 ns further back means the host clock is not
+        // monotonic: the model starts over, unlocked.
+        let locked = || {
+            let mut c = bare();
+            let refs: Vec<(i64, i64)> = (0..6).map(|k| (1_000 * S + k * S, MS)).collect();
+            add_all(&mut c, &refs);
+            assert_eq!(c.status(1_005 * S), ClockStatus::Locked);
+            c
+        };
+        let mut c = locked();
+        c.add(1_004 * S, 1_004 * S - MS);
+        assert_eq!(c.status(1_005 * S), ClockStatus::Locked);
+        let mut c = locked();
+        c.add(1_004 * S - 1, 1_004 * S - 1 - MS);
+        assert_eq!(c.status(1_005 * S), ClockStatus::Unlocked);
+        assert!(c.to_gps(1_005 * S).is_none());
+    }
 }
