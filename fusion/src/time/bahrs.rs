@@ -943,6 +943,19 @@ mod tests {
         })
     }
 
+    /// A 0x02 with every field zero: only its sequence matters to the aligner.
+    fn zero_navigation(seq: u8) -> Message {
+        Message::Navigation(vigil_drivers::bahrs::Navigation {
+            seq,
+            pressure_height_raw: 0,
+            velocity_down_raw: 0,
+            roll_raw: 0,
+            pitch_raw: 0,
+            heading_raw: 0,
+            health: vigil_drivers::bahrs::NavigationHealth(0),
+        })
+    }
+
     const MCU: Mcu = Mcu {
         offset_us: 5_000_000,
         ppm: 15.0,
@@ -999,15 +1012,7 @@ mod tests {
         // truncated to the us).
         let g = G0 + 11_995 * MS;
         let h = g + HOST_OFF + 2 * MS;
-        let nav = Message::Navigation(vigil_drivers::bahrs::Navigation {
-            seq: 9,
-            pressure_height_raw: 0,
-            velocity_down_raw: 0,
-            roll_raw: 0,
-            pitch_raw: 0,
-            heading_raw: 0,
-            health: vigil_drivers::bahrs::NavigationHealth(0),
-        });
+        let nav = zero_navigation(9);
         let mut out = al.handle(nav, h, &host, &refs);
         let time = Message::NavigationTime(DataTime {
             seq: 9,
@@ -1065,15 +1070,7 @@ mod tests {
             angular_rate_raw: [0; 3],
             health: InertialHealth(0),
         });
-        let nav = Message::Navigation(vigil_drivers::bahrs::Navigation {
-            seq: 2,
-            pressure_height_raw: 0,
-            velocity_down_raw: 0,
-            roll_raw: 0,
-            pitch_raw: 0,
-            heading_raw: 0,
-            health: vigil_drivers::bahrs::NavigationHealth(0),
-        });
+        let nav = zero_navigation(2);
         for m in [inertial, nav, accuracy(1_000_000)] {
             assert!(al.handle(m, h0, &host, &refs).is_empty());
         }
