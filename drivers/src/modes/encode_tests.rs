@@ -93,6 +93,33 @@ fn refusals() {
     assert!(df11(5, 1, 128).is_none());
 }
 
+#[test]
+fn surveillance_status_takes_its_two_bits_and_refuses_a_third() {
+    // DO-260B 2.2.3.2.3.2: the surveillance status is ME bits 6-7 (2 bits, 0..=3: no condition,
+    // permanent alert, temporary alert, SPI). Each value comes back from the decoder; 4 needs a
+    // third bit and is refused.
+    let p = |surveillance_status| AirbornePositionFields {
+        typecode: 11,
+        surveillance_status,
+        nic_b: false,
+        altitude_ft: Some(1000),
+        lat_deg: 52.0,
+        lon_deg: 4.0,
+        odd: false,
+    };
+    for ss in 0..=3 {
+        let f = airborne_position(0x48_40D6, &p(ss)).unwrap();
+        let (_, me) = me_of_frame(&f);
+        let Me::AirbornePosition(a) = me else {
+            panic!("{me:?}")
+        };
+        assert_eq!((a.surveillance_status, a.typecode), (ss, 11), "status {ss}");
+        // ME bits 6-7 are bits 50-49 of the 56-bit ME word (bit 1 is its MSB, bit 56 its LSB).
+        assert_eq!((crate::modes::me_of(&f) >> 49) & 0b11, u64::from(ss));
+    }
+    assert!(airborne_position(0x48_40D6, &p(4)).is_none());
+}
+
 proptest! {
     #[test]
     fn identification_round_trip(icao in 0u32..0x100_0000, tc in 1u8..=4, cat in 0u8..8, cs in "[A-Z0-9]{0,8}") {

@@ -132,11 +132,14 @@ pub fn resolve_time_of_day(
     let ref_unix_ns = unix_ns_from_gps_ns(reference_gps_ns, gps_minus_utc_s);
     let day_ns = S_PER_DAY * NS_PER_S;
     let midnight = ref_unix_ns.div_euclid(day_ns) * day_ns;
-    let best = [midnight - day_ns, midnight, midnight + day_ns]
+    let candidates =
+        [midnight - day_ns, midnight, midnight + day_ns].map(|m| m + ns_since_utc_midnight);
+    // Of three candidates there is always a nearest; the fallback (the reference's own day) is
+    // never taken, and is written without arithmetic so that it holds no mutant to survive.
+    let best = candidates
         .into_iter()
-        .map(|m| m + ns_since_utc_midnight)
         .min_by_key(|t| (t - ref_unix_ns).abs())
-        .unwrap_or(midnight + ns_since_utc_midnight);
+        .unwrap_or(candidates[1]);
     Ok(best - GPS_EPOCH_UNIX_S * NS_PER_S + i64::from(gps_minus_utc_s) * NS_PER_S)
 }
 
