@@ -120,6 +120,21 @@ fn surveillance_status_takes_its_two_bits_and_refuses_a_third() {
     assert!(airborne_position(0x48_40D6, &p(4)).is_none());
 }
 
+#[test]
+fn vertical_rate_field_by_hand() {
+    // DO-260B 2.2.3.2.6.1.14: sign bit (1 = down) above 9 bits of 1 + |rate| / 64 ft/min; 0 =
+    // no information. Level flight is "up 0" (sign clear): 0b0_000000001.
+    assert_eq!(vr_field(None), Some(0));
+    assert_eq!(vr_field(Some(0)), Some(1));
+    assert_eq!(vr_field(Some(64)), Some(2));
+    assert_eq!(vr_field(Some(-64)), Some((1 << 9) | 2));
+    // -832 ft/min (Riddle's example): 832 / 64 = 13, raw 14, sign set.
+    assert_eq!(vr_field(Some(-832)), Some((1 << 9) | 14));
+    // 510 x 64 = 32,640 ft/min is the largest (raw 511); one step more does not fit.
+    assert_eq!(vr_field(Some(32_640)), Some(511));
+    assert_eq!(vr_field(Some(32_704)), None);
+}
+
 proptest! {
     #[test]
     fn identification_round_trip(icao in 0u32..0x100_0000, tc in 1u8..=4, cat in 0u8..8, cs in "[A-Z0-9]{0,8}") {

@@ -213,10 +213,10 @@ impl HostClock {
             sum += b.sum_d - m * f64::from(b.n);
             sum2 += b.sum_d2 - 2.0 * m * b.sum_d + m * m * f64::from(b.n);
         }
-        if cnt > 0.0 {
-            self.excess_mean_ns = sum / cnt;
-            self.excess_sigma_ns = (sum2 / cnt - self.excess_mean_ns.powi(2)).max(0.0).sqrt();
-        }
+        // Every bucket holds at least the delay that opened it (n >= 1), and there is one:
+        // `cnt >= 1`, so no guard.
+        self.excess_mean_ns = sum / cnt;
+        self.excess_sigma_ns = (sum2 / cnt - self.excess_mean_ns.powi(2)).max(0.0).sqrt();
         // The single reads: mid-range and range per bucket, over the same envelope. Decision: a
         // read can be held back by the one before it (reads come in order), which raises low
         // delays and never the largest nor (with a few idle-line reads a second) the smallest;
@@ -230,6 +230,9 @@ impl HostClock {
                 n * ((b.read_min as f64 - b.min_d as f64) + (b.read_max - b.read_min) as f64 / 2.0);
             range += n * (b.read_max - b.read_min) as f64;
         }
+        // Decision: with no bucket of single reads left, the last measure stands. The delay of a
+        // single read is the adapter's and the kernel's, not something that drifts; a port
+        // whose reads stop being told apart (its chunks no longer stamped) keeps it.
         if cnt > 0.0 {
             self.read_excess = (mid / cnt, range / cnt / 12f64.sqrt(), cnt);
         }
@@ -456,6 +459,21 @@ mod tests {
             "{}",
             msg_est - gps
         );
+        // 40 s more of messages without single reads: the 30 buckets that measured them roll
+        // out, and their measure stands (the refit finds no bucket of reads and keeps it).
+        // (While they roll out, the measure comes from fewer buckets; once the last is gone,
+        // 31 s after the reads stopped, nothing changes it.)
+        let mut kept = None;
+        for k in 4_000..12_000 {
+            let gps = 1_000 * S + k * 5 * MS;
+            c.add(gps + off + 3 * MS + (rng.unit() * MS as f64) as i64, gps);
+            if k == 11_000 {
+                kept = c.read_spread_ns();
+            }
+        }
+        let kept = kept.unwrap();
+        assert!((kept - 2e6).abs() < 60_000.0, "spread {kept}");
+        assert_eq!(c.read_spread_ns(), Some(kept));
     }
 
     /// A clock whose mapped sigma holds no reference-delay or rate term: the excess spread and
