@@ -133,6 +133,14 @@ fn vertical_rate_field_by_hand() {
     // 510 x 64 = 32,640 ft/min is the largest (raw 511); one step more does not fit.
     assert_eq!(vr_field(Some(32_640)), Some(511));
     assert_eq!(vr_field(Some(32_704)), None);
+    // The same rule for the velocity components (2.2.3.2.6.1.6-9): standing still is "east 0,
+    // north 0", raw 1 in each 10-bit field under a clear direction bit (ME bits 14 and 25, bits
+    // 42 and 31 of the 56-bit ME word).
+    let me = crate::modes::me_of(&velocity_ground(1, 0, 0, Some(0), false, 0).unwrap());
+    assert_eq!((me >> 32) & 0x7FF, 1, "east: direction bit and 10 bits");
+    assert_eq!((me >> 21) & 0x7FF, 1, "north: direction bit and 10 bits");
+    let me = crate::modes::me_of(&velocity_ground(1, -1, -1, Some(0), false, 0).unwrap());
+    assert_eq!(((me >> 32) & 0x7FF, (me >> 21) & 0x7FF), (0x402, 0x402));
 }
 
 proptest! {

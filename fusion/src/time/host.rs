@@ -251,7 +251,9 @@ impl HostClock {
         let Some(last) = self.last_host_ns else {
             return ClockStatus::Unlocked;
         };
-        if self.fit.is_none() || self.buckets.len() < 2 {
+        // Two buckets or more means a fit: the second is pushed after a refit over the first
+        // (and a restart clears both).
+        if self.buckets.len() < 2 {
             return ClockStatus::Unlocked;
         }
         let since = now_ns.saturating_sub(last);
@@ -543,5 +545,60 @@ mod tests {
         c.add(1_004 * S - 1, 1_004 * S - 1 - MS);
         assert_eq!(c.status(1_005 * S), ClockStatus::Unlocked);
         assert!(c.to_gps(1_005 * S).is_none());
+    }
+
+    #[test]
+    fn status_edges_by_bucket_count_and_time_since_the_last_reference() {
+        // Defaults: 2 buckets make a "locking" model, 5 a locked one; coasting after 2 s
+        // without references, unlocked after 120 s. One reference a second (one per bucket).
+        let mut c = bare();
+        let t0 = 1_000 * S;
+        let want = [
+            ClockStatus::Unlocked, // 1 bucket: no fit yet
+            ClockStatus::Locking,  // 2
+            ClockStatus::Locking,  // 3
+            ClockStatus::Locking,  // 4
+            ClockStatus::Locked,   // 5
+        ];
+        for (k, want) in want.into_iter().enumerate() {
+            let h = t0 + k as i64 * S;
+            c.add(h, h - MS);
+            assert_eq!(c.status(h), want, "{} bucket(s)", k + 1);
+            assert_eq!(c.to_gps(h).is_some(), want != ClockStatus::Unlocked);
+        }
+        let last = t0 + 4 * S;
+        assert_eq!(c.status(last + 2 * S), ClockStatus::Locked);
+        assert_eq!(c.status(last + 2 * S + 1), ClockStatus::Coasting);
+        assert_eq!(c.status(last + 120 * S), ClockStatus::Coasting);
+        assert_eq!(c.status(last + 120 * S + 1), ClockStatus::Unlocked);
+        assert!(c.to_gps(last + 120 * S).is_some());
+        assert!(c.to_gps(last + 120 * S + 1).is_none());
+    }
+
+    #[test]
+    fn single_reads_count_from_fifty() {
+        // References 1 ms late, one a second; in the second bucket `reads` single reads 0.5 ms
+        // late. From 50 reads on, bytes of one read are placed with the reads' delay: 0.5 ms
+        // later than through the references' delay. Below 50, the references' delay stands.
+        let through = |reads: i64| {
+            let mut c = bare();
+            let t0 = 1_000 * S;
+            for k in 0..8 {
+                let h = t0 + k * S;
+                c.add(h, h - MS);
+                if k == 1 {
+                    for j in 0..reads {
+                        let hr = h + (10 + j) * MS;
+                        c.add_read(hr, hr - MS / 2);
+                    }
+                }
+            }
+            let h = t0 + 7 * S + 100 * MS;
+            (c.to_gps_read(h).unwrap().0, c.to_gps(h).unwrap().0)
+        };
+        let (read, refs) = through(49);
+        assert_eq!(read, refs);
+        let (read, refs) = through(50);
+        assert_eq!(read - refs, MS / 2);
     }
 }
