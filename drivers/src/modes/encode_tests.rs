@@ -143,6 +143,31 @@ fn vertical_rate_field_by_hand() {
     assert_eq!(((me >> 32) & 0x7FF, (me >> 21) & 0x7FF), (0x402, 0x402));
 }
 
+#[test]
+fn airspeed_limits_and_headings_by_hand() {
+    // DO-260B 2.2.3.2.6.3.10: subtype 4 (supersonic) air speed is 4 kt x (raw - 1), raw 10
+    // bits, 1023 the largest: 4 x 1022 = 4,088 kt. 4,089 kt rounds to it ((4,089 + 2) / 4 =
+    // 1,022, raw 1,023); 4,090 kt would need raw 1,024.
+    let speed = |kt| {
+        let f = velocity_air(1, None, kt, true, None, false)?;
+        let (_, me) = me_of_frame(&f);
+        let Me::Velocity(v) = me else {
+            panic!("{me:?}")
+        };
+        v.airspeed_kt
+    };
+    assert_eq!(speed(4_089), Some(4_088));
+    assert!(velocity_air(1, None, 4_090, true, None, false).is_none());
+    // A heading is a number of degrees or absent; NaN and infinity are neither.
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert!(
+            velocity_air(1, Some(bad), 200, true, None, false).is_none(),
+            "{bad}"
+        );
+    }
+    assert!(velocity_air(1, Some(359.9), 200, true, None, false).is_some());
+}
+
 proptest! {
     #[test]
     fn identification_round_trip(icao in 0u32..0x100_0000, tc in 1u8..=4, cat in 0u8..8, cs in "[A-Z0-9]{0,8}") {
