@@ -166,6 +166,46 @@ fn airspeed_limits_and_headings_by_hand() {
         );
     }
     assert!(velocity_air(1, Some(359.9), 200, true, None, false).is_some());
+    // The vertical rate and its source (ME bit 36: 1 = barometric) as in subtypes 1-2.
+    for (baro, source) in [
+        (true, VerticalRateSource::Baro),
+        (false, VerticalRateSource::Gnss),
+    ] {
+        let f = velocity_air(1, None, 200, true, Some(-832), baro).unwrap();
+        let (_, me) = me_of_frame(&f);
+        let Me::Velocity(v) = me else {
+            panic!("{me:?}")
+        };
+        assert_eq!(
+            (v.vertical_rate_fpm, v.vertical_rate_source),
+            (Some(-832), source)
+        );
+    }
+}
+
+#[test]
+fn operational_status_refuses_each_field_too_wide() {
+    // Version 0..=2 (3 bits, DO-260B knows three), NACp 0..=11, GVA and SIL 0..=3 (2 bits).
+    let ok = OperationalStatusFields::default();
+    for version in 0..=2 {
+        assert!(operational_status(1, &OperationalStatusFields { version, ..ok }).is_some());
+    }
+    for bad in [
+        OperationalStatusFields { version: 3, ..ok },
+        OperationalStatusFields { nac_p: 12, ..ok },
+        OperationalStatusFields { gva: 4, ..ok },
+        OperationalStatusFields { sil: 4, ..ok },
+    ] {
+        assert!(operational_status(1, &bad).is_none(), "{bad:?}");
+    }
+    let widest = OperationalStatusFields {
+        version: 2,
+        nac_p: 11,
+        gva: 3,
+        sil: 3,
+        ..ok
+    };
+    assert!(operational_status(1, &widest).is_some());
 }
 
 proptest! {

@@ -325,4 +325,61 @@ mod tests {
             Err(NotAligned::HostClockUnknown)
         );
     }
+
+    #[test]
+    fn a_last_read_that_the_one_before_may_hold_back_is_placed_earlier_by_hand() {
+        // A host clock with no reference-delay or rate term: references 1 ms late, one a second;
+        // in the second bucket 50 single reads, half 0.5 ms and half 2.5 ms late (spread 2 ms,
+        // mid-range 1.5 ms: the delay a single read is placed with).
+        let mut c = HostClock::new(HostClockConfig {
+            reference_delay_sigma_ns: 0.0,
+            rate_sigma_ppm: 0.0,
+            ..HostClockConfig::default()
+        });
+        let t0 = 1_000 * S;
+        for k in 0..8 {
+            let h = t0 + k * S;
+            c.add(h, h - MS);
+            if k == 1 {
+                for j in 0..50 {
+                    let hr = h + (10 + j) * MS;
+                    let delay = if j % 2 == 0 { MS / 2 } else { 5 * MS / 2 };
+                    c.add_read(hr, hr - delay);
+                }
+            }
+        }
+        let link = HostTimedLink {
+            baud: 115_200,
+            output_delay_ns: 0,
+            output_delay_sigma_ns: 0.0,
+        };
+        // A 20-byte message (1,736,111 ns on the wire) whose last read held 10 bytes
+        // (868,055 ns): the read before can hold it back by up to 2 ms - 868,055 ns =
+        // 1,131,945 ns (h). Mean hold-back h^3 / (6 s^2) = 60,431.7 ns, its rms h^2 / (s sqrt 12)
+        // = 184,939.7 ns; the single read's own sigma 2 ms / sqrt 12 = 577,350.3 ns.
+        let rx = |last_bytes| Rx {
+            host_ns: t0 + 7 * S + 100 * MS,
+            wire_len: 20,
+            reads: Some(Reads {
+                first_host_ns: t0 + 7 * S + 99 * MS,
+                first_bytes: 10,
+                last_bytes,
+            }),
+        };
+        let first_byte = t0 + 7 * S + 100 * MS - 1_736_111;
+        let a = host_timed(&c, rx(10), link).unwrap();
+        assert_eq!(a.t_gps_ns, first_byte - 1_500_000 - 60_432);
+        assert!((a.sigma_ns - 606_247.48).abs() < 0.01, "{}", a.sigma_ns);
+        // 30 bytes in the last read take 2,604,166 ns, more than the spread: nothing holds it.
+        let rx30 = Rx {
+            wire_len: 40,
+            ..rx(30)
+        };
+        let a = host_timed(&c, rx30, link).unwrap();
+        assert_eq!(a.t_gps_ns, t0 + 7 * S + 100 * MS - 3_472_222 - 1_500_000);
+        assert!((a.sigma_ns - 577_350.27).abs() < 0.01, "{}", a.sigma_ns);
+        // Without the reads, the references' own delay (1 ms, no spread) places it.
+        let a = host_timed(&c, Rx::new(t0 + 7 * S + 100 * MS, 20), link).unwrap();
+        assert_eq!((a.t_gps_ns, a.sigma_ns), (first_byte - MS, 0.0));
+    }
 }
