@@ -297,4 +297,125 @@ mod tests {
             let _ = c.host_ns(t, h);
         }
     }
+
+    const S: i64 = 1_000_000_000;
+
+    /// One point a second: MCU tick `k` s, first byte at host 100 s + `k` s + 1 ms +
+    /// `extra[k]` ns (d = host - tick = 100 s + 1 ms + extra).
+    fn one_a_second(c: &mut McuHostClock, extra: &[i64]) {
+        for (k, e) in extra.iter().enumerate() {
+            let k = k as i64;
+            c.add(k as u64 * 1_000_000, 100 * S + k * S + MS + e);
+        }
+    }
+
+    #[test]
+    fn envelope_by_hand_before_the_slope_is_fitted() {
+        // Two complete buckets (the third point starts a third): minima 0 and 100 ns above
+        // 100.001 s. Fewer than 5 buckets: no slope (0 ppm, whatever the minima do), the line at
+        // their mean (+50 ns), scatter sqrt(50^2 + 50^2) / (2 - 1) dof = 70.71 ns, and the slope
+        // bounded by 100 ppm as a uniform: 100e-6 / sqrt 3.
+        let mut c = McuHostClock::new(McuHostConfig::default());
+        one_a_second(&mut c, &[0, 100, 0]);
+        assert_eq!(c.drift_ppm(), Some(0.0));
+        let now = 102 * S;
+        // At the points' mean MCU time (0.5 s) only the scatter: 70.71 x sqrt(1 + 1/2).
+        let (h, sigma) = c.host_ns(500_000, now).unwrap();
+        assert_eq!(h, 500_000_000 + 100 * S + MS + 50);
+        assert!((sigma - 86.602_540).abs() < 1e-5, "{sigma}");
+        // 1.5 s from it the slope bound adds 57.735 ppb x 1.5 s = 86,602.5 ns.
+        let (_, sigma) = c.host_ns(2_000_000, now).unwrap();
+        assert!((sigma - 86_602.583_680).abs() < 1e-5, "{sigma}");
+    }
+
+    #[test]
+    fn envelope_by_hand_with_the_slope_fitted() {
+        // Five complete buckets, minima 0, 100, 0, 100, 0 ns at 0..4 s: slope 0 by symmetry,
+        // line at +40 ns, residuals -40, 60, -40, 60, -40: ss = 12,000 ns^2 over 5 - 2 dof,
+        // scatter 63.2456 ns; sxx = 10 s^2, slope sigma 63.2456 / sqrt(1e19) = 2e-8.
+        let mut c = McuHostClock::new(McuHostConfig::default());
+        one_a_second(&mut c, &[0, 100, 0, 100, 0, 0]);
+        assert_eq!(c.drift_ppm(), Some(0.0));
+        let now = 105 * S;
+        let (h, sigma) = c.host_ns(2_000_000, now).unwrap();
+        assert_eq!(h, 2 * S + 100 * S + MS + 40);
+        // At the mean (2 s): 63.2456 x sqrt(1 + 1/5).
+        assert!((sigma - 69.282_032).abs() < 1e-5, "{sigma}");
+        // 10 s further: sqrt(69.282^2 + (2e-8 x 1e10)^2).
+        let (_, sigma) = c.host_ns(12_000_000, now).unwrap();
+        assert!((sigma - 211.660_105).abs() < 1e-5, "{sigma}");
+        // A drift of exactly 1 ppm (1 us more delay a second) is read as 1 ppm.
+        let mut c = McuHostClock::new(McuHostConfig::default());
+        one_a_second(&mut c, &[0, 1_000, 2_000, 3_000, 4_000, 5_000]);
+        assert!((c.drift_ppm().unwrap() - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_stuck_mcu_clock_fits_no_slope() {
+        // Six buckets of host time, the MCU time frozen at 7 s: no spread of MCU times to fit a
+        // slope through (sxx = 0), so none is fitted rather than 0 / 0.
+        let mut c = McuHostClock::new(McuHostConfig::default());
+        for k in 0..6 {
+            c.add(7_000_000, 100 * S + k * S);
+        }
+        assert_eq!(c.drift_ppm(), Some(0.0));
+        let (_, sigma) = c.host_ns(7_000_000, 105 * S).unwrap();
+        assert!(sigma.is_finite());
+    }
+
+    #[test]
+    fn a_tie_of_minima_keeps_the_first_ones_mcu_time() {
+        // Bucket 0 has its minimum twice (MCU 0.2 s and 0.8 s, the same d); buckets 1-5 one each
+        // at k + 0.2 s, 1 us more delay a second: through the first of the tie the minima lie on
+        // a line of exactly 1 ppm (through the second, 1.12 ppm).
+        let mut c = McuHostClock::new(McuHostConfig::default());
+        let point = |c: &mut McuHostClock, tick_us: i64, extra: i64| {
+            c.add(tick_us as u64, 100 * S + tick_us * 1_000 + MS + extra);
+        };
+        point(&mut c, 200_000, 0);
+        point(&mut c, 800_000, 0);
+        for k in 1..=6 {
+            point(&mut c, k * 1_000_000 + 200_000, k * 1_000);
+        }
+        assert!(
+            (c.drift_ppm().unwrap() - 1.0).abs() < 1e-9,
+            "{:?}",
+            c.drift_ppm()
+        );
+    }
+
+    #[test]
+    fn host_time_going_back_more_than_a_bucket_starts_over_and_ticks_end_at_2_pow_52() {
+        let fitted = || {
+            let mut c = McuHostClock::new(McuHostConfig::default());
+            one_a_second(&mut c, &[0, 0, 0]);
+            c
+        };
+        let last = 102 * S + MS;
+        // Exactly one bucket back: kept. 1 ns further: the host clock is not monotonic.
+        let mut c = fitted();
+        c.add(1_000_000, last - S);
+        assert!(c.host_ns(1_000_000, last).is_some());
+        let mut c = fitted();
+        c.add(1_000_000, last - S - 1);
+        assert!(c.host_ns(1_000_000, last).is_none());
+        // The largest MCU time taken is 2^52 us: a point there is a point (it keeps the
+        // envelope from going stale 10 s on); one past it is refused.
+        let later = last + 8 * S;
+        let mut c = fitted();
+        c.add(MAX_TICK_US, later);
+        assert!(c.host_ns(1_000_000, later + 5 * S).is_some());
+        let mut c = fitted();
+        c.add(MAX_TICK_US + 1, later);
+        assert!(c.host_ns(1_000_000, later + 5 * S).is_none());
+    }
+
+    #[test]
+    fn the_configuration_is_the_one_given() {
+        let cfg = McuHostConfig {
+            output_delay_ns: 123_456,
+            ..McuHostConfig::default()
+        };
+        assert_eq!(McuHostClock::new(cfg).config(), &cfg);
+    }
 }
