@@ -165,5 +165,28 @@ mod tests {
             Callsign::from_bits48(Callsign::encode("").unwrap()).as_str(),
             ""
         );
+        // The raw characters keep the padding that `as_str` trims.
+        let ab = Callsign::from_bits48(Callsign::encode("AB").unwrap());
+        assert_eq!(ab.raw(), b"AB      ");
+    }
+
+    #[test]
+    fn category_sets_by_type_code() {
+        // DO-260B 2.2.3.2.5.2: TC 4 = set A, 3 = B, 2 = C, 1 = D; the flat numbering (GDL90
+        // emitter category, as the doc of `emitter_category` gives it) counts 8 per set.
+        for (typecode, category, code, flat) in [
+            (4, 3, b"A3", 3),
+            (3, 2, b"B2", 10),
+            (2, 1, b"C1", 17),
+            (1, 7, b"D7", 31),
+        ] {
+            let id = Identification {
+                typecode,
+                category,
+                callsign: Callsign::from_bits48(0),
+            };
+            assert_eq!(&id.category_code(), code, "TC {typecode}");
+            assert_eq!(id.emitter_category(), flat, "TC {typecode}");
+        }
     }
 }

@@ -78,4 +78,14 @@ mod tests {
         assert_eq!(nic(8, 2, false, false, true), 6);
         assert_eq!(nic(8, 2, false, false, false), 0);
     }
+
+    #[test]
+    fn version_1_reads_the_one_supplement() {
+        // DO-260A: NIC-A ("NIC supplement") alone lifts TC 7 (surface), 11 and 16 (airborne)
+        // to their better containment: 9, 9 and 3 instead of 8, 8 and 2.
+        for (tc, with, without) in [(7, 9, 8), (11, 9, 8), (16, 3, 2)] {
+            assert_eq!(nic(tc, 1, true, false, false), with, "TC {tc}");
+            assert_eq!(nic(tc, 1, false, true, true), without, "TC {tc}");
+        }
+    }
 }
