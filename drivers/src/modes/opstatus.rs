@@ -111,7 +111,8 @@ mod tests {
         assert_eq!(s.nic_baro, Some(true));
         assert_eq!(s.hrd_magnetic, Some(false));
         assert_eq!(s.sda, Some(2));
-        assert_eq!(s.nic_c, None);
+        // NIC-C and NACv are surface fields.
+        assert_eq!((s.nic_c, s.nac_v), (None, None));
     }
 
     #[test]
@@ -129,5 +130,9 @@ mod tests {
         let s = OperationalStatus::decode(31u64 << 51).unwrap();
         assert_eq!((s.version, s.nac_p, s.sil), (0, None, None));
         assert!(OperationalStatus::decode((31u64 << 51) | (2 << 48)).is_none());
+        // Version 0 has no NACv or NIC-C, on the surface too (their bits set).
+        let s =
+            OperationalStatus::decode((31u64 << 51) | (1 << 48) | (7 << 37) | (1 << 36)).unwrap();
+        assert_eq!((s.subtype, s.version, s.nac_v, s.nic_c), (1, 0, None, None));
     }
 }

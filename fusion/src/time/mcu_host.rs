@@ -392,6 +392,12 @@ mod tests {
             c
         };
         let last = 102 * S + MS;
+        // Stale 10 s after the newest point, not at 10 s; MCU times up to 2^52 us only.
+        let c = fitted();
+        assert!(c.host_ns(1_000_000, last + 10 * S).is_some());
+        assert!(c.host_ns(1_000_000, last + 10 * S + 1).is_none());
+        assert!(c.host_ns(MAX_TICK_US, last).is_some());
+        assert!(c.host_ns(MAX_TICK_US + 1, last).is_none());
         // Exactly one bucket back: kept. 1 ns further: the host clock is not monotonic.
         let mut c = fitted();
         c.add(1_000_000, last - S);
