@@ -721,4 +721,13 @@ mod tests {
         assert_eq!(pulse_second(5 * NS_PER_S + 499_000_000), 5 * NS_PER_S);
         assert_eq!(pulse_second(5 * NS_PER_S + 501_000_000), 6 * NS_PER_S);
     }
+
+    #[test]
+    fn the_configuration_is_the_one_given() {
+        let cfg = PpsClockConfig {
+            pulses_to_lock: 7,
+            ..PpsClockConfig::default()
+        };
+        assert_eq!(PpsClock::new(cfg).config(), &cfg);
+    }
 }
