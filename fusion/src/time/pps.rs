@@ -730,4 +730,47 @@ mod tests {
         };
         assert_eq!(PpsClock::new(cfg).config(), &cfg);
     }
+
+    #[test]
+    fn fit_scatter_capture_and_floor_by_hand() {
+        // No pulse jitter configured: the floor is the tick quantisation alone, 1 us / sqrt 12
+        // = 288.675 ns (with the default 2 us jitter: sqrt(1e6 / 12 + 4e6) = 2,020.726 ns).
+        assert!(
+            (PpsClock::new(PpsClockConfig::default()).floor_sigma_ns() - 2_020.725_942).abs()
+                < 1e-5
+        );
+        let cfg = PpsClockConfig {
+            pulse_jitter_ns: 0.0,
+            ..PpsClockConfig::default()
+        };
+        let g0 = 1_000 * NS_PER_S;
+        let tick = |k: i64| 5_000_000 + k as u64 * 1_000_000;
+        // Pulses on whole seconds, the 2nd and 4th GPS times 3 us late.
+        let late = [0, 3_000, 0, 3_000];
+        let mut c = PpsClock::new(cfg);
+        for (k, late) in late.iter().enumerate() {
+            let k = k as i64;
+            assert_eq!(
+                c.add_pulse(tick(k), g0 + k * NS_PER_S + late),
+                PulseOutcome::Accepted
+            );
+            if k == 1 {
+                // Two pulses leave no residual to measure: the floor.
+                assert!((c.residual_sigma_ns().unwrap() - 288.675_134).abs() < 1e-5);
+            }
+        }
+        // Least squares by hand (Python's statistics.linear_regression agrees): slope
+        // 1,000.0006 ns a tick, intercept 600 ns, residuals -600, 1800, -1800, 600 ns;
+        // ss = 7.2e6 ns^2 over 4 - 2 dof: 1,897.367 ns.
+        let s = c.residual_sigma_ns().unwrap();
+        assert!((s - 1_897.366_596).abs() < 1e-5, "{s}");
+        assert!((c.drift_ppm().unwrap() + 0.6).abs() < 1e-6);
+        // Capture scatter beyond the quantisation, sqrt(1897.367^2 - 1e6 / 12) = 1,875.278 ns;
+        // the time moves by sqrt 3 / 2 of it (1,624.038 ns), which adds to the sigma:
+        // sqrt(1897.367^2 (1 + 1/4 + (1.5e6)^2 / 5e12) + 1624.038^2) = 2,959.307 ns at the last
+        // pulse (no wander there).
+        let (t, sigma) = c.to_gps(tick(3)).unwrap();
+        assert_eq!(t, g0 + 3_000_004_024);
+        assert!((sigma - 2_959.307_351).abs() < 1e-5, "{sigma}");
+    }
 }
