@@ -772,5 +772,110 @@ mod tests {
         let (t, sigma) = c.to_gps(tick(3)).unwrap();
         assert_eq!(t, g0 + 3_000_004_024);
         assert!((sigma - 2_959.307_351).abs() < 1e-5, "{sigma}");
+        // 10 s past the last pulse the rate wander adds 0.05 ppm x 10 s = 500 ns (root sum
+        // square): sqrt(1897.367^2 (1 + 1/4 + (11.5e6)^2 / 5e12) + 500^2 + 1624.038^2).
+        let (t, sigma) = c.to_gps(tick(13)).unwrap();
+        assert_eq!(t, g0 + 13_000_010_024);
+        assert!((sigma - 10_129.536_021).abs() < 1e-5, "{sigma}");
+    }
+
+    /// A clock with pulses on the whole seconds 0..5 at ticks 1 s apart.
+    fn five_pulses() -> PpsClock {
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        for k in 0..5i64 {
+            c.add_pulse(1_000_000 * k as u64, k * NS_PER_S);
+        }
+        c
+    }
+
+    #[test]
+    fn status_edges_pulses_to_lock_and_coasting() {
+        // 3 pulses lock; coasting from 1.5 s after the last pulse (exactly 1.5 s is not yet);
+        // no time from 30 s on.
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        c.add_pulse(0, 0);
+        c.add_pulse(1_000_000, NS_PER_S);
+        assert_eq!(c.status(1_000_000), ClockStatus::Locking);
+        c.add_pulse(2_000_000, 2 * NS_PER_S);
+        assert_eq!(c.status(2_000_000), ClockStatus::Locked);
+        assert_eq!(c.status(3_500_000), ClockStatus::Locked);
+        assert_eq!(c.status(3_500_001), ClockStatus::Coasting);
+        assert_eq!(c.status(31_000_000), ClockStatus::Coasting);
+        assert_eq!(c.status(33_000_000), ClockStatus::Unlocked);
+    }
+
+    #[test]
+    fn relocks_and_outliers_are_counted() {
+        // A pulse going backwards re-locks at once; each re-lock opens a new epoch.
+        let mut c = five_pulses();
+        assert_eq!(c.add_pulse(300_000, 5 * NS_PER_S), PulseOutcome::Relocked);
+        assert_eq!((c.relocks, c.epoch()), (1, 1));
+        c.add_pulse(1_300_000, 6 * NS_PER_S);
+        assert_eq!(c.add_pulse(200_000, 7 * NS_PER_S), PulseOutcome::Relocked);
+        assert_eq!(c.epoch(), 2);
+        // A wrong second is one outlier.
+        let mut c = five_pulses();
+        assert_eq!(c.add_pulse(5_000_000, 6 * NS_PER_S), PulseOutcome::Outlier);
+        assert_eq!((c.outliers_rejected, c.relocks), (1, 0));
+    }
+
+    #[test]
+    fn outliers_relock_only_when_they_agree_with_each_other() {
+        // Three outliers 999,760 us of MCU time apart for 1 s of GPS: 240 us apart from the
+        // nominal, within 50 ppm x 0.99976 s + 200 us = 249.988 us: a new clock (a fourth one
+        // would be too late to say so).
+        let mut c = five_pulses();
+        let run = [(5_300_000, 5), (6_299_760, 6), (7_299_520, 7)];
+        let got: Vec<_> = run
+            .iter()
+            .map(|&(t, s)| c.add_pulse(t, s * NS_PER_S))
+            .collect();
+        use PulseOutcome::{Outlier, Relocked};
+        assert_eq!(got, [Outlier, Outlier, Relocked]);
+        assert_eq!((c.outliers_rejected, c.relocks), (3, 1));
+        // Scattered outliers (0.3, 0.7 and 0.1 s off) are faults, not a clock: the old model
+        // stays and still maps its own epoch.
+        let mut c = five_pulses();
+        for (t, s) in [(5_300_000, 5), (6_700_000, 6), (7_100_000, 7)] {
+            assert_eq!(c.add_pulse(t, s * NS_PER_S), Outlier);
+        }
+        assert_eq!(c.relocks, 0);
+        assert_eq!(c.to_gps(4_500_000).unwrap().0, 4_500_000_000);
+        // The same wrong pulse reported three times (the document does not say 0x06 is sent
+        // once) is not a run of agreeing pulses either.
+        let mut c = five_pulses();
+        for _ in 0..3 {
+            assert_eq!(c.add_pulse(5_300_000, 5 * NS_PER_S), Outlier);
+        }
+        assert_eq!(c.relocks, 0);
+    }
+
+    #[test]
+    fn a_single_pulse_gates_the_next_at_six_sigma_of_its_drift_bound() {
+        // One pulse; the next 10 s later on a clock 100 ppm fast (1 ms over the nominal rate),
+        // beyond the 200 us outlier limit but within 6 sigma of the 50 ppm bound (6 x sqrt(
+        // 2 x 2020.7^2 + (28.87 ppm x 10.001 s)^2 + (0.05 ppm x 10.001 s)^2) = 1.73 ms).
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        c.add_pulse(1_000_000, 0);
+        assert_eq!(
+            c.add_pulse(11_001_000, 10 * NS_PER_S),
+            PulseOutcome::Accepted
+        );
+    }
+
+    #[test]
+    fn device_time_stepping_back_more_than_0_2_s_is_a_reset() {
+        // 0.2 s = 200,000 ticks back is tolerated (time messages of two streams interleave);
+        // one more is a reset.
+        let mut c = five_pulses();
+        assert!(!c.observe(4_000_000));
+        assert!(!c.observe(3_800_000));
+        assert!(c.observe(3_599_999));
+        // The newest time seen counts, not the latest: after 4.0 s and 3.9 s, 3.75 s is
+        // 0.25 s back.
+        let mut c = five_pulses();
+        assert!(!c.observe(4_000_000));
+        assert!(!c.observe(3_900_000));
+        assert!(c.observe(3_750_000));
     }
 }
