@@ -73,7 +73,21 @@ mod tests {
         let s = AircraftStatus::decode(me);
         assert_eq!(s.emergency, Some(1));
         assert_eq!(s.squawk, Some(Squawk(0x7700)));
-        assert_eq!(AircraftStatus::emergency_name(5), "unlawful_interference");
+        // DO-260B Table 2-85: emergency/priority status codes 0-6, 7 reserved.
+        let names: Vec<&str> = (0..=7).map(AircraftStatus::emergency_name).collect();
+        assert_eq!(
+            names,
+            [
+                "none",
+                "general",
+                "lifeguard",
+                "minimum_fuel",
+                "no_communications",
+                "unlawful_interference",
+                "downed_aircraft",
+                "reserved"
+            ]
+        );
         let s = AircraftStatus::decode((28u64 << 51) | (2 << 48));
         assert_eq!((s.subtype, s.emergency, s.squawk), (2, None, None));
     }

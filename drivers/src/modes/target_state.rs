@@ -117,4 +117,36 @@ mod tests {
             (None, None, None)
         );
     }
+
+    #[test]
+    fn each_mode_flag_at_its_me_bit() {
+        // DO-260B 2.2.3.2.7.1.3: ME bit 8 SIL supplement, 9 selected altitude from the FMS,
+        // 44 NIC-baro, 47 mode bits valid, 48 autopilot, 49 VNAV, 50 altitude hold,
+        // 52 approach, 53 ACAS operational, 54 LNAV (bit 1 is the ME's first, 56 its last).
+        let flags = |t: &TargetState| {
+            [
+                t.sil_per_sample,
+                t.selected_altitude_fms,
+                t.nic_baro,
+                t.modes_valid,
+                t.autopilot,
+                t.vnav,
+                t.alt_hold,
+                t.approach,
+                t.acas_operational,
+                t.lnav,
+            ]
+        };
+        let base = (29u64 << 51) | (1 << 49);
+        assert_eq!(flags(&TargetState::decode(base).unwrap()), [false; 10]);
+        for (i, bit) in [8, 9, 44, 47, 48, 49, 50, 52, 53, 54]
+            .into_iter()
+            .enumerate()
+        {
+            let t = TargetState::decode(base | (1 << (56 - bit))).unwrap();
+            let mut want = [false; 10];
+            want[i] = true;
+            assert_eq!(flags(&t), want, "ME bit {bit}");
+        }
+    }
 }

@@ -384,3 +384,12 @@ fn report_flags_ground_emergency_and_relay() {
         .unwrap();
     assert!(r.flags.on_ground && !r.flags.relayed && !r.flags.emergency);
 }
+
+#[test]
+fn the_configuration_is_the_one_given() {
+    let cfg = TrackerConfig {
+        capacity: 17,
+        ..TrackerConfig::default()
+    };
+    assert_eq!(Tracker::new(cfg).config(), &cfg);
+}
