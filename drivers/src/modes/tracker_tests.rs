@@ -393,3 +393,26 @@ fn the_configuration_is_the_one_given() {
     };
     assert_eq!(Tracker::new(cfg).config(), &cfg);
 }
+
+#[test]
+fn coarse_tis_b_and_management_frames_are_accepted_but_not_tracked() {
+    // DF18 CF 3 (coarse TIS-B) and CF 4 (management): their address field may be a track
+    // number, so they vouch for no one and start no track (DO-260B 2.2.3.2.1.1). CF 0 (ADS-B
+    // from a non-transponder device) is tracked.
+    let with_cf = |cf: u8| {
+        let mut f = pos_frame(9, 11, 45.0, 7.0, false, false);
+        f[0] = (18 << 3) | cf;
+        crate::modes::crc::set_parity(&mut f, 0);
+        f
+    };
+    let mut tr = Tracker::new(TrackerConfig::default());
+    assert!(tr.is_empty());
+    for cf in [3, 4] {
+        let up = feed(&mut tr, &with_cf(cf), at(0.0));
+        assert!(up.accepted, "CF {cf}");
+        assert!(tr.is_empty(), "CF {cf}");
+    }
+    assert!(feed(&mut tr, &with_cf(0), at(0.1)).accepted);
+    assert!(!tr.is_empty());
+    assert_eq!(tr.len(), 1);
+}

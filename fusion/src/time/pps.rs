@@ -802,6 +802,13 @@ mod tests {
         assert_eq!(c.status(3_500_001), ClockStatus::Coasting);
         assert_eq!(c.status(31_000_000), ClockStatus::Coasting);
         assert_eq!(c.status(33_000_000), ClockStatus::Unlocked);
+        // A sample up to 1.5 s before the model's first pulse is mapped (data just before the
+        // first pulse after a restart); earlier is another epoch. The first pulse is at tick 0
+        // here, so start one at 2 s.
+        let mut c = PpsClock::new(PpsClockConfig::default());
+        c.add_pulse(2_000_000, 2 * NS_PER_S);
+        assert_eq!(c.to_gps(500_000).unwrap().0, NS_PER_S / 2);
+        assert_eq!(c.to_gps(499_999), Err(MapError::BeforeModel));
     }
 
     #[test]
