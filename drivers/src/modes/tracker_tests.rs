@@ -416,3 +416,50 @@ fn coarse_tis_b_and_management_frames_are_accepted_but_not_tracked() {
     assert!(!tr.is_empty());
     assert_eq!(tr.len(), 1);
 }
+
+#[test]
+fn a_last_position_older_than_30_s_does_not_gate_a_jump() {
+    // The jump of `implausible_positions_are_rejected` (2 deg, 222 km), 40 s after the last fix
+    // instead of 2 s: the last position is older than `local_max_age_s` (30 s), too old to
+    // vouch against a new global decode, which stands on its own.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, true, false), at(0.5))
+            .position
+            .is_some()
+    );
+    feed(
+        &mut tr,
+        &pos_frame(7, 11, 47.0, 7.0, false, false),
+        at(40.0),
+    );
+    let u = feed(&mut tr, &pos_frame(7, 11, 47.0, 7.0, true, false), at(40.5));
+    assert!(u.position.is_some() && !u.cpr_rejected);
+}
+
+#[test]
+fn on_ground_from_the_df17_ca_and_the_all_call_capability() {
+    // CA / capability 4 = "level 2+ transponder, on ground", 5 = "airborne" (ICAO Annex 10
+    // Vol IV 3.1.2.5.2.2.1). DF18 has CF in that field, which says nothing of the ground.
+    let id = encode::df17(4, 0x00AB_CDEF, (4u64 << 51) | (1 << 48));
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &id, at(0.0));
+    assert!(tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
+    let mut df18 = id;
+    df18[0] = 18 << 3;
+    crate::modes::crc::set_parity(&mut df18, 0);
+    feed(&mut tr, &df18, at(0.1));
+    assert!(tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
+    feed(
+        &mut tr,
+        &encode::df17(5, 0x00AB_CDEF, (4u64 << 51) | (1 << 48)),
+        at(0.2),
+    );
+    assert!(!tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &encode::df11(4, 0x00AB_CDEF, 0).unwrap(), at(0.0));
+    assert!(tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
+    feed(&mut tr, &encode::df11(5, 0x00AB_CDEF, 0).unwrap(), at(0.1));
+    assert!(!tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
+}

@@ -885,4 +885,34 @@ mod tests {
         assert!(!c.observe(3_900_000));
         assert!(c.observe(3_750_000));
     }
+
+    #[test]
+    fn pps_references_keep_2_s_and_a_pps_up_to_1_5_s_old() {
+        const S: i64 = NS_PER_S;
+        let g = 1_000 * S;
+        let near = |r: &PpsReferences, h: i64| r.nearest(h).map(|x| x.host_ns);
+        // A last PPS 1.5 s old is still a reference; older means the PPS stopped.
+        let mut r = PpsReferences::new();
+        assert!(r.add(10 * S, g, 1_500_000_000));
+        assert!(!r.add(10 * S, g, 1_500_000_001));
+        // Kept: 2 s of host time behind the newest, the one exactly 2 s back included.
+        let mut r = PpsReferences::new();
+        for k in 10..=12 {
+            assert!(r.add(k * S, g + k * S, 0));
+        }
+        assert_eq!(near(&r, 10 * S), Some(10 * S));
+        r.add(12 * S + 1, g + 12 * S, 0);
+        // The 10 s one is gone; the 11 s one is the nearest, 1 s away (the most allowed).
+        assert_eq!(near(&r, 10 * S), Some(11 * S));
+        assert_eq!(near(&r, 10 * S - 1), None);
+        // Host time going back exactly 2 s keeps the references; 1 ns more starts over.
+        let mut r = PpsReferences::new();
+        r.add(10 * S, g, 0);
+        r.add(8 * S, g, 0);
+        assert_eq!(near(&r, 10 * S), Some(10 * S));
+        let mut r = PpsReferences::new();
+        r.add(10 * S, g, 0);
+        r.add(8 * S - 1, g, 0);
+        assert_eq!(near(&r, 10 * S), None);
+    }
 }
