@@ -463,3 +463,28 @@ fn on_ground_from_the_df17_ca_and_the_all_call_capability() {
     feed(&mut tr, &encode::df11(5, 0x00AB_CDEF, 0).unwrap(), at(0.1));
     assert!(!tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
 }
+
+#[test]
+fn reachability_counts_time_across_midnight() {
+    // Receive times are UTC seconds of the day: the last fix at 23:59:50 and a frame at
+    // 00:00:15 are 25 s apart, not 86,375 s.
+    let fix = |tr: &mut Tracker, lat: f64, t: f64| {
+        feed(tr, &pos_frame(7, 11, lat, 7.0, false, false), at(t));
+        feed(tr, &pos_frame(7, 11, lat, 7.0, true, false), at(t + 0.5))
+    };
+    // 0.27 deg of latitude (30.0 km) in 25 s: within 1000 m/s x 25 s + 5 NM.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    assert!(fix(&mut tr, 45.0, 86_389.5).position.is_some());
+    let p = fix(&mut tr, 45.27, 15.0).position.unwrap();
+    assert!((p.lat_deg - 45.27).abs() < 1e-3, "{p:?}");
+    // 2 deg (222 km) in 2 s across midnight: not reachable.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    assert!(fix(&mut tr, 45.0, 86_399.0).position.is_some());
+    let u = fix(&mut tr, 47.0, 1.5);
+    assert!(u.position.is_none() && u.cpr_rejected);
+    // The same jump in 2 s late in the day (no wrap): not reachable either.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    assert!(fix(&mut tr, 45.0, 1_000.0).position.is_some());
+    let u = fix(&mut tr, 47.0, 1_002.0);
+    assert!(u.position.is_none() && u.cpr_rejected);
+}
