@@ -488,3 +488,36 @@ fn reachability_counts_time_across_midnight() {
     let u = fix(&mut tr, 47.0, 1_002.0);
     assert!(u.position.is_none() && u.cpr_rejected);
 }
+
+#[test]
+fn df18_address_types_never_merge_with_the_icao_aircraft_of_that_number() {
+    // DO-260B 2.2.3.2.1.1: DF18 CF 1 = non-ICAO address, CF 2 = TIS-B with an ICAO address,
+    // CF 5 = fine TIS-B with another address (a track file number): four table keys for one
+    // 24-bit number.
+    let id = |cf: Option<u8>| {
+        let mut f = encode::df17(5, 0x00AB_CDEF, (4u64 << 51) | (1 << 48));
+        if let Some(cf) = cf {
+            f[0] = (18 << 3) | cf;
+            crate::modes::crc::set_parity(&mut f, 0);
+        }
+        f
+    };
+    let mut tr = Tracker::new(TrackerConfig::default());
+    for cf in [None, Some(0), Some(1), Some(2), Some(6), Some(5)] {
+        feed(&mut tr, &id(cf), at(0.0));
+    }
+    // (CF 0 is the ICAO aircraft itself; CF 6 = ADS-R of an ICAO address, relayed as CF 2.)
+    assert_eq!(tr.len(), 4);
+    for (key, kind) in [
+        (0x00AB_CDEF, AddressType::Icao),
+        (0x01AB_CDEF, AddressType::NonIcao),
+        (0x02AB_CDEF, AddressType::TisbIcao),
+        (0x03AB_CDEF, AddressType::TisbOther),
+    ] {
+        assert_eq!(
+            tr.aircraft(key).map(|a| a.address_type),
+            Some(kind),
+            "{key:#x}"
+        );
+    }
+}
