@@ -305,7 +305,8 @@ impl Vn200Aligner {
         let previous_read_ns = self.last_read_host_ns.replace(rx.host_ns);
         self.note_status(&t);
         let valid = self.gps_time_valid(&t, rx);
-        match (valid, t.time_gps_ns.filter(|g| *g > 0)) {
+        // `bounded` keeps TimeGps within 1 ..= 2^61 ns.
+        match (valid, t.time_gps_ns) {
             (true, Some(gps_ns)) => {
                 if let Some((other, cc)) = check
                     && self.disagrees(gps_ns, rx, host, other, cc)

@@ -264,3 +264,88 @@ fn regression_18_a_gps_time_a_second_off_is_refused_and_timed_by_time_startup() 
         Err(NotAligned::ClockDisagreement)
     );
 }
+
+#[test]
+fn a_time_uncertainty_of_zero_or_not_finite_leaves_the_last_one() {
+    // TimeU 20 ns, then 0, infinity and NaN: none is an uncertainty, the 20 ns stands.
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    let with_u = |u: f32| {
+        let mut o = common(G0, 7 * S as u64, INS_OK);
+        o.gnss = Some(Box::new(GnssGroup {
+            time_u_s: Some(u),
+            ..Default::default()
+        }));
+        o
+    };
+    for (k, u) in [20e-9, 0.0, f32::INFINITY, f32::NAN]
+        .into_iter()
+        .enumerate()
+    {
+        let a = al.handle(&with_u(u), rx(k as i64 * S), &mut host).unwrap();
+        assert!(
+            (a.sigma_ns - 20.0).abs() < 1e-3,
+            "TimeU {u}: {}",
+            a.sigma_ns
+        );
+    }
+}
+
+#[test]
+fn time_startup_repeated_is_no_restart() {
+    // Two messages with the same TimeStartup (a repeated output): no restart; going back is.
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    let _ = al.handle(&common(G0, 7 * S as u64, INS_OK), rx(0), &mut host);
+    let _ = al.handle(&common(G0, 7 * S as u64, INS_OK), rx(MS), &mut host);
+    assert_eq!(al.stats().restarts, 0);
+    let _ = al.handle(&common(G0, 7 * S as u64 - 1, INS_OK), rx(2 * MS), &mut host);
+    assert_eq!(al.stats().restarts, 1);
+}
+
+#[test]
+fn status_edges_after_the_last_valid_time() {
+    // Locked for 2 x `status_hold_ns` (2 s) after the last valid GPS time, then coasting on
+    // TimeStartup for `coast_limit_ns` (600 s), then unlocked. A host time below 0 counts as 0.
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    for k in 0..3 {
+        al.handle(
+            &common(G0 + k * S, 7 * S as u64 + (k * S) as u64, INS_OK),
+            rx(-5 * S + k * S),
+            &mut host,
+        )
+        .unwrap();
+    }
+    assert_eq!(al.status(2 * S), ClockStatus::Locked);
+    assert_eq!(al.status(2 * S + 1), ClockStatus::Coasting);
+    assert_eq!(al.status(600 * S), ClockStatus::Coasting);
+    assert_eq!(al.status(600 * S + 1), ClockStatus::Unlocked);
+}
+
+#[test]
+fn the_baud_rate_sets_the_transmission_time_the_host_clock_learns() {
+    // 100-byte messages: 1,085,069 ns on the wire at the default 921,600 baud, 8,680,555 ns at
+    // 115,200. The same arrivals mean first bytes 7,595,486 ns earlier at the slower rate: a
+    // link delay that much smaller, so a host time maps that much later.
+    let learn = |baud: Option<u32>| {
+        let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+        if let Some(b) = baud {
+            al.set_baud(b);
+        }
+        let mut host = HostClock::new(HostClockConfig::default());
+        for k in 0..400 {
+            let gps = G0 + k * 25 * MS;
+            al.handle(
+                &common(gps, 7 * S as u64, INS_OK),
+                rx(gps + 42 * S),
+                &mut host,
+            )
+            .unwrap();
+        }
+        host.to_gps(G0 + 20 * S + 42 * S).unwrap().0
+    };
+    let fast = learn(None);
+    let slow = learn(Some(115_200));
+    assert!((slow - fast - 7_595_486).abs() < 1_000, "{}", slow - fast);
+}
