@@ -322,6 +322,13 @@ fn fast_distance_check_agrees_with_the_exact_one() {
             "{a:?} {b:?} {limit}"
         );
     }
+    // Cases the random pairs (within 1 deg of each other, limits in metres to 200 km) never
+    // reach: longitudes 200 deg apart the short way round (160 deg, 17,800 km), and a limit
+    // under 2 m (1.2 m apart, 1 m allowed), where squaring the limit shrinks it.
+    assert!(!within_distance((0.0, 100.0), (0.0, -100.0), 1_000_000.0));
+    assert!(within_distance((0.0, 170.0), (0.0, -170.0), 2_300_000.0));
+    assert!(!within_distance((0.0, 0.0), (1.2 / 111_195.08, 0.0), 1.0));
+    assert!(within_distance((0.0, 0.0), (0.8 / 111_195.08, 0.0), 1.0));
 }
 
 #[test]

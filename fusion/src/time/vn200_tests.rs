@@ -349,3 +349,60 @@ fn the_baud_rate_sets_the_transmission_time_the_host_clock_learns() {
     let slow = learn(Some(115_200));
     assert!((slow - fast - 7_595_486).abs() < 1_000, "{}", slow - fast);
 }
+
+#[test]
+fn gps_time_validity_from_time_status_and_ins_status() {
+    // TimeStatus bit 0 = time of week valid, bit 1 = date valid; InsStatus bit 2 = GNSS fix,
+    // bit 6 = GNSS error. Each condition the message carries must hold; a fresh aligner has no
+    // TimeStartup model, so an invalid time is DeviceTimeInvalid.
+    const FIX: u16 = 0b110;
+    const NO_FIX: u16 = 0b010;
+    const FIX_ERROR: u16 = 0b100_0110;
+    let valid = |ts: Option<u8>, ins: Option<u16>| {
+        let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+        let mut host = HostClock::new(HostClockConfig::default());
+        let t = Vn200Times {
+            time_gps_ns: Some(G0),
+            time_status: ts.map(TimeStatus),
+            ins_status: ins.map(InsStatus),
+            ..Default::default()
+        };
+        al.handle_times(&t, rx(0), &mut host).is_ok()
+    };
+    for (ts, ins, want) in [
+        (Some(0b011), Some(FIX), true),
+        (Some(0b010), Some(FIX), false),
+        (Some(0b001), Some(FIX), false),
+        (Some(0b011), Some(NO_FIX), false),
+        (Some(0b011), Some(FIX_ERROR), false),
+        (Some(0b011), None, true),
+        (Some(0b001), None, false),
+        (Some(0b010), None, false),
+        (None, Some(FIX), true),
+        (None, Some(NO_FIX), false),
+        (None, Some(FIX_ERROR), false),
+        (None, None, false),
+    ] {
+        assert_eq!(valid(ts, ins), want, "{ts:?} {ins:?}");
+    }
+    // A message without either field takes the last reported validity for 1 s
+    // (`status_hold_ns`), not longer, and never an invalid one.
+    let bare = Vn200Times {
+        time_gps_ns: Some(G0),
+        ..Default::default()
+    };
+    let reported = |ins: u16| Vn200Times {
+        ins_status: Some(InsStatus(ins)),
+        ..bare
+    };
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    assert!(al.handle_times(&reported(FIX), rx(0), &mut host).is_ok());
+    assert!(al.handle_times(&bare, rx(S), &mut host).is_ok());
+    assert!(al.handle_times(&bare, rx(S + 1), &mut host).is_err());
+    assert!(
+        al.handle_times(&reported(NO_FIX), rx(2 * S), &mut host)
+            .is_err()
+    );
+    assert!(al.handle_times(&bare, rx(2 * S + 1), &mut host).is_err());
+}
