@@ -406,3 +406,48 @@ fn gps_time_validity_from_time_status_and_ins_status() {
     );
     assert!(al.handle_times(&bare, rx(2 * S + 1), &mut host).is_err());
 }
+
+#[test]
+fn output_delay_and_held_back_first_reads_in_what_the_host_clock_learns() {
+    // 200 messages at 40 Hz, each in two reads: the first read 1 ms before the last one.
+    // `first_after` says whether that first read comes after the previous message's last
+    // read (a read after an idle line: a single read's delay) or at the same instant (it may
+    // have been held back by it: left out). `delay_ns` is the configured output delay.
+    let learn = |first_after: bool, delay_ns: i64| {
+        let mut al = Vn200Aligner::new(Vn200AlignerConfig {
+            output_delay_ns: delay_ns,
+            ..Vn200AlignerConfig::default()
+        });
+        let mut host = HostClock::new(HostClockConfig::default());
+        let mut previous = None;
+        for k in 0..200 {
+            let gps = G0 + k * 25 * MS;
+            let h = gps + 42 * S + 2 * MS;
+            let first = match (first_after, previous) {
+                (false, Some(p)) => p,
+                _ => h - MS,
+            };
+            let rx = Rx {
+                host_ns: h,
+                wire_len: 100,
+                reads: Some(crate::time::Reads {
+                    first_host_ns: first,
+                    first_bytes: 50,
+                    last_bytes: 50,
+                }),
+            };
+            al.handle(&common(gps, 7 * S as u64, INS_OK), rx, &mut host)
+                .unwrap();
+            previous = Some(h);
+        }
+        host
+    };
+    assert!(learn(true, 0).read_spread_ns().is_some());
+    assert!(learn(false, 0).read_spread_ns().is_none());
+    // The VN-200 sends 1 ms after its sample: the same arrival was sent 1 ms later in GPS
+    // time, so a host time maps 1 ms later.
+    let h = G0 + 3 * S + 42 * S;
+    let t0 = learn(true, 0).to_gps(h).unwrap().0;
+    let t1 = learn(true, MS).to_gps(h).unwrap().0;
+    assert_eq!(t1 - t0, MS);
+}
