@@ -114,6 +114,9 @@ fn invalid_time_coasts_on_time_startup_with_growing_sigma() {
         .handle(&common(gps, st(gps), INS_OK), rx(gps), &mut host)
         .unwrap();
     assert_eq!((a.t_gps_ns, a.status), (gps, ClockStatus::Locked));
+    // Counted: 32 native, 3 through TimeStartup, 1 not aligned.
+    let st = al.stats();
+    assert_eq!((st.native, st.startup_clock, st.not_aligned), (32, 3, 1));
 }
 
 #[test]
@@ -449,5 +452,9 @@ fn output_delay_and_held_back_first_reads_in_what_the_host_clock_learns() {
     let h = G0 + 3 * S + 42 * S;
     let t0 = learn(true, 0).to_gps(h).unwrap().0;
     let t1 = learn(true, MS).to_gps(h).unwrap().0;
+    assert_eq!(t1 - t0, MS);
+    // The single reads' delay moves with it.
+    let t0 = learn(true, 0).to_gps_read(h).unwrap().0;
+    let t1 = learn(true, MS).to_gps_read(h).unwrap().0;
     assert_eq!(t1 - t0, MS);
 }
