@@ -458,3 +458,27 @@ fn output_delay_and_held_back_first_reads_in_what_the_host_clock_learns() {
     let t1 = learn(true, MS).to_gps_read(h).unwrap().0;
     assert_eq!(t1 - t0, MS);
 }
+
+#[test]
+fn the_time_startup_rate_follows_the_last_minute() {
+    // One message a second; TimeStartup runs 15 ppm fast for 100 s, then 25 ppm. The rate is
+    // measured over the pairs of the last 60 s (6 x `rate_span_ns`, one pair a second): at
+    // 200 s it is the new 25 ppm alone.
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    let st = |k: i64| {
+        let ppm = if k <= 100 {
+            15.0 * k as f64
+        } else {
+            1_500.0 + 25.0 * (k - 100) as f64
+        };
+        (S + k * S + (ppm * 1e3) as i64) as u64
+    };
+    for k in 0..=200 {
+        let gps = G0 + k * S;
+        al.handle(&common(gps, st(k), INS_OK), rx(gps), &mut host)
+            .unwrap();
+    }
+    let drift = al.startup_drift_ppm().unwrap();
+    assert!((drift - 25.0).abs() < 0.01, "{drift}");
+}
