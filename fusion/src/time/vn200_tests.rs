@@ -461,22 +461,22 @@ fn output_delay_and_held_back_first_reads_in_what_the_host_clock_learns() {
 
 #[test]
 fn the_time_startup_rate_follows_the_last_minute() {
-    // One message a second; TimeStartup runs 15 ppm fast for 100 s, then 25 ppm. The rate is
-    // measured over the pairs of the last 60 s (6 x `rate_span_ns`, one pair a second): at
-    // 200 s it is the new 25 ppm alone.
+    // A message every 0.7 s; TimeStartup runs 15 ppm fast for 100 s, then 25 ppm. The rate is
+    // measured over the pairs of the last 60 s (6 x `rate_span_ns`, at most one pair a
+    // second): at 200 s it is the new 25 ppm alone.
     let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
     let mut host = HostClock::new(HostClockConfig::default());
-    let st = |k: i64| {
-        let ppm = if k <= 100 {
-            15.0 * k as f64
+    let st = |t: i64| {
+        let ns_fast = if t <= 100 * S {
+            t as f64 * 15e-6
         } else {
-            1_500.0 + 25.0 * (k - 100) as f64
+            1_500_000.0 + (t - 100 * S) as f64 * 25e-6
         };
-        (S + k * S + (ppm * 1e3) as i64) as u64
+        (S + t + ns_fast as i64) as u64
     };
-    for k in 0..=200 {
-        let gps = G0 + k * S;
-        al.handle(&common(gps, st(k), INS_OK), rx(gps), &mut host)
+    for k in 0..=286 {
+        let t = k * 700 * MS;
+        al.handle(&common(G0 + t, st(t), INS_OK), rx(G0 + t), &mut host)
             .unwrap();
     }
     let drift = al.startup_drift_ppm().unwrap();
