@@ -482,3 +482,20 @@ fn the_time_startup_rate_follows_the_last_minute() {
     let drift = al.startup_drift_ppm().unwrap();
     assert!((drift - 25.0).abs() < 0.01, "{drift}");
 }
+
+#[test]
+fn time_startup_coasts_600_s_from_the_last_valid_pair() {
+    // The last valid pair at TimeStartup 1 s; GNSS then lost. 600 s of TimeStartup later is the
+    // last time given (`coast_limit_ns`), 1 ns more is unlocked.
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    al.handle(&common(G0, S as u64, INS_OK), rx(0), &mut host)
+        .unwrap();
+    let lost = |startup: u64| common(G0 + 5 * S, startup, INS_NO_GNSS);
+    let a = al.handle(&lost(601 * S as u64), rx(S), &mut host).unwrap();
+    assert_eq!(a.t_gps_ns, G0 + 600 * S);
+    assert_eq!(
+        al.handle(&lost(601 * S as u64 + 1), rx(2 * S), &mut host),
+        Err(NotAligned::ClockUnlocked)
+    );
+}
