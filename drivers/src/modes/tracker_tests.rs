@@ -528,3 +528,28 @@ fn df18_address_types_never_merge_with_the_icao_aircraft_of_that_number() {
         );
     }
 }
+
+#[test]
+fn a_gnss_height_position_reports_its_geometric_altitude_in_metres() {
+    // TC 20 (GNSS height): 3,000 ft encoded in 25 ft steps; 3,000 x 0.3048 = 914.4 m.
+    let gnss = |odd| {
+        encode::airborne_position(
+            7,
+            &AirbornePositionFields {
+                typecode: 20,
+                surveillance_status: 0,
+                nic_b: false,
+                altitude_ft: Some(3_000),
+                lat_deg: 45.0,
+                lon_deg: 7.0,
+                odd,
+            },
+        )
+        .unwrap()
+    };
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &gnss(false), at(0.0));
+    let r = feed(&mut tr, &gnss(true), at(0.5)).report.unwrap();
+    assert!((r.alt_geometric_m.unwrap() - 914.4).abs() < 1e-9);
+    assert_eq!(r.alt_pressure_m, None);
+}

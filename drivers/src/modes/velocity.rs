@@ -212,4 +212,19 @@ mod tests {
         assert!(Velocity::decode((19u64 << 51) | (5 << 48)).is_none());
         assert!(Velocity::decode(19u64 << 51).is_none());
     }
+
+    #[test]
+    fn intent_change_and_ifr_capability_bits() {
+        // DO-260B 2.2.3.2.6.1.2-3: ME bit 9 = intent change, bit 10 = IFR capability.
+        let me = crate::modes::me_of(
+            &crate::modes::encode::velocity_ground(1, 10, 10, None, false, 0).unwrap(),
+        );
+        let flags = |me: u64| {
+            let v = Velocity::decode(me).unwrap();
+            (v.intent_change, v.ifr_capability)
+        };
+        assert_eq!(flags(me), (false, false));
+        assert_eq!(flags(me | 1 << (56 - 9)), (true, false));
+        assert_eq!(flags(me | 1 << (56 - 10)), (false, true));
+    }
 }
