@@ -60,6 +60,9 @@ mod tests {
         assert_eq!(nic(15, 2, false, false, false), 4);
         assert_eq!(nic(16, 2, true, true, false), 3);
         assert_eq!(nic(16, 2, false, false, false), 2);
+        // One supplement of the two is not the pair the table lists for 3: the lower value.
+        assert_eq!(nic(16, 2, true, false, false), 2);
+        assert_eq!(nic(16, 2, false, true, false), 2);
         assert_eq!(nic(17, 2, false, false, false), 1);
         assert_eq!(nic(18, 2, true, true, true), 0);
         assert_eq!(nic(20, 2, false, false, false), 11);
