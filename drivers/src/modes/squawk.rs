@@ -63,6 +63,8 @@ mod tests {
         let s = Squawk::from_id13(6165);
         assert_eq!(s.to_string(), "1017");
         assert_eq!(s.as_decimal(), 1017);
+        // Every digit in its decimal place.
+        assert_eq!(Squawk(0x7654).as_decimal(), 7654);
         // "DF:21 ... ID:4922 ... Squawk: 2751"
         assert_eq!(Squawk::from_id13(4922).to_string(), "2751");
     }
