@@ -553,3 +553,52 @@ fn a_gnss_height_position_reports_its_geometric_altitude_in_metres() {
     assert!((r.alt_geometric_m.unwrap() - 914.4).abs() < 1e-9);
     assert_eq!(r.alt_pressure_m, None);
 }
+
+#[test]
+fn the_last_position_gates_only_positions_of_its_kind_and_age() {
+    // An airborne fix 57 km north of the receiver, then 2 s later a surface pair at the
+    // receiver: not reachable in 2 s, but an airborne position says nothing about where the
+    // aircraft stands on the ground (and a surface decode is local to the receiver anyway).
+    let cfg = TrackerConfig {
+        receiver: Some((51.99, 4.375)),
+        ..TrackerConfig::default()
+    };
+    let mut tr = Tracker::new(cfg);
+    feed(&mut tr, &pos_frame(7, 11, 52.5, 4.4, false, false), at(0.0));
+    assert!(
+        feed(&mut tr, &pos_frame(7, 11, 52.5, 4.4, true, false), at(0.5))
+            .position
+            .is_some()
+    );
+    feed(&mut tr, &surface_frame(7, 51.99, 4.375, false), at(2.0));
+    let u = feed(&mut tr, &surface_frame(7, 51.99, 4.375, true), at(2.5));
+    assert!(u.position.is_some_and(|p| p.surface), "{u:?}");
+    // Across midnight a last fix 200 s old (23:58:20 to 00:01:40) is too old to gate a 2 deg
+    // jump: accepted.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(
+        &mut tr,
+        &pos_frame(8, 11, 45.0, 7.0, false, false),
+        at(86_299.5),
+    );
+    assert!(
+        feed(
+            &mut tr,
+            &pos_frame(8, 11, 45.0, 7.0, true, false),
+            at(86_300.0)
+        )
+        .position
+        .is_some()
+    );
+    feed(
+        &mut tr,
+        &pos_frame(8, 11, 47.0, 7.0, false, false),
+        at(100.0),
+    );
+    let u = feed(
+        &mut tr,
+        &pos_frame(8, 11, 47.0, 7.0, true, false),
+        at(100.5),
+    );
+    assert!(u.position.is_some() && !u.cpr_rejected);
+}
