@@ -527,6 +527,13 @@ fn df18_address_types_never_merge_with_the_icao_aircraft_of_that_number() {
             "{key:#x}"
         );
     }
+    // A CF 0 frame alone is the ICAO aircraft.
+    let mut tr = Tracker::new(TrackerConfig::default());
+    feed(&mut tr, &id(Some(0)), at(0.0));
+    assert_eq!(
+        tr.aircraft(0x00AB_CDEF).map(|a| a.address_type),
+        Some(AddressType::Icao)
+    );
 }
 
 #[test]
