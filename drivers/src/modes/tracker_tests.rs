@@ -329,6 +329,7 @@ fn fast_distance_check_agrees_with_the_exact_one() {
     assert!(within_distance((0.0, 170.0), (0.0, -170.0), 2_300_000.0));
     assert!(!within_distance((0.0, 0.0), (1.2 / 111_195.08, 0.0), 1.0));
     assert!(within_distance((0.0, 0.0), (0.8 / 111_195.08, 0.0), 1.0));
+    assert!(!within_distance((0.0, 0.0), (0.8 / 111_195.08, 0.0), 0.5));
 }
 
 #[test]

@@ -777,6 +777,22 @@ mod tests {
         let (t, sigma) = c.to_gps(tick(13)).unwrap();
         assert_eq!(t, g0 + 13_000_010_024);
         assert!((sigma - 10_129.536_021).abs() < 1e-5, "{sigma}");
+        // Three pulses (the 2nd 3 us late): residual 2,449.49 ns over 1 dof, but no capture
+        // shift before 4 pulses: the line itself, 1,000 ns a tick from +1,000 ns.
+        let mut c = PpsClock::new(cfg);
+        for (k, late) in [0, 3_000, 0].iter().enumerate() {
+            let k = k as i64;
+            c.add_pulse(tick(k), g0 + k * NS_PER_S + late);
+        }
+        assert!((c.residual_sigma_ns().unwrap() - 2_449.489_743).abs() < 1e-5);
+        assert_eq!(c.to_gps(tick(2)).unwrap().0, g0 + 2_000_001_000);
+        // Five pulses (0, 3, 0, 3, 0 us late): residuals over 5 - 2 dof, 1,897.367 ns.
+        let mut c = PpsClock::new(cfg);
+        for (k, late) in [0, 3_000, 0, 3_000, 0].iter().enumerate() {
+            let k = k as i64;
+            c.add_pulse(tick(k), g0 + k * NS_PER_S + late);
+        }
+        assert!((c.residual_sigma_ns().unwrap() - 1_897.366_596).abs() < 1e-5);
     }
 
     /// A clock with pulses on the whole seconds 0..5 at ticks 1 s apart.
