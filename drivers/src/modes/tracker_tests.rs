@@ -34,6 +34,13 @@ fn pos_frame(icao: u32, tc: u8, lat: f64, lon: f64, odd: bool, nic_b: bool) -> [
     .unwrap()
 }
 
+/// An even then an odd airborne position frame 0.5 s apart, from `t` s: the odd one's update
+/// (the global decode of the pair).
+fn pair(tr: &mut Tracker, icao: u32, lat: f64, lon: f64, t: f64) -> Update {
+    feed(tr, &pos_frame(icao, 11, lat, lon, false, false), at(t));
+    feed(tr, &pos_frame(icao, 11, lat, lon, true, false), at(t + 0.5))
+}
+
 fn surface_frame(icao: u32, lat: f64, lon: f64, odd: bool) -> [u8; 14] {
     let c = crate::modes::cpr::encode(lat, lon, odd, true);
     let me = (6u64 << 51)
@@ -271,14 +278,8 @@ fn implausible_positions_are_rejected() {
     // A fix at 45 N 7 E, then 2 s later a pair whose decode lands 2 deg (222 km) away: not
     // reachable at 1000 m/s in 2 s.
     let mut tr = Tracker::new(TrackerConfig::default());
-    feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, false, false), at(0.0));
-    assert!(
-        feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, true, false), at(0.5))
-            .position
-            .is_some()
-    );
-    feed(&mut tr, &pos_frame(7, 11, 47.0, 7.0, false, false), at(2.0));
-    let u = feed(&mut tr, &pos_frame(7, 11, 47.0, 7.0, true, false), at(2.5));
+    assert!(pair(&mut tr, 7, 45.0, 7.0, 0.0).position.is_some());
+    let u = pair(&mut tr, 7, 47.0, 7.0, 2.0);
     assert!(u.position.is_none() && u.cpr_rejected);
     // Out of range of the receiver (about 890 km away).
     let cfg = TrackerConfig {
@@ -286,20 +287,10 @@ fn implausible_positions_are_rejected() {
         ..TrackerConfig::default()
     };
     let mut tr = Tracker::new(cfg);
-    feed(&mut tr, &pos_frame(8, 11, 45.0, 7.0, false, false), at(0.0));
-    assert!(
-        feed(&mut tr, &pos_frame(8, 11, 45.0, 7.0, true, false), at(0.5))
-            .position
-            .is_none()
-    );
+    assert!(pair(&mut tr, 8, 45.0, 7.0, 0.0).position.is_none());
     assert_eq!(tr.cpr_rejections, 1);
     // Within range: accepted. Hand check of the distance: 1 deg of latitude = 111.2 km.
-    feed(&mut tr, &pos_frame(9, 11, 51.0, 4.0, false, false), at(0.0));
-    assert!(
-        feed(&mut tr, &pos_frame(9, 11, 51.0, 4.0, true, false), at(0.5))
-            .position
-            .is_some()
-    );
+    assert!(pair(&mut tr, 9, 51.0, 4.0, 0.0).position.is_some());
     assert!((distance_m((51.0, 4.0), (52.0, 4.0)) - 111_195.0).abs() < 10.0);
 }
 
@@ -431,12 +422,7 @@ fn a_last_position_older_than_30_s_does_not_gate_a_jump() {
     // instead of 2 s: the last position is older than `local_max_age_s` (30 s), too old to
     // vouch against a new global decode, which stands on its own.
     let mut tr = Tracker::new(TrackerConfig::default());
-    feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, false, false), at(0.0));
-    assert!(
-        feed(&mut tr, &pos_frame(7, 11, 45.0, 7.0, true, false), at(0.5))
-            .position
-            .is_some()
-    );
+    assert!(pair(&mut tr, 7, 45.0, 7.0, 0.0).position.is_some());
     feed(
         &mut tr,
         &pos_frame(7, 11, 47.0, 7.0, false, false),
@@ -476,10 +462,7 @@ fn on_ground_from_the_df17_ca_and_the_all_call_capability() {
 fn reachability_counts_time_across_midnight() {
     // Receive times are UTC seconds of the day: the last fix at 23:59:50 and a frame at
     // 00:00:15 are 25 s apart, not 86,375 s.
-    let fix = |tr: &mut Tracker, lat: f64, t: f64| {
-        feed(tr, &pos_frame(7, 11, lat, 7.0, false, false), at(t));
-        feed(tr, &pos_frame(7, 11, lat, 7.0, true, false), at(t + 0.5))
-    };
+    let fix = |tr: &mut Tracker, lat: f64, t: f64| pair(tr, 7, lat, 7.0, t);
     // 0.27 deg of latitude (30.0 km) in 25 s: within 1000 m/s x 25 s + 5 NM.
     let mut tr = Tracker::new(TrackerConfig::default());
     assert!(fix(&mut tr, 45.0, 86_389.5).position.is_some());
@@ -572,12 +555,7 @@ fn the_last_position_gates_only_positions_of_its_kind_and_age() {
         ..TrackerConfig::default()
     };
     let mut tr = Tracker::new(cfg);
-    feed(&mut tr, &pos_frame(7, 11, 52.5, 4.4, false, false), at(0.0));
-    assert!(
-        feed(&mut tr, &pos_frame(7, 11, 52.5, 4.4, true, false), at(0.5))
-            .position
-            .is_some()
-    );
+    assert!(pair(&mut tr, 7, 52.5, 4.4, 0.0).position.is_some());
     feed(&mut tr, &surface_frame(7, 51.99, 4.375, false), at(2.0));
     let u = feed(&mut tr, &surface_frame(7, 51.99, 4.375, true), at(2.5));
     assert!(u.position.is_some_and(|p| p.surface), "{u:?}");
