@@ -864,6 +864,13 @@ mod tests {
         }
         assert_eq!(c.relocks, 0);
         assert_eq!(c.to_gps(4_500_000).unwrap().0, 4_500_000_000);
+        // Nor are outliers 1.2 s of MCU time apart for 1 s of GPS time (a clock 20 % fast,
+        // far beyond 50 ppm).
+        let mut c = five_pulses();
+        for (t, s) in [(5_300_000, 5), (6_500_000, 6), (7_700_000, 7)] {
+            assert_eq!(c.add_pulse(t, s * NS_PER_S), Outlier);
+        }
+        assert_eq!(c.relocks, 0);
         // The same wrong pulse reported three times (the document does not say 0x06 is sent
         // once) is not a run of agreeing pulses either.
         let mut c = five_pulses();
