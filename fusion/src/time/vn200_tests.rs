@@ -400,14 +400,17 @@ fn gps_time_validity_from_time_status_and_ins_status() {
     };
     let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
     let mut host = HostClock::new(HostClockConfig::default());
-    assert!(al.handle_times(&reported(FIX), rx(0), &mut host).is_ok());
-    assert!(al.handle_times(&bare, rx(S), &mut host).is_ok());
-    assert!(al.handle_times(&bare, rx(S + 1), &mut host).is_err());
     assert!(
-        al.handle_times(&reported(NO_FIX), rx(2 * S), &mut host)
+        al.handle_times(&reported(FIX), rx(10 * S), &mut host)
+            .is_ok()
+    );
+    assert!(al.handle_times(&bare, rx(11 * S), &mut host).is_ok());
+    assert!(al.handle_times(&bare, rx(11 * S + 1), &mut host).is_err());
+    assert!(
+        al.handle_times(&reported(NO_FIX), rx(12 * S), &mut host)
             .is_err()
     );
-    assert!(al.handle_times(&bare, rx(2 * S + 1), &mut host).is_err());
+    assert!(al.handle_times(&bare, rx(12 * S + 1), &mut host).is_err());
 }
 
 #[test]
