@@ -367,7 +367,7 @@ mod tests {
     fn a_tie_of_minima_keeps_the_first_ones_mcu_time() {
         // Bucket 0 has its minimum twice (MCU 0.2 s and 0.8 s, the same d); buckets 1-5 one each
         // at k + 0.2 s, 1 us more delay a second: through the first of the tie the minima lie on
-        // a line of exactly 1 ppm (through the second, 1.12 ppm).
+        // a line of exactly 1 ppm (through the second, 1.08 ppm).
         let mut c = McuHostClock::new(McuHostConfig::default());
         let point = |c: &mut McuHostClock, tick_us: i64, extra: i64| {
             c.add(tick_us as u64, 100 * S + tick_us * 1_000 + MS + extra);
