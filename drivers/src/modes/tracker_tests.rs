@@ -41,6 +41,13 @@ fn pair(tr: &mut Tracker, icao: u32, lat: f64, lon: f64, t: f64) -> Update {
     feed(tr, &pos_frame(icao, 11, lat, lon, true, false), at(t + 0.5))
 }
 
+/// A DF17 frame sent as DF18 with control field `cf` (its CRC recomputed).
+fn as_df18(mut f: [u8; 14], cf: u8) -> [u8; 14] {
+    f[0] = (18 << 3) | cf;
+    crate::modes::crc::set_parity(&mut f, 0);
+    f
+}
+
 fn surface_frame(icao: u32, lat: f64, lon: f64, odd: bool) -> [u8; 14] {
     let c = crate::modes::cpr::encode(lat, lon, odd, true);
     let me = (6u64 << 51)
@@ -352,11 +359,7 @@ fn report_flags_ground_emergency_and_relay() {
         .unwrap();
     assert!(!r.flags.emergency);
     // The same pair as DF18 with CF 6 (ADS-R, DO-260B 2.2.18): relayed.
-    let df18 = |mut f: [u8; 14]| {
-        f[0] = (18 << 3) | 6;
-        crate::modes::crc::set_parity(&mut f, 0);
-        f
-    };
+    let df18 = |f| as_df18(f, 6);
     let mut tr = Tracker::new(TrackerConfig::default());
     feed(
         &mut tr,
@@ -398,12 +401,7 @@ fn coarse_tis_b_and_management_frames_are_accepted_but_not_tracked() {
     // DF18 CF 3 (coarse TIS-B) and CF 4 (management): their address field may be a track
     // number, so they vouch for no one and start no track (DO-260B 2.2.3.2.1.1). CF 0 (ADS-B
     // from a non-transponder device) is tracked.
-    let with_cf = |cf: u8| {
-        let mut f = pos_frame(9, 11, 45.0, 7.0, false, false);
-        f[0] = (18 << 3) | cf;
-        crate::modes::crc::set_parity(&mut f, 0);
-        f
-    };
+    let with_cf = |cf| as_df18(pos_frame(9, 11, 45.0, 7.0, false, false), cf);
     let mut tr = Tracker::new(TrackerConfig::default());
     assert!(tr.is_empty());
     for cf in [3, 4] {
@@ -440,10 +438,7 @@ fn on_ground_from_the_df17_ca_and_the_all_call_capability() {
     let mut tr = Tracker::new(TrackerConfig::default());
     feed(&mut tr, &id, at(0.0));
     assert!(tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
-    let mut df18 = id;
-    df18[0] = 18 << 3;
-    crate::modes::crc::set_parity(&mut df18, 0);
-    feed(&mut tr, &df18, at(0.1));
+    feed(&mut tr, &as_df18(id, 0), at(0.1));
     assert!(tr.aircraft(0x00AB_CDEF).unwrap().on_ground);
     feed(
         &mut tr,
@@ -486,12 +481,8 @@ fn df18_address_types_never_merge_with_the_icao_aircraft_of_that_number() {
     // CF 5 = fine TIS-B with another address (a track file number): four table keys for one
     // 24-bit number.
     let id = |cf: Option<u8>| {
-        let mut f = encode::df17(5, 0x00AB_CDEF, (4u64 << 51) | (1 << 48));
-        if let Some(cf) = cf {
-            f[0] = (18 << 3) | cf;
-            crate::modes::crc::set_parity(&mut f, 0);
-        }
-        f
+        let f = encode::df17(5, 0x00AB_CDEF, (4u64 << 51) | (1 << 48));
+        cf.map_or(f, |cf| as_df18(f, cf))
     };
     let mut tr = Tracker::new(TrackerConfig::default());
     for cf in [None, Some(0), Some(1), Some(2), Some(6), Some(5)] {
