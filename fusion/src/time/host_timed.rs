@@ -237,8 +237,8 @@ mod tests {
         assert_eq!(c.time_of(1_000), Some(300));
         // An empty message has no bytes to split: its read, no split.
         assert_eq!(c.rx(20, 0).map(|r| (r.host_ns, r.reads)), Some((300, None)));
-        // A message starting in a read already forgotten (bytes 3-9, the first read's, after
-        // the third became the front): the read of its last byte, no split.
+        // A message starting in a read already forgotten (bytes 3-9, the first read's; the
+        // read of bytes 15-34 is now the front): the read of its last byte, no split.
         assert_eq!(c.rx(3, 20).map(|r| (r.host_ns, r.reads)), Some((300, None)));
     }
 
