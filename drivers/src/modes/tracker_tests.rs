@@ -579,3 +579,27 @@ fn the_last_position_gates_only_positions_of_its_kind_and_age() {
     );
     assert!(u.position.is_some() && !u.cpr_rejected);
 }
+
+#[test]
+fn a_refused_global_decode_frees_the_other_frame_for_a_local_decode() {
+    // A fix at 45 N 7 E; 2 s later a pair placing the aircraft at 47 N (222 km away, not
+    // reachable): refused, and its even frame forgotten. The next odd frame, at the true
+    // position, then decodes locally against the last fix instead of pairing again with the
+    // refused even frame (which would be refused again).
+    let mut tr = Tracker::new(TrackerConfig::default());
+    assert!(pair(&mut tr, 7, 45.0, 7.0, 0.0).position.is_some());
+    let u = pair(&mut tr, 7, 47.0, 7.0, 2.0);
+    assert!(u.position.is_none() && u.cpr_rejected);
+    let u = feed(
+        &mut tr,
+        &pos_frame(7, 11, 45.001, 7.0, true, false),
+        at(3.0),
+    );
+    let p = u.position.expect("a local decode");
+    assert_eq!(p.method, PositionMethod::LocalAircraft);
+    // Within the CPR quantum of the encoded position (about 5 m).
+    assert!(
+        (p.lat_deg - 45.001).abs() < 1e-4 && (p.lon_deg - 7.0).abs() < 1e-4,
+        "{p:?}"
+    );
+}

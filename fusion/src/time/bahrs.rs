@@ -538,9 +538,12 @@ impl<T: BahrsSample> BahrsAligner<T> {
             return;
         };
         let pulse_sigma = self.clock.residual_sigma_ns().unwrap_or(0.0);
-        let tol =
-            self.cfg.cross_check_sigmas * (view.sigma_ns.powi(2) + pulse_sigma.powi(2)).sqrt();
-        if (second.saturating_sub(view.t_gps_ns) as f64).abs() > tol {
+        if pulse_disagrees(
+            second.saturating_sub(view.t_gps_ns),
+            self.cfg.cross_check_sigmas,
+            view.sigma_ns,
+            pulse_sigma,
+        ) {
             self.stats.pulses_disagreeing += 1;
             self.disagreement = true;
             self.clock.clear();
@@ -593,6 +596,15 @@ impl<T: BahrsSample> BahrsAligner<T> {
     pub fn clock_status(&self, ticks: u64) -> ClockStatus {
         self.clock.status(ticks)
     }
+}
+
+/// Whether a pulse whose named second is `offset_ns` from the fallback clock's time of it
+/// disagrees with that clock: beyond `sigmas` standard deviations of the two errors together,
+/// the fallback's (`view_sigma_ns`) and the pulse fit's residual (`pulse_sigma_ns`), taken as
+/// independent (their variances add). Exactly at the tolerance still agrees.
+fn pulse_disagrees(offset_ns: i64, sigmas: f64, view_sigma_ns: f64, pulse_sigma_ns: f64) -> bool {
+    let tol_ns = sigmas * (view_sigma_ns.powi(2) + pulse_sigma_ns.powi(2)).sqrt();
+    (offset_ns as f64).abs() > tol_ns
 }
 
 #[cfg(test)]
@@ -1326,5 +1338,23 @@ mod tests {
         let t = placed.time.unwrap();
         assert_eq!(t.source, TimeSource::PpsDisciplined);
         assert!((t.t_gps_ns - g).abs() < 20_000, "{t:?}");
+    }
+
+    #[test]
+    fn a_pulse_disagrees_beyond_the_combined_sigmas_only() {
+        // By hand: 3 sigmas of sqrt(3^2 + 4^2) = 5 ns make a 15 ns tolerance, either way. The
+        // sum of the sigmas (21 ns) would pass 16 ns; the difference of the variances is not a
+        // number, and would pass everything. Without a pulse fit the fallback's 9 ns is all.
+        for (offset, disagrees) in [(15, false), (-15, false), (16, true), (-16, true)] {
+            assert_eq!(
+                pulse_disagrees(offset, 3.0, 3.0, 4.0),
+                disagrees,
+                "{offset}"
+            );
+        }
+        assert!(pulse_disagrees(10, 3.0, 3.0, 0.0));
+        assert!(!pulse_disagrees(9, 3.0, 3.0, 0.0));
+        // A saturated offset (a second named i64::MIN away) disagrees.
+        assert!(pulse_disagrees(i64::MIN, 5.0, 1e6, 1e3));
     }
 }

@@ -502,3 +502,29 @@ fn time_startup_coasts_600_s_from_the_last_valid_pair() {
         Err(NotAligned::ClockUnlocked)
     );
 }
+
+#[test]
+fn the_rate_keeps_one_pair_a_second_for_60_s() {
+    // Messages every 100 ms for 60 s: one pair kept a second (a pair 1 s after the last kept),
+    // so 61 pairs from 0 s to 60 s, not the 601 messages. A pair exactly 60 s old
+    // (6 x `rate_span_ns`) is kept; 100 ms later it is dropped, and no pair is added (60.1 s is
+    // 0.1 s after the last one kept).
+    let mut al = Vn200Aligner::new(Vn200AlignerConfig::default());
+    let mut host = HostClock::new(HostClockConfig::default());
+    let mut at = |al: &mut Vn200Aligner, t: i64| {
+        al.handle(
+            &common(G0 + t, (S + t) as u64, INS_OK),
+            rx(G0 + t),
+            &mut host,
+        )
+        .unwrap();
+    };
+    let kept =
+        |al: &Vn200Aligner| -> Vec<i64> { al.pairs.iter().map(|p| (p.1 - G0) / S).collect() };
+    for k in 0..=600 {
+        at(&mut al, k * 100 * MS);
+    }
+    assert_eq!(kept(&al), (0..=60).collect::<Vec<_>>());
+    at(&mut al, 60_100 * MS);
+    assert_eq!(kept(&al), (1..=60).collect::<Vec<_>>());
+}
