@@ -34,6 +34,14 @@ pub fn decode_chunked<D: DeviceDecoder>(
         out.push(m);
     }
     let stats = *decoder.stats();
+    // `stats_mut` must reach the same counters as `stats`: the default `decode_eof` and the
+    // multiplexing decoders count through it.
+    decoder.stats_mut().bytes_skipped += 1;
+    assert_eq!(
+        decoder.stats().bytes_skipped,
+        stats.bytes_skipped + 1,
+        "stats_mut does not reach stats"
+    );
     (out, stats)
 }
 

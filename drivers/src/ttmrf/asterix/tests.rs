@@ -196,6 +196,61 @@ fn block_length_bound() {
 }
 
 #[test]
+fn a_record_with_an_impossible_value_is_dropped_alone_and_counted() {
+    // Two records in one block, the first at latitude 100 deg (I021/131 holds +-180 deg): the
+    // other is kept, the bad one counted once as an invalid value.
+    let (good, _) = cat021::decode_record(FLARM_RECORD).unwrap();
+    let mut bad = good.clone();
+    let p = bad.position_high_res.or(bad.position).unwrap();
+    let moved = cat021::kinematics::Position {
+        lat_deg: 100.0,
+        ..p
+    };
+    bad.position = bad.position.map(|_| moved);
+    bad.position_high_res = bad.position_high_res.map(|_| moved);
+    let mut recs = Vec::new();
+    bad.encode(&mut recs);
+    good.encode(&mut recs);
+    let mut bytes = Vec::new();
+    encode_block(21, &recs, &mut bytes);
+    let (msgs, stats) = decode_all(&bytes);
+    assert_eq!(msgs, vec![AsterixMessage::Cat021(Box::new(good))]);
+    assert_eq!((stats.invalid_values, stats.malformed), (1, 0));
+    assert_accounting(&stats, bytes.len());
+}
+
+#[test]
+fn a_false_header_is_refused_by_its_fspec_without_waiting_for_its_length() {
+    // CAT 21, LEN 256, then an FSPEC without I021/010 (bit 8 clear): not a block start, refused
+    // at once, so the real block after it comes out before 256 octets arrive.
+    let mut bytes = vec![21, 0x01, 0x00, 0x00];
+    encode_block(21, FLARM_RECORD, &mut bytes);
+    let mut d = AsterixDecoder::default();
+    let mut buf = BytesMut::from(&bytes[..]);
+    assert!(d.decode(&mut buf).is_some());
+    // A bad header with exactly its four octets in is refused at once, and the rest skipped.
+    let mut buf = BytesMut::from(&[21u8, 0x00, 0x02, 0x80][..]);
+    assert!(d.decode(&mut buf).is_none());
+    assert!(buf.is_empty());
+    assert_eq!(d.stats().malformed, 2);
+}
+
+#[test]
+fn an_oversized_block_is_cut_at_the_largest_len() {
+    // LEN is 16 bits and counts CAT and itself: at most 65,535 octets, 65,532 of records.
+    let mut bytes = Vec::new();
+    encode_block(21, &[0xAB; 70_000], &mut bytes);
+    assert_eq!(bytes.len(), 65_535);
+    assert_eq!(bytes[..3], [21, 0xFF, 0xFF]);
+    bytes.clear();
+    encode_block(21, &[0xAB; 65_532], &mut bytes);
+    assert_eq!(
+        (bytes.len(), bytes[1..3].to_vec()),
+        (65_535, vec![0xFF, 0xFF])
+    );
+}
+
+#[test]
 fn truncated_stream() {
     let bytes = mixed_stream();
     let (all, _) = decode_all(&bytes);

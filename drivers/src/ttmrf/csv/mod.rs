@@ -254,13 +254,7 @@ fn parse_line_inner(line: &[u8], verify: bool) -> Result<CsvMessage, CsvError> {
         _ => CsvMessage::FlarmStats(FlarmStats::parse(&f)?),
     };
     // Issue 24: an aircraft line whose values are impossible is one record, dropped alone.
-    let report = match &m {
-        CsvMessage::Adsb(a) => Some(a.to_traffic()),
-        CsvMessage::Uat(u) => Some(u.to_traffic()),
-        CsvMessage::Flarm(a) => Some(a.to_traffic()),
-        _ => None,
-    };
-    if let Some(r) = report {
+    if let Some(r) = m.to_traffic() {
         r.check_values().map_err(CsvError::InvalidValue)?;
     }
     Ok(m)

@@ -215,6 +215,39 @@ fn hand_built_adsb_every_field() {
 }
 
 #[test]
+fn an_aircraft_line_with_an_impossible_value_is_dropped_alone_and_counted() {
+    // An ADS-B line, then the same at 200,000 ft (above the 130,000 ft any report may hold) and
+    // a UAT line at -5 kt (each with its CRC; each field alone parses), then the first line
+    // again: the good lines come out, each bad one is counted once as an invalid value, not as
+    // malformed.
+    let good = with_crc(
+        "#A:3C65AC,3F03,N61ZP,7232,57.57634,17.59554,5000,35,464,-1344,-92,2,5,31B,5025,14",
+    );
+    let bad = [
+        with_crc(
+            "#A:3C65AC,3F03,N61ZP,7232,57.57634,17.59554,200000,35,464,-1344,-92,2,5,31B,5025,14",
+        ),
+        with_crc(
+            "#U:A1B2C3,201,N61ZP,7232,57.57634,-17.59554,5000,355,-5,1344,-70,1,5,31B,5000,14,3,5F",
+        ),
+    ];
+    let mut stream = format!("{good}\r\n");
+    for b in &bad {
+        assert!(
+            matches!(parse_line(b.as_bytes()), Err(CsvError::InvalidValue(_))),
+            "{b}: {:?}",
+            parse_line(b.as_bytes())
+        );
+        stream.push_str(&format!("{b}\r\n"));
+    }
+    stream.push_str(&format!("{good}\r\n"));
+    let mut d = CsvDecoder::new();
+    let out = decode_slice(&mut d, stream.as_bytes());
+    assert_eq!(out.len(), 2);
+    assert_eq!((d.stats().invalid_values, d.stats().malformed), (2, 0));
+}
+
+#[test]
 fn hand_built_uat_every_field() {
     let line = with_crc(
         "#U:A1B2C3,201,N61ZP,7232,57.57634,-17.59554,5000,355,464,1344,-70,1,5,31B,5000,14,3,5F",
@@ -233,6 +266,8 @@ fn hand_built_uat_every_field() {
     assert!(uf.ident_active && !uf.atc_services && uf.heading_magnetic);
     let t = u.to_traffic();
     assert_eq!(t.link, Link::Uat978);
+    // Through the message, the same report (a UAT line is traffic, like an ADS-B one).
+    assert_eq!(CsvMessage::Uat(u.clone()).to_traffic().as_ref(), Some(&t));
     assert_eq!(u.state.track_deg, Some(355.0));
     assert_eq!(
         t.track_deg, None,
