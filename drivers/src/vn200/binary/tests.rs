@@ -422,6 +422,9 @@ fn gnss_groups_extension_words_and_variable_types() {
     let (_, n) = body_len(&body, 600).unwrap();
     assert_eq!(n, 5 + 1 + (2 + 8) + (12 + 2 * 28) + 2 + 8);
     assert_eq!(n, body.len());
+    // A body exactly at the bound is accepted; one octet over it is too long.
+    assert_eq!(body_len(&body, n).map(|(_, l)| l), Ok(n));
+    assert_eq!(body_len(&body, n - 1).map(|(_, l)| l), Err(Probe::TooLong));
     let m = BinaryOutput::decode_body(&body).unwrap();
     assert!(m.gnss.is_none());
     let g = m.gnss2.as_ref().unwrap();
