@@ -249,9 +249,10 @@ impl DeviceDecoder for Gdl90Decoder {
             let limit = buf.len().min(start + MAX_ESCAPED_LEN + 1);
             let Some(rel) = buf[start..limit].iter().position(|&b| b == FLAG) else {
                 if buf.len() > start + MAX_ESCAPED_LEN {
-                    // No closing flag within the longest possible frame: not a frame.
+                    // No closing flag within the longest possible frame: not a frame. Every
+                    // byte searched goes (here `limit` is `start + MAX_ESCAPED_LEN + 1`).
                     self.after_flag = false;
-                    self.stats.skip(buf, start + MAX_ESCAPED_LEN + 1);
+                    self.stats.skip(buf, limit);
                     continue;
                 }
                 return None;

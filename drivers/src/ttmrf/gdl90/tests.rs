@@ -315,6 +315,38 @@ fn overlong_frame_is_skipped() {
 }
 
 #[test]
+fn the_longest_escaped_frame_is_still_a_frame() {
+    // 436 clear bytes (the longest message), each 0x7D or 0x7E, and an FCS of two such bytes
+    // (searched for): every byte escaped, 876 octets between the flags, MAX_ESCAPED_LEN
+    // exactly. Its ID, 0x7E, is unknown: the frame is counted as an unknown type, not skipped
+    // as noise, and the message after it decodes.
+    let mut rng = XorShift::new(7);
+    let msg = loop {
+        let mut m: Vec<u8> = (0..framing::MAX_CLEAR_LEN)
+            .map(|_| 0x7D + rng.below(2) as u8)
+            .collect();
+        m[0] = 0x7E;
+        if super::crc::fcs(&m)
+            .to_le_bytes()
+            .iter()
+            .all(|&b| b == 0x7D || b == 0x7E)
+        {
+            break m;
+        }
+    };
+    let mut bytes = Vec::new();
+    framing::frame(&msg, &mut bytes);
+    assert_eq!(bytes.len(), 2 + framing::MAX_ESCAPED_LEN);
+    encode_frame(&all_messages()[0], &mut bytes);
+    let (out, stats) = decode_all(&bytes);
+    assert_eq!(out, vec![all_messages()[0]]);
+    assert_eq!((stats.unknown_types, stats.malformed), (1, 0));
+    assert_accounting(&stats, bytes.len());
+    // Whatever the reads, even one ending just before the closing flag.
+    assert_split_invariant(Gdl90Decoder::default, &bytes);
+}
+
+#[test]
 fn bit_flips_never_panic_and_account() {
     let clean = stream(&all_messages().repeat(5));
     let mut rng = XorShift::new(90);

@@ -46,10 +46,17 @@ fn figure_a3_two_groups() {
     let t = m.imu.as_ref().and_then(|i| i.temperature_c).unwrap();
     assert!(close(t, 24.519476));
     assert_eq!(m.encode(), bytes);
-    // A wrong CRC byte is refused.
+    // A wrong CRC byte is refused, and so is a wrong sync byte under a right CRC.
     let mut bad = bytes;
     bad[23] ^= 1;
     assert!(BinaryOutput::decode_frame(&bad).is_none());
+    let mut bad = bytes;
+    bad[0] = 0xFB;
+    assert!(BinaryOutput::decode_frame(&bad).is_none());
+    // Too short for a CRC (the CRC-16 of no bytes is 0, so the length decides), and nothing.
+    assert!(BinaryOutput::decode_frame(&[0xFA]).is_none());
+    assert!(BinaryOutput::decode_frame(&[0xFA, 0, 0]).is_none());
+    assert!(BinaryOutput::decode_frame(&[]).is_none());
 }
 
 #[test]
