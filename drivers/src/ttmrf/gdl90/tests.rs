@@ -347,6 +347,32 @@ fn the_longest_escaped_frame_is_still_a_frame() {
 }
 
 #[test]
+fn a_dropped_frame_gives_its_closing_flag_to_the_next() {
+    // Frames may share a flag: `7E dropped 7E next 7E`. Whether the first is dropped for an
+    // unknown ID or for an impossible value (latitude 100 deg), its bytes and its closing flag
+    // are skipped, and the next message is taken from its first content byte.
+    let bad_report = Gdl90Message::TrafficReport(TargetReport {
+        lat_deg: 100.0,
+        ..spec_traffic()
+    });
+    let mut unknown = Vec::new();
+    framing::frame(&[0x50, 1, 2, 3], &mut unknown);
+    let mut impossible = Vec::new();
+    encode_frame(&bad_report, &mut impossible);
+    for dropped in [unknown, impossible] {
+        let mut bytes = dropped.clone();
+        let mut next = Vec::new();
+        encode_frame(&all_messages()[0], &mut next);
+        bytes.extend_from_slice(&next[1..]);
+        let d = decode_chunked(Gdl90Decoder::default(), &bytes, &[bytes.len()]);
+        assert_eq!(d.0, vec![all_messages()[0]]);
+        assert_eq!(d.1.bytes_skipped, dropped.len() as u64);
+        assert_eq!(d.1.unknown_types + d.1.invalid_values, 1);
+        assert_eq!(d.1.last_frame_start, dropped.len() as u64);
+    }
+}
+
+#[test]
 fn bit_flips_never_panic_and_account() {
     let clean = stream(&all_messages().repeat(5));
     let mut rng = XorShift::new(90);

@@ -46,6 +46,10 @@ fn figure_a3_two_groups() {
     let t = m.imu.as_ref().and_then(|i| i.temperature_c).unwrap();
     assert!(close(t, 24.519476));
     assert_eq!(m.encode(), bytes);
+    // The simulator's codec writes the same frame.
+    let mut dst = bytes::BytesMut::new();
+    tokio_util::codec::Encoder::encode(&mut BinaryEncoder, &m, &mut dst).unwrap();
+    assert_eq!(&dst[..], &bytes[..]);
     // A wrong CRC byte is refused, and so is a wrong sync byte under a right CRC.
     let mut bad = bytes;
     bad[23] ^= 1;
