@@ -120,6 +120,13 @@ fn spec_traffic_frame_and_mapping() {
         .unwrap();
     assert_eq!(g.alt_pressure_m, None);
     assert!((g.alt_geometric_m.unwrap() - 1524.0).abs() < 1e-9);
+    // A decoder says which mapping it was built with (pressure unless told).
+    let d = Gdl90Decoder::new(TrafficAltitude::GeometricPreferred);
+    assert_eq!(d.traffic_altitude(), TrafficAltitude::GeometricPreferred);
+    assert_eq!(
+        Gdl90Decoder::default().traffic_altitude(),
+        TrafficAltitude::Pressure
+    );
 }
 
 #[test]

@@ -274,6 +274,44 @@ fn version_and_range_rules() {
 }
 
 #[test]
+fn each_impossible_gnss_value_drops_the_gnss_section_alone() {
+    // The manual's GNSS example with one value past its limit at a time (latitude 90 deg,
+    // longitude 180 deg, altitude 130,000 ft = 39,624 m, speed 2,200 m/s = 4,276.4 kt, track
+    // 360 deg, vertical rate 200 m/s): the section is dropped and counted; at the limit it is
+    // kept.
+    let with = |key: &str, v: &str| {
+        let from = MANUAL_GNSS.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
+        let to = from + MANUAL_GNSS[from..].find([',', '}']).unwrap();
+        format!("{}{v}{}", &MANUAL_GNSS[..from], &MANUAL_GNSS[to..])
+    };
+    for (key, limit, past) in [
+        ("lat", "-90", "-90.001"),
+        ("lon", "180", "180.001"),
+        ("altWgs84", "39624", "39624.1"),
+        ("hvelo", "4276.4", "4276.5"),
+        ("track", "360", "360.1"),
+        ("vVelo", "-200", "-200.1"),
+    ] {
+        let m = parse_message(with(key, limit).as_bytes()).unwrap();
+        assert!(m.gnss.is_some() && m.invalid_records == 0, "{key} {limit}");
+        let m = parse_message(with(key, past).as_bytes()).unwrap();
+        assert!(m.gnss.is_none() && m.invalid_records == 1, "{key} {past}");
+    }
+}
+
+#[test]
+fn impossible_targets_are_counted_across_the_sections() {
+    // Two ADS-B targets (one at latitude 91), one UAT target at 91, one FLARM target: two kept
+    // (the first ADS-B and the FLARM), two dropped.
+    let m = parse_message(
+        br#"{"ver":1,"adsb":[{"icao":"A1","lat":47},{"icao":"A2","lat":91}],"uat":[{"icao":"B1","lat":91}],"flarm":[{"id":"1","lat":47}]}"#,
+    )
+    .unwrap();
+    assert_eq!((m.adsb.len(), m.uat.len(), m.flarm.len()), (1, 0, 1));
+    assert_eq!(m.invalid_records, 2);
+}
+
+#[test]
 fn hand_built_every_section_in_one_message() {
     let s = r#"{"src":"22-0000309","ts":1000,"ver":1,"status":{"fw":"2.77.5.0 (Mar 4 2025)"},"adsb":[{"icao":"4D240E","flags":{"groundState":true},"call":"SAS123","squawk":"7700"}],"uat":[{"icao":"A1B2C3","emergency":5,"uatFlags":{"identActive":true},"nicnac":{"nacP":8,"nacV":2,"nicBaro":1,"nic":7}}],"flarm":[{"idType":0,"id":"1600BF","type":1,"danger":3,"alt":300}],"gnss":{"fix":0},"raw":[["0363",-90,1,"2B5792B49315"]]}"#;
     let m = parse(s);
