@@ -143,6 +143,97 @@ fn manual_uat_example() {
 }
 
 #[test]
+fn the_manual_targets_map_to_whole_traffic_reports() {
+    // Every field of the common report, from the manual's ADS-B example (with a climb of
+    // -640 fpm instead of 0, so the rate's scale shows) and its UAT example (with a magnetic
+    // heading flag off, IDENT on, emergency 1). Units by their definitions: 1 ft = 0.3048 m,
+    // 1 kt = 1852 m/h, 1 fpm = 0.00508 m/s.
+    let t = SourceTime::MsSinceUtcMidnight(69_061_337);
+    let adsb = parse(&MANUAL_ADSB.replace(r#""velV":0"#, r#""velV":-640"#));
+    let want = TrafficReport {
+        link: Link::Adsb1090,
+        protocol: Protocol::Json,
+        address: 0x780A3F,
+        address_type: AddressType::Icao,
+        callsign: Some("CPA3174".into()),
+        squawk: Some(5730),
+        emitter_category: Some(5),
+        lat_deg: Some(34.39696),
+        lon_deg: Some(-85.1055),
+        alt_pressure_m: Some(35000.0 * 0.3048),
+        alt_geometric_m: Some(36975.0 * 0.3048),
+        track_deg: Some(143.78),
+        heading_deg: Some(125.5),
+        ground_speed_mps: Some(528.0 * (1852.0 / 3600.0)),
+        vertical_rate_mps: Some(-640.0 * 0.00508),
+        nic: Some(8),
+        nac_p: Some(9),
+        nac_v: Some(1),
+        signal_dbm: Some(-67.0),
+        source_time: Some(t),
+        ..Default::default()
+    };
+    assert_eq!(adsb.traffic_reports(), vec![want]);
+
+    let uat = parse(
+        &MANUAL_UAT
+            .replace(r#""identActive":false"#, r#""identActive":true"#)
+            .replace(r#""emergency":0"#, r#""emergency":1"#)
+            .replace(r#""groundState":false"#, r#""groundState":true"#)
+            .replace(r#""sigStr":0"#, r#""sigStr":-71"#)
+            .replace(r#""nacP":0"#, r#""nacP":9"#),
+    );
+    let want = TrafficReport {
+        link: Link::Uat978,
+        protocol: Protocol::Json,
+        address: 0x777888,
+        address_type: AddressType::Icao,
+        callsign: Some("N61ZP".into()),
+        squawk: Some(7232),
+        emitter_category: Some(14),
+        lat_deg: Some(90.0),
+        lon_deg: Some(180.0),
+        alt_pressure_m: Some(150.0 * 0.3048),
+        alt_geometric_m: Some(150.0 * 0.3048),
+        track_deg: Some(142.0),
+        ground_speed_mps: Some(10.0 * (1852.0 / 3600.0)),
+        vertical_rate_mps: Some(60.0 * 0.00508),
+        nac_p: Some(9),
+        nac_v: Some(0),
+        signal_dbm: Some(-71.0),
+        emergency_code: Some(1),
+        flags: TrafficFlags {
+            on_ground: true,
+            ident: true,
+            emergency: true,
+            ..Default::default()
+        },
+        source_time: Some(t),
+        ..Default::default()
+    };
+    assert_eq!(uat.traffic_reports(), vec![want]);
+
+    // FLARM: metres and m/s already; type 13 is emitter category 14 (see `flarm_category`).
+    let want = TrafficReport {
+        link: Link::Flarm,
+        protocol: Protocol::Json,
+        address: 0xDABABE,
+        address_type: AddressType::Icao,
+        emitter_category: Some(14),
+        lat_deg: Some(53.42854),
+        lon_deg: Some(14.55281),
+        alt_geometric_m: Some(1725.0),
+        track_deg: Some(72.18),
+        ground_speed_mps: Some(10.5),
+        vertical_rate_mps: Some(50.0),
+        flarm_alarm_level: Some(1),
+        source_time: Some(t),
+        ..Default::default()
+    };
+    assert_eq!(parse(MANUAL_FLARM).traffic_reports(), vec![want]);
+}
+
+#[test]
 fn manual_flarm_example() {
     let m = parse(MANUAL_FLARM);
     let f = &m.flarm[0];
