@@ -496,18 +496,41 @@ fn truncated_messages() {
         let msgs = decode_slice(&mut d, &MANUAL_ADSB.as_bytes()[..cut]);
         assert!(msgs.is_empty());
         crate::testkit::assert_accounting(d.stats(), cut);
+        // A cut object is one malformed message (the `{` is its first byte).
+        assert_eq!(d.stats().malformed, u64::from(cut > 0), "{cut}");
     }
 }
 
 #[test]
+fn a_message_comes_out_as_soon_as_its_object_closes() {
+    // No end of stream needed, only the line end; an impossible target in it is counted as it
+    // comes out.
+    let mut d = JsonDecoder::new();
+    let mut buf = BytesMut::from(
+        &b"{\"ver\":1,\"flarm\":[{\"id\":\"1\",\"lat\":91},{\"id\":\"2\",\"lat\":47}]}\r\n"[..],
+    );
+    let m = d.decode(&mut buf).expect("a complete object");
+    assert_eq!(m.flarm.len(), 1);
+    assert_eq!(d.stats().invalid_values, 1);
+    assert!(buf.is_empty());
+}
+
+#[test]
 fn over_long_object_is_bounded() {
+    // The rest of an over-long line is discarded up to its line feed, even a complete object
+    // in it; the next line's message comes out, whatever the reads.
     let mut bytes = b"{\"ver\":1,\"pad\":\"".to_vec();
     bytes.extend(std::iter::repeat_n(b'a', framing::MAX_OBJECT + 10));
-    bytes.extend_from_slice(b"\"}\r\n");
+    bytes.extend_from_slice(b"{\"ver\":1}\"}\r\n");
+    let line = bytes.len();
     bytes.extend_from_slice(MANUAL_STATUS.as_bytes());
     let (msgs, stats) = decode_chunked(JsonDecoder::new(), &bytes, &[4096]);
     assert_eq!(msgs.len(), 1);
-    assert_eq!(stats.malformed, 1);
+    assert!(msgs[0].status.is_some());
+    assert_eq!((stats.malformed, stats.bytes_skipped), (1, line as u64));
+    // A read ending just before the line feed: the discarding goes on into the next read.
+    let split = decode_chunked(JsonDecoder::new(), &bytes, &[line - 1, bytes.len()]);
+    assert_eq!(split, (msgs, stats));
 }
 
 #[test]

@@ -103,6 +103,10 @@ fn command_examples_section_1_3() {
             String::from_utf8(command.encode(ChecksumKind::Xor8)).unwrap(),
             format!("{text}\r\n")
         );
+        // The port's codec writes the same bytes.
+        let mut dst = bytes::BytesMut::new();
+        tokio_util::codec::Encoder::encode(&mut CommandEncoder, command.clone(), &mut dst).unwrap();
+        assert_eq!(&dst[..], format!("{text}\r\n").as_bytes());
         assert_eq!(cmd(text), command, "{text}");
     }
     // The response to the read example.
