@@ -259,6 +259,48 @@ fn tokio_encoder_reproduces_the_stream() {
 }
 
 #[test]
+fn the_adsb_heartbeat_is_the_hand_packed_frame() {
+    // HEARTBEAT (ID 0, CRC extra 50), fields by size: custom_mode 0 (u32), type 27
+    // (MAV_TYPE_ADSB), autopilot 8 (MAV_AUTOPILOT_INVALID), base_mode 0, system_status 4
+    // (MAV_STATE_ACTIVE), mavlink_version 3.
+    let payload = [0, 0, 0, 0, 27, 8, 0, 4, 3];
+    for version in [1, 2] {
+        let info = FrameInfo {
+            version,
+            sequence: 7,
+            system_id: 1,
+            component_id: 156,
+            signed: false,
+        };
+        let mut out = Vec::new();
+        encode_adsb_heartbeat(&info, &mut out);
+        let want = if version == 1 {
+            v1_frame(7, 0, &payload, 50)
+        } else {
+            v2_frame(0, 7, 0, &payload, 50)
+        };
+        assert_eq!(out, want, "v{version}");
+    }
+}
+
+#[test]
+fn the_longest_frame_is_max_frame_len() {
+    // MAVLink 2, signed, a 255-byte payload: 10 + 255 + 2 + 13 octets.
+    assert_eq!(v2_frame(1, 0, 246, &[0; 255], 184).len(), MAX_FRAME_LEN);
+}
+
+#[test]
+fn a_bad_v2_header_is_refused_with_its_ten_octets_in() {
+    // Incompatibility flags other than "signed" (0x02 here): not a frame, known as soon as the
+    // header is in; the start byte is skipped without waiting for a payload.
+    let mut d = MavlinkDecoder::default();
+    let mut buf = BytesMut::from(&[0xFD, 40, 0x02, 0, 0, 1, 156, 246, 0, 0][..]);
+    assert!(d.decode(&mut buf).is_none());
+    assert!(buf.is_empty());
+    assert_eq!(d.stats().bytes_skipped, 10);
+}
+
+#[test]
 fn validity_flags_and_uat() {
     // flags = SOURCE_UAT | SIMULATED only: nothing but the address and category is valid.
     let v = AdsbVehicle {

@@ -92,6 +92,12 @@ mod tests {
 
     #[test]
     fn codes_are_hexadecimal() {
+        // One or two hex digits only: not empty, not three digits even when the value fits a
+        // byte, no sign or other character that `from_str_radix` would take.
+        for bad in ["", "0FF", "001", "+1", "G", "1 "] {
+            assert_eq!(ErrorCode::from_hex(bad), None, "{bad:?}");
+        }
+        assert_eq!(ErrorCode::from_hex("1"), Some(ErrorCode::HardFault));
         assert_eq!(ErrorCode::from_hex("0A"), Some(ErrorCode::WatchdogReset));
         assert_eq!(
             ErrorCode::from_hex("0B"),
