@@ -59,10 +59,7 @@ impl ErrorCode {
 
     /// Parses the hexadecimal wire field (one or two hex digits).
     pub fn from_hex(s: &str) -> Option<Self> {
-        if s.is_empty() || s.len() > 2 || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return None;
-        }
-        u8::from_str_radix(s, 16).ok().map(Self::from_code)
+        super::fields::parse_hex(s, 2).map(|c| Self::from_code(c as u8))
     }
 
     /// The wire value.

@@ -86,10 +86,7 @@ impl<'a> Fields<'a> {
     /// A hexadecimal value of at most `digits` digits.
     pub(crate) fn hex(&mut self, digits: usize) -> Result<u32, AsciiError> {
         let s = self.next_str()?;
-        if s.is_empty() || s.len() > digits || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return Err(self.bad("hex"));
-        }
-        u32::from_str_radix(s, 16).map_err(|_| self.bad("hex"))
+        parse_hex(s, digits).ok_or_else(|| self.bad("hex"))
     }
 
     /// Appended status (`S` + 4 hex) and count (`T` + u32) of async outputs (Register 30), in
@@ -126,6 +123,15 @@ impl<'a> Fields<'a> {
 }
 
 /// A value written as one or more comma-separated ASCII fields.
+/// A field of 1 to `max_digits` (at most 8) hexadecimal digits and nothing else: no sign, no
+/// space, which `from_str_radix` alone would take or refuse by value rather than by form.
+pub(crate) fn parse_hex(s: &str, max_digits: usize) -> Option<u32> {
+    if s.is_empty() || s.len() > max_digits || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    u32::from_str_radix(s, 16).ok()
+}
+
 pub(crate) trait AsciiRecord: Sized {
     /// Reads the value's fields.
     fn parse(f: &mut Fields<'_>) -> Result<Self, AsciiError>;
