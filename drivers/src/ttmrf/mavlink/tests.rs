@@ -340,6 +340,8 @@ fn unknown_malformed_and_unsupported() {
     bytes.extend(v1_frame(0, 0, &[0, 0, 0, 0, 6, 8, 0, 0, 3], 50));
     // ADSB_VEHICLE in MAVLink 1 with a 37-byte payload.
     bytes.extend(v1_frame(1, 246, &VEHICLE_PAYLOAD[..37], EXTRA_ADSB_VEHICLE));
+    // COLLISION in MAVLink 1 with an 18-byte payload.
+    bytes.extend(v1_frame(1, 247, &COLLISION_PAYLOAD[..18], EXTRA_COLLISION));
     // emitter_type 25 is outside ADSB_EMITTER_TYPE.
     let mut p = VEHICLE_PAYLOAD;
     p[36] = 25;
@@ -355,7 +357,7 @@ fn unknown_malformed_and_unsupported() {
     let (msgs, stats) = decode_all(&bytes);
     assert_eq!(msgs.len(), 1);
     assert_eq!(stats.unknown_types, 1);
-    assert_eq!(stats.malformed, 2);
+    assert_eq!(stats.malformed, 3);
     assert_eq!(stats.checksum_failures, 0);
     assert_eq!(
         stats.bytes_skipped,

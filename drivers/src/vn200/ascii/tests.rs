@@ -673,6 +673,19 @@ fn unknown_and_malformed() {
         AsciiMessage::parse("VNERR,XYZ"),
         Err(AsciiError::Malformed { .. })
     ));
+    // A field more than the sentence holds is refused, not ignored.
+    assert!(AsciiMessage::parse("VNERR,03").is_ok());
+    // (Register 5 takes an optional serial port after the baud rate.)
+    for extra in ["VNERR,03,1", "VNRRG,5,115200,1,2"] {
+        assert!(
+            matches!(
+                AsciiMessage::parse(extra),
+                Err(AsciiError::Malformed { .. })
+            ),
+            "{extra}"
+        );
+    }
+    assert!(AsciiMessage::parse("VNRRG,5,115200").is_ok());
 }
 
 proptest! {
