@@ -171,6 +171,70 @@ fn hand_built_south_west_and_errors() {
     ));
 }
 
+#[test]
+fn impossible_values_are_refused_at_their_limits() {
+    // Each limit (issue 24) just inside and just past: altitude 130,000 ft = 39,624 m (and
+    // -2,000 ft = -609.6 m), geoid separation 200 m, HDOP 0..100, speed 2,200 m/s =
+    // 4,276.46 kt, course 0..360 deg. GGA, RMC and VTG each check their own.
+    let gga = |alt: &str, sep: &str, hdop: &str| {
+        with_cs(&format!(
+            "GPGGA,123519,4807.038,N,01131.000,E,1,08,{hdop},{alt},M,{sep},M,,"
+        ))
+    };
+    let rmc = |kt: &str, course: &str| {
+        with_cs(&format!(
+            "GPRMC,123519,A,4807.038,N,01131.000,E,{kt},{course},230394,003.1,W"
+        ))
+    };
+    let vtg = |course: &str, kt: &str| with_cs(&format!("GPVTG,{course},T,,M,{kt},N,,K"));
+    let cases = [
+        (gga("39624", "46.9", "0.9"), true),
+        (gga("39624.1", "46.9", "0.9"), false),
+        (gga("-609.6", "46.9", "0.9"), true),
+        (gga("-609.7", "46.9", "0.9"), false),
+        (gga("545.4", "-200", "0.9"), true),
+        (gga("545.4", "200.1", "0.9"), false),
+        (gga("545.4", "46.9", "100"), true),
+        (gga("545.4", "46.9", "100.1"), false),
+        (rmc("4276.4", "360"), true),
+        (rmc("4276.5", "084.4"), false),
+        (rmc("022.4", "360.1"), false),
+        (vtg("0", "4276.4"), true),
+        (vtg("054.7", "4276.5"), false),
+        (vtg("360.1", "005.5"), false),
+    ];
+    for (line, ok) in &cases {
+        match parse_sentence(line.as_bytes()) {
+            Ok(_) => assert!(ok, "{line}"),
+            Err(NmeaError::InvalidValue(_)) => assert!(!ok, "{line}"),
+            Err(e) => panic!("{line}: {e:?}"),
+        }
+    }
+    // In a stream, each is dropped alone and counted as an invalid value; a field that does
+    // not parse (latitude 91 deg) is malformed instead.
+    let mut text = String::new();
+    for (line, _) in &cases {
+        text.push_str(line);
+        text.push_str("\r\n");
+    }
+    text.push_str(&with_cs("GPGGA,,9107.0,N,,,0"));
+    text.push_str("\r\n");
+    let mut d = NmeaDecoder::new();
+    let out = decode_slice(&mut d, text.as_bytes());
+    assert_eq!(out.len(), 6);
+    assert_eq!((d.stats().invalid_values, d.stats().malformed), (8, 1));
+}
+
+#[test]
+fn a_non_ascii_address_is_an_unknown_type_not_a_panic() {
+    // Five bytes, but `é` straddles the talker/sentence split at byte 2.
+    let line = with_cs("G\u{e9}GA,1");
+    assert!(matches!(
+        parse_sentence(line.as_bytes()),
+        Err(NmeaError::UnknownType(_))
+    ));
+}
+
 fn stream() -> Vec<u8> {
     let mut s = String::from("junk");
     for line in [GGA, RMC, VTG, GSA, ZDA, "$GPGSV,3,1,11,03,03,111,00*4A"] {
