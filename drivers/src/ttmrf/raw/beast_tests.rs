@@ -14,6 +14,22 @@ const MANUAL: &[u8] = &[
 ];
 
 #[test]
+fn signal_in_dbfs_from_the_rssi_byte() {
+    let at = |rssi| {
+        RxMeta {
+            rssi,
+            ..RxMeta::default()
+        }
+        .signal_dbfs()
+    };
+    assert_eq!(at(Some(255)), Some(0.0));
+    assert_eq!(at(None), None);
+    // 0 is taken as 1 (no -infinity): 20 log10(1 / 255) = -48.13 dBFS.
+    assert!((at(Some(0)).unwrap() + 48.130_8).abs() < 1e-4);
+    assert_eq!(at(Some(0)), at(Some(1)));
+}
+
+#[test]
 fn manual_example() {
     let (f, s) = decode_chunked(BeastDecoder::new(), MANUAL, &[MANUAL.len()]);
     assert_eq!(s.frames_decoded, 1);
@@ -23,6 +39,8 @@ fn manual_example() {
     };
     assert_eq!(m.meta.mlat_ticks, Some(9_063_047_285_610));
     assert_eq!(m.meta.rssi, Some(26));
+    // 20 log10(26 / 255) = -19.83 dBFS (dump1090's scale: 255 is full scale).
+    assert!((m.meta.signal_dbfs().unwrap() + 19.831_3).abs() < 1e-4);
     assert_eq!(m.data(), &[0x00, 0xA1, 0x84, 0x1A, 0xC3, 0xB3, 0x1D]);
     // Encoding gives the same bytes back.
     let mut out = BytesMut::new();

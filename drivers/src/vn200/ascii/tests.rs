@@ -432,6 +432,29 @@ fn binary_output_register_examples() {
     let c = BinaryOutputConfig::from_masks(1, 160, [0, 0, 0, 1 << 16, 0, 0, 0]);
     assert_eq!(c.type_words, [0x8000, 0x0001]);
     assert_eq!(c.masks(), Some([0, 0, 0, 1 << 16, 0, 0, 0]));
+    // By hand: groups 0 and 1 (group byte 03), one word each; group 0 with an extension word
+    // (8001 then 0003: types 0 and 16, 17); a zero second group byte is allowed, a group
+    // beyond 6 in it is not; a word left over is inconsistent.
+    let masks = |groups: &[u8], words: &[u16]| {
+        BinaryOutputConfig {
+            async_mode: 1,
+            rate_divisor: 20,
+            group_bytes: groups.to_vec(),
+            type_words: words.to_vec(),
+        }
+        .masks()
+    };
+    assert_eq!(
+        masks(&[0x03], &[0x0001, 0x0002]),
+        Some([1, 2, 0, 0, 0, 0, 0])
+    );
+    assert_eq!(
+        masks(&[0x03], &[0x8001, 0x0003, 0x0002]),
+        Some([1 | 3 << 16, 2, 0, 0, 0, 0, 0])
+    );
+    assert_eq!(masks(&[0x81, 0x00], &[0x0001]), Some([1, 0, 0, 0, 0, 0, 0]));
+    assert_eq!(masks(&[0x81, 0x01], &[0x0001, 0x0001]), None);
+    assert_eq!(masks(&[0x01], &[0x0001, 0x0002]), None);
 }
 
 #[test]
