@@ -101,12 +101,9 @@ macro_rules! binary_group {
                 let mut n = 0usize;
                 $(
                     if mask & (1u32 << $off) != 0 {
-                        n += if <$t as Wire>::VARIABLE {
-                            <$t as Wire>::wire_len(bytes.get(n..).unwrap_or(&[]))
-                                .ok_or(LenError::NeedMore)?
-                        } else {
-                            <$t as Wire>::SIZE
-                        };
+                        // A fixed type's `wire_len` is its SIZE without looking (inlined).
+                        n += <$t as Wire>::wire_len(bytes.get(n..).unwrap_or(&[]))
+                            .ok_or(LenError::NeedMore)?;
                     }
                 )*
                 Ok(n)

@@ -659,3 +659,24 @@ fn in_place_decoding_needs_exactly_the_selected_bytes() {
         );
     }
 }
+
+#[test]
+fn gnss_fix_values_are_table_2_41() {
+    // ICD Table 2.41: 0-4, 7 and 8 are documented; 5, 6 and 9.. are not (None, not a guess).
+    let table = [
+        (0, Some(GnssFixKind::NoFix)),
+        (1, Some(GnssFixKind::TimeOnly)),
+        (2, Some(GnssFixKind::Fix2D)),
+        (3, Some(GnssFixKind::Fix3D)),
+        (4, Some(GnssFixKind::Sbas)),
+        (5, None),
+        (6, None),
+        (7, Some(GnssFixKind::RtkFloat)),
+        (8, Some(GnssFixKind::RtkFix)),
+        (9, None),
+        (255, None),
+    ];
+    for (v, kind) in table {
+        assert_eq!(GnssFix(v).kind(), kind, "{v}");
+    }
+}
