@@ -182,6 +182,33 @@ fn with_crc(body: &str) -> String {
 }
 
 #[test]
+fn each_flag_bit_is_its_own_flag() {
+    // Table 15's bits one at a time: each sets its flag and no other; 0 sets none.
+    type Flag = fn(&AircraftFlags) -> bool;
+    let none = AircraftFlags::from_raw(0);
+    let bits: [(u16, Flag); 8] = [
+        (0x0001, |f| f.on_ground),
+        (0x0002, |f| f.military),
+        (0x0100, |f| f.upd_alt_baro),
+        (0x0200, |f| f.upd_position),
+        (0x0400, |f| f.upd_track),
+        (0x0800, |f| f.upd_velo_h),
+        (0x1000, |f| f.upd_velo_v),
+        (0x2000, |f| f.upd_alt_geo),
+    ];
+    for (bit, flag) in bits {
+        assert!(!flag(&none), "{bit:#06x}");
+        for (other, other_flag) in bits {
+            assert_eq!(
+                other_flag(&AircraftFlags::from_raw(bit)),
+                other == bit,
+                "{bit:#06x} {other:#06x}"
+            );
+        }
+    }
+}
+
+#[test]
 fn hand_built_adsb_every_field() {
     // Table 14's example values, with a callsign, ground and military flags and ECAT 14.
     let line = with_crc(

@@ -156,6 +156,8 @@ fn hand_packed_v1_adsb_vehicle() {
     assert!((t.ground_speed_mps.unwrap() - 63.28).abs() < 1e-9);
     assert!((t.vertical_rate_mps.unwrap() + 5.08).abs() < 1e-9);
     assert!(!t.flags.test);
+    // tslc 2 s: the position's age.
+    assert_eq!(t.data_age_s, Some(2.0));
 }
 
 #[test]

@@ -226,6 +226,26 @@ fn impossible_values_are_refused_at_their_limits() {
 }
 
 #[test]
+fn a_time_too_short_or_a_number_not_finite_is_a_bad_field() {
+    // Five digits are not hhmmss; Rust would parse "inf" and "NaN" as numbers.
+    assert!(matches!(
+        parse_sentence(
+            with_cs("GPGGA,12351,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,").as_bytes()
+        ),
+        Err(NmeaError::Field("time"))
+    ));
+    for bad in ["inf", "NaN"] {
+        let line = with_cs(&format!(
+            "GPGGA,123519,4807.038,N,01131.000,E,1,08,{bad},545.4,M,46.9,M,,"
+        ));
+        assert!(
+            matches!(parse_sentence(line.as_bytes()), Err(NmeaError::Field(_))),
+            "{line}"
+        );
+    }
+}
+
+#[test]
 fn a_non_ascii_address_is_an_unknown_type_not_a_panic() {
     // Five bytes, but `é` straddles the talker/sentence split at byte 2.
     let line = with_cs("G\u{e9}GA,1");
