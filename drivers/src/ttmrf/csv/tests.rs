@@ -182,6 +182,20 @@ fn with_crc(body: &str) -> String {
 }
 
 #[test]
+fn nicnac_packs_into_table_16s_bits() {
+    // NIC bits 3..0, NICbaro bit 4, NACp bits 8..5, NACv bits 11..9. By hand:
+    // 11 | 1 << 4 | 11 << 5 | 4 << 9 = 11 + 16 + 352 + 2048 = 0x97B.
+    assert_eq!(NicNac::pack(11, 1, 11, 4), 0x97B);
+    let n = NicNac::from_raw(0x97B);
+    assert_eq!((n.nic, n.nic_baro, n.nac_p, n.nac_v), (11, 1, 11, 4));
+    // Each value is cut to its width and never spills into its neighbour.
+    assert_eq!(NicNac::pack(0xFF, 0, 0, 0), 0x00F);
+    assert_eq!(NicNac::pack(0, 0xFF, 0, 0), 0x010);
+    assert_eq!(NicNac::pack(0, 0, 0xFF, 0), 0x1E0);
+    assert_eq!(NicNac::pack(0, 0, 0, 0xFF), 0xE00);
+}
+
+#[test]
 fn each_flag_bit_is_its_own_flag() {
     // Table 15's bits one at a time: each sets its flag and no other; 0 sets none.
     type Flag = fn(&AircraftFlags) -> bool;

@@ -246,6 +246,41 @@ fn a_time_too_short_or_a_number_not_finite_is_a_bad_field() {
 }
 
 #[test]
+fn angles_need_whole_minutes_and_their_hemisphere() {
+    // ddmm and dddmm without decimals are whole minutes; fewer digits, or a value without its
+    // hemisphere (or the reverse), is a bad field.
+    let gga = |lat: &str, lon: &str| {
+        parse_sentence(
+            with_cs(&format!(
+                "GPGGA,123519,{lat},{lon},1,08,0.9,545.4,M,46.9,M,,"
+            ))
+            .as_bytes(),
+        )
+    };
+    let Ok(NmeaSentence {
+        body: NmeaBody::Gga(g),
+        ..
+    }) = gga("4807,N", "01131,E")
+    else {
+        panic!()
+    };
+    assert_relative_eq!(g.lat_deg.unwrap(), 48.0 + 7.0 / 60.0, epsilon = 1e-12);
+    assert_relative_eq!(g.lon_deg.unwrap(), 11.0 + 31.0 / 60.0, epsilon = 1e-12);
+    for (lat, lon) in [
+        ("480,N", "01131,E"),
+        ("4807,N", "0113,E"),
+        ("4807,", "01131,E"),
+        (",N", "01131,E"),
+        ("4807,N", ",E"),
+    ] {
+        assert!(
+            matches!(gga(lat, lon), Err(NmeaError::Field(_))),
+            "{lat} {lon}"
+        );
+    }
+}
+
+#[test]
 fn a_non_ascii_address_is_an_unknown_type_not_a_panic() {
     // Five bytes, but `é` straddles the talker/sentence split at byte 2.
     let line = with_cs("G\u{e9}GA,1");
