@@ -253,6 +253,44 @@ fn hand_built_adsb_every_field() {
     assert_eq!(t.emitter_category, Some(14));
     // -1344 ft/min * 0.00508 = -6.82752 m/s.
     assert_relative_eq!(t.vertical_rate_mps.unwrap(), -6.82752, epsilon = 1e-12);
+    // The line's own values, in the common report (a CSV track is a track, not a heading).
+    assert_eq!((t.protocol, t.link), (Protocol::Csv, Link::Adsb1090));
+    assert_eq!((t.lat_deg, t.lon_deg), (Some(57.57634), Some(17.59554)));
+    assert_eq!((t.track_deg, t.heading_deg), (Some(35.0), None));
+    assert_eq!((t.nic, t.nac_p, t.nac_v), (Some(11), Some(8), Some(1)));
+    // A #U line one field short is refused by its count, not read past its end.
+    let short = with_crc(
+        "#U:A1B2C3,201,N61ZP,7232,57.57634,-17.59554,5000,355,464,1344,-70,1,5,31B,5000,14,3",
+    );
+    assert!(matches!(
+        parse_line(short.as_bytes()),
+        Err(CsvError::FieldCount { tag: "U", .. })
+    ));
+}
+
+#[test]
+fn each_uat_flag_bit_is_its_own_flag() {
+    // Table 39's bits one at a time: each sets its flag and no other.
+    type Flag = fn(&UatFlags) -> bool;
+    let bits: [(u16, Flag); 7] = [
+        (0x0001, |f| f.utc_coupling),
+        (0x0002, |f| f.cdti),
+        (0x0004, |f| f.acas_operational),
+        (0x0008, |f| f.acas_ra_active),
+        (0x0010, |f| f.ident_active),
+        (0x0020, |f| f.atc_services),
+        (0x0040, |f| f.heading_magnetic),
+    ];
+    for (bit, flag) in bits {
+        assert!(!flag(&UatFlags::from_raw(0)), "{bit:#06x}");
+        for (other, other_flag) in bits {
+            assert_eq!(
+                other_flag(&UatFlags::from_raw(bit)),
+                other == bit,
+                "{bit:#06x} {other:#06x}"
+            );
+        }
+    }
 }
 
 #[test]

@@ -281,6 +281,37 @@ fn angles_need_whole_minutes_and_their_hemisphere() {
 }
 
 #[test]
+fn rmc_and_zda_optional_fields_and_the_pole() {
+    // RMC: an empty status is unknown (not an error); an easterly variation is positive.
+    let NmeaBody::Rmc(r) = body(&with_cs(
+        "GPRMC,123519,,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,E",
+    )) else {
+        panic!()
+    };
+    assert_eq!((r.valid, r.mag_var_deg), (None, Some(3.1)));
+    // A six-digit date only; ZDA with no date at all is no date.
+    assert!(matches!(
+        parse_sentence(with_cs("GPRMC,123519,A,,,,,,,2303940,,").as_bytes()),
+        Err(NmeaError::Field("date"))
+    ));
+    let NmeaBody::Zda(z) = body(&with_cs("GPZDA,201530.00,,,,00,00")) else {
+        panic!()
+    };
+    assert_eq!(z.date, None);
+    // The pole itself is a latitude; past it is not.
+    let NmeaBody::Gga(g) = body(&with_cs(
+        "GPGGA,123519,9000.000,S,18000.000,W,1,08,0.9,545.4,M,46.9,M,,",
+    )) else {
+        panic!()
+    };
+    assert_eq!((g.lat_deg, g.lon_deg), (Some(-90.0), Some(-180.0)));
+    assert!(matches!(
+        parse_sentence(with_cs("GPGGA,123519,9000.001,N,,,1").as_bytes()),
+        Err(NmeaError::Field("lat"))
+    ));
+}
+
+#[test]
 fn a_non_ascii_address_is_an_unknown_type_not_a_panic() {
     // Five bytes, but `é` straddles the talker/sentence split at byte 2.
     let line = with_cs("G\u{e9}GA,1");
