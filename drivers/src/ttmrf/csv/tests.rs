@@ -269,6 +269,15 @@ fn hand_built_adsb_every_field() {
 }
 
 #[test]
+fn fields_count_what_they_hold() {
+    let none = fields::Fields::new(&[]);
+    assert!(none.is_empty());
+    assert_eq!(none.len(), 0);
+    let two = fields::Fields::new(&["4D240E", ""]);
+    assert!(!two.is_empty() && two.len() == 2);
+}
+
+#[test]
 fn each_uat_flag_bit_is_its_own_flag() {
     // Table 39's bits one at a time: each sets its flag and no other.
     type Flag = fn(&UatFlags) -> bool;
