@@ -354,8 +354,11 @@ fn hand_built_uat_every_field() {
     assert!(uf.ident_active && !uf.atc_services && uf.heading_magnetic);
     let t = u.to_traffic();
     assert_eq!(t.link, Link::Uat978);
-    // Through the message, the same report (a UAT line is traffic, like an ADS-B one).
-    assert_eq!(CsvMessage::Uat(u.clone()).to_traffic().as_ref(), Some(&t));
+    // Through the message too: a UAT line is traffic, like an ADS-B one.
+    let m = CsvMessage::Uat(u.clone())
+        .to_traffic()
+        .map(|r| (r.link, r.address));
+    assert_eq!(m, Some((Link::Uat978, 0xA1B2C3)));
     assert_eq!(u.state.track_deg, Some(355.0));
     assert_eq!(
         t.track_deg, None,
