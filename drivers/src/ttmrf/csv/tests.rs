@@ -195,31 +195,39 @@ fn nicnac_packs_into_table_16s_bits() {
     assert_eq!(NicNac::pack(0, 0, 0, 0xFF), 0xE00);
 }
 
-#[test]
-fn each_flag_bit_is_its_own_flag() {
-    // Table 15's bits one at a time: each sets its flag and no other; 0 sets none.
-    type Flag = fn(&AircraftFlags) -> bool;
-    let none = AircraftFlags::from_raw(0);
-    let bits: [(u16, Flag); 8] = [
-        (0x0001, |f| f.on_ground),
-        (0x0002, |f| f.military),
-        (0x0100, |f| f.upd_alt_baro),
-        (0x0200, |f| f.upd_position),
-        (0x0400, |f| f.upd_track),
-        (0x0800, |f| f.upd_velo_h),
-        (0x1000, |f| f.upd_velo_v),
-        (0x2000, |f| f.upd_alt_geo),
-    ];
-    for (bit, flag) in bits {
-        assert!(!flag(&none), "{bit:#06x}");
-        for (other, other_flag) in bits {
+/// A bit of a flags word and the flag it should set.
+type FlagBit<T> = (u16, fn(&T) -> bool);
+
+/// Each `(bit, flag)` of a bitfield decoded alone: that bit sets its flag and no other; 0 none.
+fn assert_each_bit_alone<T>(from_raw: fn(u16) -> T, bits: &[FlagBit<T>]) {
+    for &(bit, flag) in bits {
+        assert!(!flag(&from_raw(0)), "{bit:#06x}");
+        for &(other, other_flag) in bits {
             assert_eq!(
-                other_flag(&AircraftFlags::from_raw(bit)),
+                other_flag(&from_raw(bit)),
                 other == bit,
                 "{bit:#06x} {other:#06x}"
             );
         }
     }
+}
+
+#[test]
+fn each_flag_bit_is_its_own_flag() {
+    // Table 15's bits one at a time.
+    assert_each_bit_alone(
+        AircraftFlags::from_raw,
+        &[
+            (0x0001, |f| f.on_ground),
+            (0x0002, |f| f.military),
+            (0x0100, |f| f.upd_alt_baro),
+            (0x0200, |f| f.upd_position),
+            (0x0400, |f| f.upd_track),
+            (0x0800, |f| f.upd_velo_h),
+            (0x1000, |f| f.upd_velo_v),
+            (0x2000, |f| f.upd_alt_geo),
+        ],
+    );
 }
 
 #[test]
@@ -279,27 +287,19 @@ fn fields_count_what_they_hold() {
 
 #[test]
 fn each_uat_flag_bit_is_its_own_flag() {
-    // Table 39's bits one at a time: each sets its flag and no other.
-    type Flag = fn(&UatFlags) -> bool;
-    let bits: [(u16, Flag); 7] = [
-        (0x0001, |f| f.utc_coupling),
-        (0x0002, |f| f.cdti),
-        (0x0004, |f| f.acas_operational),
-        (0x0008, |f| f.acas_ra_active),
-        (0x0010, |f| f.ident_active),
-        (0x0020, |f| f.atc_services),
-        (0x0040, |f| f.heading_magnetic),
-    ];
-    for (bit, flag) in bits {
-        assert!(!flag(&UatFlags::from_raw(0)), "{bit:#06x}");
-        for (other, other_flag) in bits {
-            assert_eq!(
-                other_flag(&UatFlags::from_raw(bit)),
-                other == bit,
-                "{bit:#06x} {other:#06x}"
-            );
-        }
-    }
+    // Table 39's bits one at a time.
+    assert_each_bit_alone(
+        UatFlags::from_raw,
+        &[
+            (0x0001, |f| f.utc_coupling),
+            (0x0002, |f| f.cdti),
+            (0x0004, |f| f.acas_operational),
+            (0x0008, |f| f.acas_ra_active),
+            (0x0010, |f| f.ident_active),
+            (0x0020, |f| f.atc_services),
+            (0x0040, |f| f.heading_magnetic),
+        ],
+    );
 }
 
 #[test]
