@@ -273,13 +273,18 @@ fn a_tls_endpoint_serves_only_a_client_that_trusts_its_certificate() {
     assert!(lines.is_empty(), "{lines:?}");
 }
 
-/// A Zenoh session with `settings` (JSON5 values).
-fn session(settings: &[(&str, String)]) -> zenoh::Session {
+/// A Zenoh session with `settings` (JSON5 values), or why it could not open.
+fn try_session(settings: &[(&str, String)]) -> zenoh::Result<zenoh::Session> {
     let mut config = zenoh::Config::default();
     for (k, v) in settings {
         config.insert_json5(k, v).unwrap();
     }
-    zenoh::open(config).wait().unwrap()
+    zenoh::open(config).wait()
+}
+
+/// A Zenoh session with `settings` (JSON5 values).
+fn session(settings: &[(&str, String)]) -> zenoh::Session {
+    try_session(settings).unwrap()
 }
 
 /// The bridge as a client of a router recovers by itself when the router restarts: a subscriber
@@ -290,14 +295,14 @@ fn a_bridge_behind_a_router_recovers_when_the_router_restarts() {
     let prefix = format!("vigil-test-{}-bridge-router", std::process::id());
     let port = free_port();
     let endpoint = format!("tcp/127.0.0.1:{port}");
-    let router = || {
-        session(&[
+    let try_router = || {
+        try_session(&[
             ("mode", "\"router\"".to_string()),
             ("listen/endpoints", format!("[\"{endpoint}\"]")),
             ("scouting/multicast/enabled", "false".to_string()),
         ])
     };
-    let r1 = router();
+    let r1 = try_router().unwrap();
     let config = common::tmp("bridge_router", "bridge.toml");
     std::fs::write(
         &config,
@@ -332,8 +337,22 @@ fn a_bridge_behind_a_router_recovers_when_the_router_restarts() {
             "samples still arrive without the router"
         );
     }
-    // ... and comes back on the same endpoint.
-    let _r2 = router();
+    // ... and comes back on the same endpoint. The bind may fail for a while: while the router
+    // is away, the clients' reconnect attempts take ephemeral source ports, and one of them can
+    // be this very port (the port came from the ephemeral range; a connect to a port nobody
+    // listens on can even connect to itself on Linux). Such a socket lives only until its
+    // handshake fails, so the new router retries its bind for up to 20 s.
+    let bind_deadline = Instant::now() + Duration::from_secs(20);
+    let _r2 = loop {
+        match try_router() {
+            Ok(r) => break r,
+            Err(e) if Instant::now() < bind_deadline => {
+                eprintln!("router restart: {e}; retrying");
+                std::thread::sleep(Duration::from_millis(200));
+            }
+            Err(e) => panic!("the router could not listen again on {endpoint}: {e}"),
+        }
+    };
     let start = Instant::now();
     let again = sub.recv_timeout(Duration::from_secs(30)).unwrap();
     assert!(again.is_some(), "the bridge did not come back");
