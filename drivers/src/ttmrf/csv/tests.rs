@@ -417,6 +417,13 @@ fn hand_built_flarm_table_25_example() {
     assert_eq!(t.alt_geometric_m, Some(61.0));
     assert_eq!(t.alt_pressure_m, None);
     assert_eq!(t.flarm_alarm_level, Some(0));
+    assert_eq!(t.protocol, Protocol::Csv);
+    assert_relative_eq!(t.lat_deg.unwrap(), 53.5668736, epsilon = 1e-12);
+    assert_relative_eq!(t.lon_deg.unwrap(), 16.3101952, epsilon = 1e-12);
+    // TRACK, VELH and VELV are already in degrees and metres per second (table 25).
+    assert_eq!(t.track_deg, Some(90.0));
+    assert_eq!(t.ground_speed_mps, Some(0.0));
+    assert_eq!(t.vertical_rate_mps, Some(20.0));
 
     // Other id types, alarm level 3, stealth/notrack, and a future extra field.
     let line = "#ALRM:2,DD1234,0,1,3,-335668736,-1631019520,1200,359,30,-2,5,100,200,224,-50,230,179,1,1,X";
@@ -434,11 +441,49 @@ fn hand_built_flarm_table_25_example() {
     // ALARM_LVL 4 and ID_TYPE 3 are outside the documented ranges.
     assert!(parse_line(b"#ALRM:2,DD1234,0,1,4,,,,,,,,,,,,,,,").is_err());
     assert!(parse_line(b"#ALRM:2,DD1234,3,1,0,,,,,,,,,,,,,,,").is_err());
+    // LAT and LON in 1e-7 degrees: the poles and the antimeridian are positions, a step past
+    // them is refused.
+    let at = |lat: i64, lon: i64| {
+        parse_line(
+            format!("#ALRM:0,1600BF,2,13,0,{lat},{lon},61,90,0,20,1,2,-3,3,8,9,-56,0,0").as_bytes(),
+        )
+    };
+    for (lat, lon) in [(900_000_000, 1_800_000_000), (-900_000_000, -1_800_000_000)] {
+        let Ok(CsvMessage::Flarm(f)) = at(lat, lon) else {
+            panic!("{lat} {lon}");
+        };
+        assert_eq!(
+            (f.lat_deg, f.lon_deg),
+            (Some(lat as f64 / 1e7), Some(lon as f64 / 1e7))
+        );
+    }
+    for (lat, lon, field) in [
+        (900_000_001, 0, "LAT"),
+        (-900_000_001, 0, "LAT"),
+        (0, 1_800_000_001, "LON"),
+        (0, -1_800_000_001, "LON"),
+    ] {
+        assert!(
+            matches!(at(lat, lon), Err(CsvError::Field { name, .. }) if name == field),
+            "{lat} {lon}: {:?}",
+            at(lat, lon)
+        );
+    }
     // Nineteen fields are too few.
     assert!(matches!(
         parse_line(b"#ALRM:2,DD1234,0,1,0,,,,,,,,,,,,,,"),
         Err(CsvError::FieldCount { got: 19, .. })
     ));
+}
+
+#[test]
+fn squawks_are_one_to_four_octal_digits() {
+    assert_eq!(fields::parse_squawk("7700"), Some(7700));
+    assert_eq!(fields::parse_squawk("0"), Some(0));
+    assert_eq!(fields::parse_squawk("777"), Some(777));
+    for bad in ["", "77000", "7708", "12a4", "-1"] {
+        assert_eq!(fields::parse_squawk(bad), None, "{bad:?}");
+    }
 }
 
 #[test]
@@ -482,6 +527,27 @@ fn hand_built_statistics() {
             Some(1)
         )
     );
+    // The encoder writes each back as it came, extra fields and all.
+    for line in [
+        with_crc("#S:37.5,1234"),
+        with_crc("#AS:812,95,167999842.5,NEW"),
+        "#FS:40,38,1,2,3,4,1,NEW".to_string(),
+    ] {
+        let m = parse_line(line.as_bytes()).unwrap();
+        assert_eq!(m.to_line(), format!("{line}\r\n"));
+    }
+    // One field too few is refused, counted by the tag's own minimum.
+    for (line, tag, expected, got) in [
+        (with_crc("#S:37.5"), "S", 2, 1),
+        (with_crc("#AS:812,95"), "AS", 3, 2),
+        ("#FS:40,38,1,2,3,4".to_string(), "FS", 7, 6),
+    ] {
+        assert_eq!(
+            parse_line(line.as_bytes()),
+            Err(CsvError::FieldCount { tag, expected, got }),
+            "{line}"
+        );
+    }
     // Statistics with unknown values.
     let s = with_crc("#AS:,,");
     let Ok(CsvMessage::AdsbStats(st)) = parse_line(s.as_bytes()) else {
