@@ -384,6 +384,35 @@ fn encoder_reproduces_reference_sentences() {
     );
 }
 
+#[test]
+fn minutes_that_round_up_to_60_carry_into_the_degrees() {
+    // 47.9999999999 deg is 47 deg 59.999999994 min; at 5 decimals that is 60.00000 min, written
+    // as 48 deg 00.00000 min (and never as "4760.00000"). The same for a westerly longitude
+    // with three degree digits; a value that does not round up is left alone.
+    let gga = |lat: f64, lon: f64| {
+        NmeaSentence {
+            talker: "GP".into(),
+            body: NmeaBody::Gga(Gga {
+                lat_deg: Some(lat),
+                lon_deg: Some(lon),
+                ..Default::default()
+            }),
+        }
+        .to_line()
+    };
+    let line = gga(47.9999999999, -11.9999999999);
+    assert!(
+        line.starts_with("$GPGGA,,4800.00000,N,01200.00000,W,"),
+        "{line}"
+    );
+    // 47.99999 deg = 47 deg 59.9994 min.
+    let line = gga(47.99999, -0.5);
+    assert!(
+        line.starts_with("$GPGGA,,4759.99940,N,00030.00000,W,"),
+        "{line}"
+    );
+}
+
 mod round_trip {
     use super::*;
     use proptest::prelude::*;
