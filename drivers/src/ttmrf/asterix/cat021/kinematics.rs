@@ -112,7 +112,9 @@ pub fn decode_angle(b: &[u8], name: &'static str) -> Result<f64, ItemError> {
 }
 
 fn angle_counts(deg: f64) -> u16 {
-    ((deg.rem_euclid(360.0) / ANGLE_LSB_DEG).round() as u32 % 65536) as u16
+    // A value that rounds up to 360 deg (65,536 counts) is 0: the cast to u16 keeps the count
+    // modulo 2^16.
+    (deg.rem_euclid(360.0) / ANGLE_LSB_DEG).round() as u32 as u16
 }
 
 /// Appends a 16-bit unsigned angle.
@@ -270,6 +272,32 @@ mod tests {
         let mut out = Vec::new();
         p.encode_high(&mut out);
         assert_eq!(out, [0x20, 0, 0, 0, 0xC0, 0, 0, 0]);
+        // Beyond the field's range a value saturates at its extreme count and never wraps to
+        // the other sign: 200 deg is 0x7FFFFF (2^23 - 1 counts) and -200 deg 0x800000 (-2^23).
+        let mut out = Vec::new();
+        Position {
+            lat_deg: 200.0,
+            lon_deg: -200.0,
+        }
+        .encode_low(&mut out);
+        assert_eq!(out, [0x7F, 0xFF, 0xFF, 0x80, 0x00, 0x00]);
+    }
+
+    #[test]
+    fn angles_wrap_at_360_degrees() {
+        // 360/2^16 deg a count: 90 deg is 0x4000, -90 deg is 270 deg = 0xC000, and a value
+        // within half a count of 360 deg rounds to 65,536 counts, which is 0.
+        for (deg, counts) in [
+            (90.0, 0x4000),
+            (-90.0, 0xC000),
+            (359.999, 0),
+            (360.0, 0),
+            (720.0 + ANGLE_LSB_DEG, 1),
+        ] {
+            let mut out = Vec::new();
+            encode_angle(deg, &mut out);
+            assert_eq!(out, u16::to_be_bytes(counts), "{deg}");
+        }
     }
 
     #[test]
@@ -341,6 +369,17 @@ mod tests {
         let mut out = Vec::new();
         v.encode(&mut out);
         assert_eq!(out, [0xC0, 0x00]);
+        // A rate past the field's range saturates at its extreme count and keeps its sign:
+        // +200,000 ft/min is 0x3FFF (2^14 - 1 counts = 102,393.75 ft/min), never a count that
+        // reads back negative.
+        let mut out = Vec::new();
+        VerticalRate {
+            range_exceeded: true,
+            fpm: 200_000.0,
+        }
+        .encode(&mut out);
+        assert_eq!(out, [0xBF, 0xFF]);
+        assert_eq!(VerticalRate::decode(&out, "v").unwrap().fpm, 102_393.75);
         // I021/165 0xFC20: spare bits ignored, 10 bits 0x020 = 32 / 32 = 1 deg/s;
         // 0x03E0 = 0x3E0 - 1024 = -32 -> -1 deg/s.
         assert_eq!(decode_track_angle_rate(&[0xFC, 0x20]).unwrap(), 1.0);

@@ -160,9 +160,22 @@ mod tests {
         ];
         let re = ReservedExpansion::decode(&item).unwrap();
         assert!((re.bps_hpa.unwrap() - 1140.5).abs() < 1e-9);
-        assert_eq!(re.surface_vector.unwrap().ground_speed_kt, 1.0);
-        assert_eq!(re.surface_vector.unwrap().hgt_deg, None);
+        // SGV 00 10 = 0 0 0 0 00000001000 0: every flag clear.
+        assert_eq!(
+            re.surface_vector,
+            Some(SurfaceGroundVector {
+                stopped: false,
+                hgt_valid: false,
+                is_ground_track: false,
+                magnetic: false,
+                ground_speed_kt: 1.0,
+                hgt_deg: None,
+            })
+        );
         assert_eq!(re.in_capability, Some((true, false)));
+        // STA alone (indicator 0x04), 0x40: UAT IN capable, not 1090 ES IN.
+        let sta = ReservedExpansion::decode(&[0x03, 0x04, 0x40]).unwrap();
+        assert_eq!(sta.in_capability, Some((false, true)));
         assert_eq!(re.true_heading_deg, Some(90.0));
         assert_eq!(re.undecoded, vec!["SH", "NAV", "GAO", "MES"]);
         // A length that does not match the content: not decoded.

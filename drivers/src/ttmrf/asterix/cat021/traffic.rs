@@ -184,6 +184,7 @@ pub fn data_age_s(r: &Cat021Record) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::super::reserved::{ReservedExpansion, SurfaceGroundVector};
+    use super::super::status::{DescriptorExt1, DescriptorExt2, TargetReportDescriptor};
     use super::*;
 
     #[test]
@@ -236,17 +237,103 @@ mod tests {
 
     #[test]
     fn ecat_table() {
-        assert_eq!(ecat_to_emitter(1), Some(1));
-        assert_eq!(ecat_to_emitter(5), Some(5));
-        assert_eq!(ecat_to_emitter(10), Some(7));
-        assert_eq!(ecat_to_emitter(11), Some(9));
-        assert_eq!(ecat_to_emitter(13), Some(14));
-        assert_eq!(ecat_to_emitter(16), Some(11));
-        assert_eq!(ecat_to_emitter(21), Some(18));
-        assert_eq!(ecat_to_emitter(24), Some(21));
+        // Every ECAT code of CAT021 ed 2.1 I021/020 against the DO-260B / GDL 90 (3.5.1.10)
+        // emitter category of the same meaning, by name.
+        for (ecat, emitter, name) in [
+            (0, 0, "no information"),
+            (1, 1, "light"),
+            (2, 2, "small"),
+            (3, 3, "medium / large"),
+            (4, 4, "high vortex large"),
+            (5, 5, "heavy"),
+            (6, 6, "highly manoeuvrable"),
+            (10, 7, "rotorcraft"),
+            (11, 9, "glider / sailplane"),
+            (12, 10, "lighter than air"),
+            (13, 14, "unmanned aerial vehicle"),
+            (14, 15, "space / trans-atmospheric"),
+            (15, 12, "ultralight / hang glider / paraglider"),
+            (16, 11, "parachutist / skydiver"),
+            (20, 17, "surface emergency vehicle"),
+            (21, 18, "surface service vehicle"),
+            (22, 19, "point obstacle"),
+            (23, 20, "cluster obstacle"),
+            (24, 21, "line obstacle"),
+        ] {
+            assert_eq!(ecat_to_emitter(ecat), Some(emitter), "{name}");
+        }
         for reserved in [7, 8, 9, 17, 18, 19, 25, 255] {
             assert_eq!(ecat_to_emitter(reserved), None);
         }
+    }
+
+    #[test]
+    fn flight_level_degraded_flags_and_data_age() {
+        // FL 50 = 5,000 ft = 1,524 m.
+        let r = Cat021Record {
+            flight_level: Some(50.0),
+            ..Default::default()
+        };
+        assert!((to_traffic(&r).alt_pressure_m.unwrap() - 1524.0).abs() < 1e-9);
+        // Each failed check of I021/040's second extension alone marks the report degraded.
+        let degraded = |ext2: DescriptorExt2| {
+            to_traffic(&Cat021Record {
+                descriptor: Some(TargetReportDescriptor {
+                    ext1: Some(DescriptorExt1::default()),
+                    ext2: Some(ext2),
+                    ..Default::default()
+                }),
+                ..Default::default()
+            })
+            .flags
+            .degraded
+        };
+        let none = DescriptorExt2::default();
+        assert!(!degraded(none));
+        for one in [
+            DescriptorExt2 { ipc: true, ..none },
+            DescriptorExt2 { nogo: true, ..none },
+            DescriptorExt2 { cpr: true, ..none },
+            DescriptorExt2 { ldpj: true, ..none },
+            DescriptorExt2 { rcf: true, ..none },
+        ] {
+            assert!(degraded(one), "{one:?}");
+        }
+        // Data age = I021/077 (transmission) - I021/071 (position applicability), seconds of
+        // day, across midnight; not an age when negative or 60 s or more.
+        let age = |tx: Option<f64>, app: Option<f64>| {
+            data_age_s(&Cat021Record {
+                time_report_transmission_s: tx,
+                time_applicability_position_s: app,
+                ..Default::default()
+            })
+        };
+        assert_eq!(age(Some(45_000.5), Some(45_000.0)), Some(0.5));
+        assert_eq!(age(Some(45_000.0), Some(45_000.0)), Some(0.0));
+        assert_eq!(age(Some(45_059.75), Some(45_000.0)), Some(59.75));
+        assert_eq!(age(Some(45_060.0), Some(45_000.0)), None);
+        assert_eq!(
+            age(Some(45_000.0), Some(45_000.5)),
+            None,
+            "position after the report"
+        );
+        assert_eq!(
+            age(Some(0.25), Some(86_399.75)),
+            Some(0.5),
+            "across midnight"
+        );
+        assert_eq!(age(None, Some(45_000.0)), None);
+        assert_eq!(age(Some(45_000.0), None), None);
+        assert_eq!(age(Some(f64::NAN), Some(45_000.0)), None);
+        assert_eq!(
+            to_traffic(&Cat021Record {
+                time_report_transmission_s: Some(45_000.5),
+                time_applicability_position_s: Some(45_000.0),
+                ..Default::default()
+            })
+            .data_age_s,
+            Some(0.5)
+        );
     }
 
     #[test]
