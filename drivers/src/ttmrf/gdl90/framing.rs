@@ -115,6 +115,22 @@ mod tests {
     }
 
     #[test]
+    fn any_escaped_octet_is_restored_by_the_xor() {
+        // GDL 90 (2.2.1) restores the octet after a Control-Escape by XOR with 0x20, and an
+        // HDLC-style sender (RFC 1662) may escape octets that need no escaping. The spec's
+        // heartbeat (2.2.4) with its 0x41 sent as 7D 61 (0x61 ^ 0x20 = 0x41; an OR would
+        // leave 0x61) and its 0x02 as 7D 22.
+        let inner = [
+            0x00, 0x81, 0x7D, 0x61, 0xDB, 0xD0, 0x08, 0x7D, 0x22, 0xB3, 0x8B,
+        ];
+        let mut clear = Vec::new();
+        assert_eq!(
+            unframe(&inner, &mut clear).unwrap(),
+            &[0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02]
+        );
+    }
+
+    #[test]
     fn escapes_inside_the_fcs() {
         // Search three-byte messages 0x14 a b whose FCS has a 0x7E or 0x7D byte, then check
         // by hand that the FCS bytes went out escaped and that the frame decodes. (Two-byte

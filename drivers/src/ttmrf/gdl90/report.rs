@@ -398,6 +398,10 @@ mod tests {
         assert_eq!(i24([0x80, 0x00, 0x00]), -8_388_608);
         assert_eq!(i24([0xFF, 0xFF, 0xFF]), -1);
         assert_eq!(deg_to_i24(-LAT_LON_LSB_DEG), [0xFF, 0xFF, 0xFF]);
+        // Beyond the 24-bit range a value saturates at its extreme count, keeping its sign:
+        // 200 deg is 0x7FFFFF (2^23 - 1 counts), -200 deg 0x800000.
+        assert_eq!(deg_to_i24(200.0), [0x7F, 0xFF, 0xFF]);
+        assert_eq!(deg_to_i24(-200.0), [0x80, 0x00, 0x00]);
     }
 
     #[test]
