@@ -411,8 +411,10 @@ impl<'de> Deserialize<'de> for RawFrame {
         let ts_ns = match v.get(3) {
             None | Some(serde_json::Value::Null) => None,
             Some(x) => Some(
+                // Hex digits only (`from_str_radix` alone would take a leading `+`); an empty
+                // string or more than 64 bits is refused by the parse itself.
                 x.as_str()
-                    .filter(|s| !s.is_empty() && s.len() <= 16)
+                    .filter(|s| s.bytes().all(|b| b.is_ascii_hexdigit()))
                     .and_then(|s| u64::from_str_radix(s, 16).ok())
                     .ok_or_else(|| D::Error::custom("raw frame: time must be hex"))?,
             ),

@@ -9,7 +9,7 @@ use crate::decode_slice;
 use crate::testkit::{
     XorShift, assert_split_invariant, assert_survives_random, decode_chunked, flip_bits,
 };
-use crate::traffic::AddressType;
+use crate::traffic::{AddressType, SourceTime};
 
 /// Manual 7.2.1 ADS-B example. OCR repairs (each restores plain JSON syntax, no value guessed):
 /// `""groundState"` -> `"groundState"`, `"updVeloV'"` -> `"updVeloV"`, `"velV": O` -> `0`,
@@ -285,6 +285,21 @@ fn manual_gnss_raw_status_examples() {
         ns,
         ((12 * 3600 + 37 * 60 + 57) * 1_000_000_000u64) + 988_350_583
     );
+    assert_eq!(
+        r[0].source_time(),
+        Some(SourceTime::NsSinceUtcMidnight(45_477_988_350_583))
+    );
+    // The time is hex digits, 64 bits at most (leading zeros are fine); anything else is a
+    // malformed entry, not a guess.
+    let ts = |t: &str| {
+        parse_message(format!(r#"{{"ver":1,"raw":[["18A9725A4C842D",-78,2,"{t}"]]}}"#).as_bytes())
+            .map(|m| m.raw[0].ts_ns)
+    };
+    assert_eq!(ts("0000000000000000001F").unwrap(), Some(31));
+    assert_eq!(ts("FFFFFFFFFFFFFFFF").unwrap(), Some(u64::MAX));
+    for bad in ["", "+1F", "-1", "1G", "10000000000000000"] {
+        assert!(ts(bad).is_err(), "{bad:?}");
+    }
 
     let s = parse(MANUAL_STATUS).status.unwrap();
     assert_eq!(s.fw.as_deref(), Some("30903679 (Jan 15 2021)"));
@@ -531,6 +546,45 @@ fn over_long_object_is_bounded() {
     // A read ending just before the line feed: the discarding goes on into the next read.
     let split = decode_chunked(JsonDecoder::new(), &bytes, &[line - 1, bytes.len()]);
     assert_eq!(split, (msgs, stats));
+}
+
+#[test]
+fn the_last_object_needs_no_line_end_at_the_end_of_the_stream() {
+    // A recording cut right after a closing brace: the object is complete, and at the end of
+    // the stream there is nothing more to wait for.
+    let wire = parse(MANUAL_STATUS).to_wire();
+    let bare = wire.trim_end();
+    let (msgs, stats) = decode_chunked(JsonDecoder::new(), bare.as_bytes(), &[4096]);
+    assert_eq!(msgs, vec![parse(MANUAL_STATUS)]);
+    assert_eq!((stats.malformed, stats.bytes_skipped), (0, 0));
+    // Before the end of the stream it waits: the next byte may be its line end.
+    let mut d = JsonDecoder::new();
+    let mut buf = BytesMut::from(bare.as_bytes());
+    assert_eq!(d.decode(&mut buf), None);
+    assert_eq!(buf.len(), bare.len());
+}
+
+#[test]
+fn objects_up_to_64_kib_are_taken() {
+    // The bound is 64 KiB = 65,536 bytes of object (a message with a few dozen targets is about
+    // 20 KiB): an object of exactly that length comes out, one byte more is given up.
+    let object = |len: usize| {
+        let head = b"{\"ver\":1,\"pad\":\"";
+        let mut o = head.to_vec();
+        o.extend(std::iter::repeat_n(b'a', len - head.len() - 2));
+        o.extend_from_slice(b"\"}");
+        assert_eq!(o.len(), len);
+        o.extend_from_slice(b"\r\n");
+        o
+    };
+    for (len, taken) in [(20 * 1024, 1), (65_536, 1), (65_537, 0)] {
+        let (msgs, stats) = decode_chunked(JsonDecoder::new(), &object(len), &[4096]);
+        assert_eq!(
+            (msgs.len(), stats.malformed),
+            (taken, 1 - taken as u64),
+            "{len}"
+        );
+    }
 }
 
 #[test]
