@@ -49,6 +49,29 @@ fn manual_example() {
 }
 
 #[test]
+fn the_longest_frame_on_the_wire() {
+    // A long Mode S frame whose 6 MLAT, 1 RSSI and 14 data bytes are all 0x1A: every one of the
+    // 21 is doubled, so 0x1A 0x33 and 42 bytes, 44 in all (MAX_WIRE_LEN). It decodes whole.
+    let frame = RawFrame::ModeS(ModeSFrame {
+        bytes: [ESC; 14],
+        len: 14,
+        meta: RxMeta {
+            mlat_ticks: Some(0x1A1A_1A1A_1A1A),
+            rssi: Some(ESC),
+            ..RxMeta::default()
+        },
+    });
+    let mut wire = BytesMut::new();
+    assert!(encode_beast(&frame, &mut wire));
+    assert_eq!(wire.len(), 44);
+    assert_eq!(MAX_WIRE_LEN, 44);
+    assert_eq!(&wire[..2], &[0x1A, 0x33]);
+    assert!(wire[2..].iter().all(|&b| b == ESC));
+    let (f, s) = decode_chunked(BeastDecoder::new(), &wire, &[7]);
+    assert_eq!((f, s.bytes_skipped), (vec![frame], 0));
+}
+
+#[test]
 fn resynchronisation_rules() {
     // Garbage, then a frame: found.
     let mut v = vec![0x00, 0x55, 0x31];
@@ -73,6 +96,22 @@ fn resynchronisation_rules() {
     let (f, s) = decode_chunked(BeastDecoder::new(), &v, &[v.len()]);
     assert!(f.is_empty());
     assert_eq!((s.unknown_types, s.malformed), (1, 1));
+    // A type byte outside 0x31..=0x39 is no frame at all (malformed); one inside it but
+    // undocumented (0x35) is an unknown type, judged as soon as its two bytes are in, even as
+    // the last bytes of the stream.
+    let mut v = vec![0x1A, 0x20, 0x55];
+    v.extend_from_slice(MANUAL);
+    let (f, s) = decode_chunked(BeastDecoder::new(), &v, &[v.len()]);
+    assert_eq!((f.len(), s.malformed, s.unknown_types), (1, 1, 0));
+    let (f, s) = decode_chunked(BeastDecoder::new(), &[0x1A, 0x35], &[2]);
+    assert!(f.is_empty());
+    assert_eq!((s.unknown_types, s.malformed, s.bytes_skipped), (1, 0, 2));
+    // A doubled 1A in garbage is an escaped data byte, not a damaged frame: skipped, not
+    // counted malformed; the frame after it is found.
+    let mut v = vec![0x1A, 0x1A, 0x55];
+    v.extend_from_slice(MANUAL);
+    let (f, s) = decode_chunked(BeastDecoder::new(), &v, &[v.len()]);
+    assert_eq!((f.len(), s.malformed, s.bytes_skipped), (1, 0, 3));
     // Mode A/C: MLAT 0 and RSSI 0xFF mean "none".
     let v = [0x1A, 0x31, 0, 0, 0, 0, 0, 0, 0xFF, 0x77, 0x00];
     let (f, _) = decode_chunked(BeastDecoder::new(), &v, &[1]);

@@ -156,7 +156,8 @@ pub fn parse_line(line: &[u8]) -> Option<RawFrame> {
             let mut bytes = vec![0u8; n / 2];
             hex_into(payload, &mut bytes)?;
             Some(RawFrame::Uat(UatFrame {
-                uplink: n / 2 >= 432,
+                // 432 bytes (552 with parity) is an uplink; downlinks are 18 to 48.
+                uplink: bytes.len() >= 432,
                 bytes,
                 meta,
             }))

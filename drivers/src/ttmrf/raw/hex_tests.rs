@@ -122,6 +122,18 @@ fn malformed_lines_are_counted_and_skipped() {
     let (f, s) = one(b"*8D4CA7E8*5D4B18FFFC710B;\n");
     assert_eq!(f.len(), 1);
     assert_eq!((s.malformed, s.bytes_skipped), (1, 9));
+    // A complete frame with no line end before the next start byte is still a cut line: it
+    // goes (it may have lost its fields), and the next frame is not swallowed with it.
+    let (f, s) = one(b"*8D4CA7E858B9838206BA422BBD7B;*5D4B18FFFC710B;\n");
+    let [RawFrame::ModeS(m)] = &f[..] else {
+        panic!("{f:?}")
+    };
+    assert_eq!(m.len, 7);
+    assert_eq!((s.malformed, s.bytes_skipped), (1, 30));
+    // A last line without its newline that does not parse is counted at the end of the stream.
+    let (f, s) = one(b"*5D4B18FFFC710G;");
+    assert!(f.is_empty());
+    assert_eq!((s.malformed, s.bytes_skipped), (1, 16));
     // A line longer than MAX_LINE without an end is dropped without waiting for more.
     let mut long = vec![b'*'];
     long.extend(std::iter::repeat_n(b'0', MAX_LINE + 10));
@@ -129,6 +141,34 @@ fn malformed_lines_are_counted_and_skipped() {
     let (f, s) = one(&long);
     assert_eq!(f.len(), 1);
     assert!(s.malformed >= 1);
+}
+
+#[test]
+fn extended_field_number_forms() {
+    // SIGS and SIGQ: signed decimals of up to five digits, with an optional sign; TS1s and
+    // TS24h: up to 16 hex digits (64 bits).
+    let meta = |fields: &str| {
+        let line = format!("*5D4B18FFFC710B; ({fields})\n");
+        match &one(line.as_bytes()).0[..] {
+            [RawFrame::ModeS(m)] => Some(m.meta),
+            [] => None,
+            other => panic!("{other:?}"),
+        }
+    };
+    let m = meta("+5,-12345").unwrap();
+    assert_eq!((m.signal_dbm, m.signal_quality), (Some(5), Some(-12_345)));
+    let m = meta("-70,3,FFFFFFFFFFFFFFFF,0000000000000001").unwrap();
+    assert_eq!((m.ts_pps_ns, m.ts_utc_ns), (Some(u64::MAX), Some(1)));
+    for bad in [
+        "000001,3",                // six digits
+        "-,3",                     // a sign alone
+        ",3",                      // empty
+        "40000,3",                 // beyond i16
+        "-70,3,",                  // empty TS1s
+        "-70,3,10000000000000000", // 17 hex digits
+    ] {
+        assert_eq!(meta(bad), None, "{bad}");
+    }
 }
 
 fn mixed_stream() -> Vec<u8> {
