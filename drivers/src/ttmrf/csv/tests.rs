@@ -478,10 +478,11 @@ fn hand_built_flarm_table_25_example() {
 
 #[test]
 fn squawks_are_one_to_four_octal_digits() {
+    // Five digits are refused even where the number would fit a u16 (10000, 00777).
     assert_eq!(fields::parse_squawk("7700"), Some(7700));
     assert_eq!(fields::parse_squawk("0"), Some(0));
     assert_eq!(fields::parse_squawk("777"), Some(777));
-    for bad in ["", "77000", "7708", "12a4", "-1"] {
+    for bad in ["", "10000", "00777", "7708", "12a4", "-1"] {
         assert_eq!(fields::parse_squawk(bad), None, "{bad:?}");
     }
 }
