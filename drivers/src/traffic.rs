@@ -180,6 +180,19 @@ pub mod limits {
 }
 
 impl TrafficReport {
+    /// A report from `link` and `protocol` about `address` (24 bits) of kind `address_type`,
+    /// every other value unknown. Each decoder builds its reports on this, so where a report
+    /// came from is always stated, never left to a default.
+    pub fn new(link: Link, protocol: Protocol, address: u32, address_type: AddressType) -> Self {
+        Self {
+            link,
+            protocol,
+            address,
+            address_type,
+            ..Self::default()
+        }
+    }
+
     /// Checks every value against the protocol's and physics' ranges (see [`limits`]): latitude
     /// within +-90 deg, longitude within +-180 deg, altitudes, speeds, rates and angles finite
     /// and within their ranges; signal finite. Absent values pass (unknown is not invalid; a

@@ -236,11 +236,6 @@ impl AircraftState {
     /// The common traffic report (SI units) for these fields.
     fn to_traffic(&self, link: Link) -> TrafficReport {
         TrafficReport {
-            link,
-            protocol: Protocol::Csv,
-            address: self.icao,
-            // The CSV message calls the field "ICAO number" and carries no address type.
-            address_type: AddressType::Icao,
             callsign: self.callsign.clone(),
             squawk: self.squawk,
             emitter_category: self.ecat,
@@ -249,19 +244,19 @@ impl AircraftState {
             alt_pressure_m: self.alt_baro_ft.map(|v| v * FT_TO_M),
             alt_geometric_m: self.alt_geo_ft.map(|v| v * FT_TO_M),
             track_deg: self.track_deg,
-            heading_deg: None,
             ground_speed_mps: self.velh_kt.map(|v| v * KT_TO_MPS),
             vertical_rate_mps: self.velv_fpm.map(|v| v * FPM_TO_MPS),
             nic: self.nicnac.map(|n| n.nic),
             nac_p: self.nicnac.map(|n| n.nac_p),
             nac_v: self.nicnac.map(|n| n.nac_v),
-            sil: None,
             signal_dbm: self.sig_dbm,
             flags: TrafficFlags {
                 on_ground: self.flags.is_some_and(|f| f.on_ground),
                 ..Default::default()
             },
-            ..Default::default()
+            // The CSV message calls the field "ICAO number" and carries no address type. It has
+            // no heading and no SIL either: those stay unknown.
+            ..TrafficReport::new(link, Protocol::Csv, self.icao, AddressType::Icao)
         }
     }
 }

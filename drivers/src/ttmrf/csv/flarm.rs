@@ -165,10 +165,6 @@ impl FlarmAircraft {
     /// The common traffic report (FLARM link; emitter category through table 27).
     pub fn to_traffic(&self) -> TrafficReport {
         TrafficReport {
-            link: Link::Flarm,
-            protocol: Protocol::Csv,
-            address: self.id & 0xFF_FFFF,
-            address_type: address_type(self.id_type),
             emitter_category: self.aircraft_type.map(flarm_category::emitter_category),
             lat_deg: self.lat_deg,
             lon_deg: self.lon_deg,
@@ -177,7 +173,12 @@ impl FlarmAircraft {
             ground_speed_mps: self.velh_mps,
             vertical_rate_mps: self.velv_mps,
             flarm_alarm_level: self.alarm_level,
-            ..Default::default()
+            ..TrafficReport::new(
+                Link::Flarm,
+                Protocol::Csv,
+                self.id & 0xFF_FFFF,
+                address_type(self.id_type),
+            )
         }
     }
 }

@@ -170,10 +170,6 @@ pub fn target_to_traffic(r: &TargetReport, altitude: TrafficAltitude) -> Traffic
         TrackType::MagneticHeading | TrackType::NotValid => (None, None),
     };
     TrafficReport {
-        link: Link::Adsb1090,
-        protocol: Protocol::Gdl90,
-        address: r.address,
-        address_type,
         callsign: r.callsign_str(),
         emitter_category: Some(r.emitter_category),
         lat_deg,
@@ -200,7 +196,7 @@ pub fn target_to_traffic(r: &TargetReport, altitude: TrafficAltitude) -> Traffic
             degraded: r.nic == 0,
             ..Default::default()
         },
-        ..Default::default()
+        ..TrafficReport::new(Link::Adsb1090, Protocol::Gdl90, r.address, address_type)
     }
 }
 

@@ -30,7 +30,7 @@ pub use sections::{
 };
 
 use crate::traffic::limits::{ALT_MAX_M, ALT_MIN_M, SPEED_MAX_MPS, VERTICAL_RATE_MAX_MPS};
-use crate::traffic::{Link, Protocol, SourceTime, TrafficFlags, TrafficReport};
+use crate::traffic::{AddressType, Link, Protocol, SourceTime, TrafficFlags, TrafficReport};
 use crate::ttmrf::csv::aircraft::{FPM_TO_MPS, FT_TO_M, KT_TO_MPS};
 use crate::ttmrf::{csv, flarm_category};
 use crate::{DecodeStats, DeviceDecoder};
@@ -171,10 +171,6 @@ impl AdsbTarget {
     /// The common traffic report; `time` is the message's `ts`.
     pub fn to_traffic(&self, time: Option<SourceTime>) -> TrafficReport {
         TrafficReport {
-            link: Link::Adsb1090,
-            protocol: Protocol::Json,
-            address: self.icao,
-            address_type: crate::traffic::AddressType::Icao,
             callsign: callsign(self.callsign.as_deref()),
             squawk: self.squawk,
             emitter_category: self.ecat,
@@ -195,7 +191,7 @@ impl AdsbTarget {
                 ..Default::default()
             },
             source_time: time,
-            ..Default::default()
+            ..TrafficReport::new(Link::Adsb1090, Protocol::Json, self.icao, AddressType::Icao)
         }
     }
 }
@@ -206,10 +202,6 @@ impl UatTarget {
         let nn = self.nicnac.unwrap_or_default();
         let uf = self.uat_flags.unwrap_or_default();
         TrafficReport {
-            link: Link::Uat978,
-            protocol: Protocol::Json,
-            address: self.icao,
-            address_type: crate::traffic::AddressType::Icao,
             callsign: callsign(self.callsign.as_deref()),
             squawk: self.squawk,
             emitter_category: self.ecat,
@@ -233,7 +225,7 @@ impl UatTarget {
                 ..Default::default()
             },
             source_time: time,
-            ..Default::default()
+            ..TrafficReport::new(Link::Uat978, Protocol::Json, self.icao, AddressType::Icao)
         }
     }
 }
@@ -243,10 +235,6 @@ impl FlarmTarget {
     /// altitude, as for CSV `#ALRM` (see [`crate::ttmrf::csv::flarm`]).
     pub fn to_traffic(&self, time: Option<SourceTime>) -> TrafficReport {
         TrafficReport {
-            link: Link::Flarm,
-            protocol: Protocol::Json,
-            address: self.id & 0xFF_FFFF,
-            address_type: csv::flarm::address_type(self.id_type),
             emitter_category: self.aircraft_type.map(flarm_category::emitter_category),
             lat_deg: self.lat_deg,
             lon_deg: self.lon_deg,
@@ -256,7 +244,12 @@ impl FlarmTarget {
             vertical_rate_mps: self.velv_mps,
             flarm_alarm_level: self.alarm_level,
             source_time: time,
-            ..Default::default()
+            ..TrafficReport::new(
+                Link::Flarm,
+                Protocol::Json,
+                self.id & 0xFF_FFFF,
+                csv::flarm::address_type(self.id_type),
+            )
         }
     }
 }

@@ -150,15 +150,12 @@ impl AdsbVehicle {
             .has(FLAG_VALID_CALLSIGN)
             .then(|| self.callsign.trim().to_string())
             .filter(|c| !c.is_empty());
+        let link = if self.has(FLAG_SOURCE_UAT) {
+            Link::Uat978
+        } else {
+            Link::Adsb1090
+        };
         TrafficReport {
-            link: if self.has(FLAG_SOURCE_UAT) {
-                Link::Uat978
-            } else {
-                Link::Adsb1090
-            },
-            protocol: Protocol::Mavlink,
-            address: self.icao_address & 0xFF_FFFF,
-            address_type: AddressType::Unknown,
             callsign,
             squawk: self.has(FLAG_VALID_SQUAWK).then_some(self.squawk),
             emitter_category: Some(self.emitter_type),
@@ -181,7 +178,12 @@ impl AdsbVehicle {
             // it is truncated or rounded; it is taken as the age itself (the rounded reading),
             // and the fusion widens the position uncertainty for the half second either way.
             data_age_s: Some(f64::from(self.tslc_s)),
-            ..Default::default()
+            ..TrafficReport::new(
+                link,
+                Protocol::Mavlink,
+                self.icao_address & 0xFF_FFFF,
+                AddressType::Unknown,
+            )
         }
     }
 }
