@@ -367,7 +367,9 @@ impl TargetReport {
         m[15] = ((h & 0xF) as u8) << 4 | (v >> 8) as u8;
         m[16] = (v & 0xFF) as u8;
         let track = (self.track_deg.rem_euclid(360.0) / TRACK_LSB_DEG).round() as u32;
-        m[17] = (track % 256) as u8;
+        // A track that rounds up to 360 deg (256 counts) is 0: the cast keeps the count modulo
+        // 256.
+        m[17] = track as u8;
         m[18] = self.emitter_category;
         m[19..27].copy_from_slice(&self.callsign);
         m[27] = (self.emergency_code & 0x0F) << 4 | (self.spare & 0x0F);

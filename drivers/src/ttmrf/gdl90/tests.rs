@@ -498,3 +498,17 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn track_octet_wraps_at_360_degrees() {
+    // Track/heading, 8 bits of 360/256 deg (spec 3.5.1.8): 45 deg is 32 counts, -45 deg is
+    // 315 deg = 224, and a track within half a count of 360 deg rounds to 256 counts, which is 0.
+    for (deg, octet) in [(45.0, 32), (-45.0, 224), (359.5, 0), (360.0, 0)] {
+        let m = TargetReport {
+            track_deg: deg,
+            ..spec_traffic()
+        }
+        .encode(0x14);
+        assert_eq!(m[17], octet, "{deg}");
+    }
+}

@@ -557,6 +557,11 @@ fn the_last_object_needs_no_line_end_at_the_end_of_the_stream() {
     let (msgs, stats) = decode_chunked(JsonDecoder::new(), bare.as_bytes(), &[4096]);
     assert_eq!(msgs, vec![parse(MANUAL_STATUS)]);
     assert_eq!((stats.malformed, stats.bytes_skipped), (0, 0));
+    // A carriage return as the stream's last byte: the object is taken and the lone return
+    // skipped.
+    let (msgs, stats) = decode_chunked(JsonDecoder::new(), format!("{bare}\r").as_bytes(), &[4096]);
+    assert_eq!(msgs, vec![parse(MANUAL_STATUS)]);
+    assert_eq!((stats.malformed, stats.bytes_skipped), (0, 1));
     // Before the end of the stream it waits: the next byte may be its line end.
     let mut d = JsonDecoder::new();
     let mut buf = BytesMut::from(bare.as_bytes());
