@@ -275,6 +275,18 @@ mod tests {
             ..Default::default()
         };
         assert!((to_traffic(&r).alt_pressure_m.unwrap() - 1524.0).abs() < 1e-9);
+        // I021/140 up to 0x7FFE counts (204,787.5 ft) is a height: 40,000 ft = 12,192 m; 0x7FFF
+        // (204,793.75 ft) means "greater than that" and is left out.
+        let geo = |ft: f64| {
+            to_traffic(&Cat021Record {
+                geometric_height_ft: Some(ft),
+                ..Default::default()
+            })
+            .alt_geometric_m
+        };
+        assert!((geo(40_000.0).unwrap() - 12_192.0).abs() < 1e-9);
+        assert!((geo(204_787.5).unwrap() - 204_787.5 * 0.3048).abs() < 1e-9);
+        assert_eq!(geo(204_793.75), None);
         // Each failed check of I021/040's second extension alone marks the report degraded.
         let degraded = |ext2: DescriptorExt2| {
             to_traffic(&Cat021Record {
