@@ -181,8 +181,9 @@ pub mod limits {
 
 impl TrafficReport {
     /// A report from `link` and `protocol` about `address` (24 bits) of kind `address_type`,
-    /// every other value unknown. Each decoder builds its reports on this, so where a report
-    /// came from is always stated, never left to a default.
+    /// every other value unknown. A decoder that leaves some values to the default builds its
+    /// report on this (the others name every field), so where a report came from is always
+    /// stated, never left to a default.
     pub fn new(link: Link, protocol: Protocol, address: u32, address_type: AddressType) -> Self {
         Self {
             link,
