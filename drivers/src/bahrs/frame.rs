@@ -72,8 +72,28 @@ impl Layout {
 
 /// The layout of a protocol 2.0 message type, or `None` for types without a documented layout
 /// (the undocumented debug messages and anything else).
+///
+/// One load from a table that [`documented_layout`] fills at compile time: the decoder looks a
+/// layout up on every frame, and a load costs less than the branch a `match` on the type becomes.
 #[inline]
 pub const fn layout(msg_type: u8) -> Option<Layout> {
+    LAYOUTS[msg_type as usize]
+}
+
+/// [`documented_layout`] of every type byte.
+static LAYOUTS: [Option<Layout>; 256] = {
+    let mut table = [None; 256];
+    let mut t = 0;
+    while t < 256 {
+        table[t] = documented_layout(t as u8);
+        t += 1;
+    }
+    table
+};
+
+/// The documented layouts (section 5): the one place a type's payload length and padding are
+/// written down.
+const fn documented_layout(msg_type: u8) -> Option<Layout> {
     let (payload_len, padded) = match msg_type {
         0x01 => (15, true), // seq + 6 x i16 + u16 health
         0x02 => (13, true), // seq + 5 x 16-bit + u16 health

@@ -392,6 +392,7 @@ impl Message {
     ///
     /// The caller guarantees `p.len()` equals the type's documented payload length (the frame
     /// layer only hands over payloads of that length); anything else gives `None`.
+    #[inline]
     pub fn decode_payload(msg_type: u8, p: &[u8]) -> Option<Result<Message, PayloadError>> {
         let layout = super::frame::layout(msg_type)?;
         if p.len() != layout.payload_len {
