@@ -95,6 +95,7 @@ impl Decoder {
 impl DeviceDecoder for Decoder {
     type Message = Message;
 
+    #[inline]
     fn decode(&mut self, buf: &mut BytesMut) -> Option<Message> {
         loop {
             // Align on the first marker byte.
