@@ -11,6 +11,8 @@ mod info;
 mod listen;
 #[cfg(target_os = "linux")]
 mod measure;
+#[cfg(target_os = "linux")]
+mod measure_floor;
 mod monitor_cmd;
 mod progress;
 mod record_cmd;
@@ -68,6 +70,10 @@ enum Command {
     /// subscriber in another process, CPU and memory.
     #[cfg(target_os = "linux")]
     Measure(measure::MeasureArgs),
+    /// The reader `vigil measure --floor` starts in `vigil run`'s place (reads and discards).
+    #[cfg(target_os = "linux")]
+    #[command(hide = true)]
+    MeasureFloor(measure_floor::FloorArgs),
 }
 
 fn main() -> ExitCode {
@@ -92,6 +98,8 @@ fn main() -> ExitCode {
         Command::Config(args) => run_cmd::config(&args),
         #[cfg(target_os = "linux")]
         Command::Measure(args) => measure::run(&args),
+        #[cfg(target_os = "linux")]
+        Command::MeasureFloor(args) => measure_floor::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -10,6 +10,11 @@
 //!   from `/proc/PID/stat` divided by the wall time (percent of one core), and its resident set
 //!   (`VmRSS`, and the peak `VmHWM`) from `/proc/PID/status`.
 //!
+//! - **The floor** (`--floor`, issue 21): the same figures for a reader that reads the same ports
+//!   the same way and discards the bytes ([`crate::measure_floor`]), started in `vigil run`'s
+//!   place: what being woken for the bytes costs on this machine, the part of `vigil run`'s
+//!   CPU that no change inside vigil can remove.
+//!
 //! The simulator runs in this process (its writes are stamped), `vigil run` is a child process
 //! (this executable) on the terminals, with a unique bus prefix. The first `--warmup` seconds
 //! (clock locking, device set-up) are left out of every figure. The default scenario is
@@ -27,6 +32,8 @@ use serde::Serialize;
 use vigil_bus::clock::monotonic_ns;
 use vigil_bus::payload::attitude::AttitudePayload;
 use vigil_bus::{Bus, BusConfig};
+use vigil_drivers::protocol::Protocol;
+use vigil_service::config::default_read_interval_ms;
 use vigil_sim::Simulator;
 use vigil_sim::scenario::Scenario;
 
@@ -75,6 +82,13 @@ pub struct MeasureArgs {
     /// to measure the recording's cost; the output states the file's size.
     #[arg(long, value_parser = crate::cli_values::channel_set())]
     pub record: Option<vigil_service::recording::ChannelSet>,
+    // --- issue 21 ---
+    /// Measure the floor instead of `vigil run`: a reader of the same ports, read the same way
+    /// (on arrival or on the paced grid), that throws the bytes away. Its CPU and wake-ups are
+    /// what being woken for the bytes costs on this machine (see `measure_floor.rs`); there is
+    /// no latency (nothing is published).
+    #[arg(long, conflicts_with_all = ["record", "cpu_wakeup_latency_us"])]
+    pub floor: bool,
 }
 
 /// CPU time and memory of a process at one moment.
@@ -295,11 +309,28 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     })
     .context("connecting to the bus")?;
     let mut sub = bus.subscriber::<AttitudePayload>()?;
-    let mut run = crate::demo::spawn(
-        "run",
-        &["run", "--config", config.to_str().context("config path")?],
-        &log,
-    )?;
+    let mut run = if args.floor {
+        // The read policy `vigil run` would apply: the interval given, or the protocol's default.
+        let mut floor_args = vec!["measure-floor".to_string()];
+        for (device, path, interval) in &links {
+            let ms = match interval {
+                Some(ms) => *ms,
+                None => Protocol::resolve("", device)
+                    .map(default_read_interval_ms)
+                    .ok_or_else(|| anyhow!("{device}: no protocol of that name"))?,
+            };
+            floor_args.push("--port".into());
+            floor_args.push(format!("{ms}:{}", path.display()));
+        }
+        let floor_args: Vec<&str> = floor_args.iter().map(String::as_str).collect();
+        crate::demo::spawn("measure-floor", &floor_args, &log)?
+    } else {
+        crate::demo::spawn(
+            "run",
+            &["run", "--config", config.to_str().context("config path")?],
+            &log,
+        )?
+    };
     let run_pid = run.child.id();
 
     // The simulator writes in its own thread, from now on, in real time.
@@ -353,7 +384,8 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let (dropped, chunks) = writer
         .join()
         .map_err(|_| anyhow!("the simulator thread panicked"))??;
-    if !clean {
+    // The floor reader has no handler: SIGTERM ends it, which is not a failure.
+    if !clean && !args.floor {
         eprintln!(
             "vigil measure: vigil run did not stop cleanly:\n{}",
             crate::demo::tail(&log, 10)

@@ -53,3 +53,53 @@ fn bad_arguments_are_refused() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--duration"));
 }
+
+/// `--floor` (issue 21): a reader of the same terminals in `vigil run`'s place keeps up (no
+/// dropped bytes; the VN-200's 22 KB/s would fill its terminal within the run if it were not
+/// read), is woken at least once per VN-200 message (read on arrival, 200 Hz in `nominal`),
+/// and reports no latency, since it publishes nothing.
+#[test]
+fn the_floor_reader_reads_every_port_and_publishes_nothing() {
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args([
+            "measure",
+            "--floor",
+            "--scenario",
+            "nominal",
+            "--duration",
+            "3",
+            "--warmup",
+            "2",
+            "--max-chunk-bytes",
+            "4096",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let dropped = r["dropped_bytes"].as_object().unwrap();
+    assert_eq!(dropped.len(), 4, "{r}");
+    assert!(dropped.values().all(|v| v.as_u64() == Some(0)), "{r}");
+    assert!(r["latency"].is_null(), "{r}");
+    assert_eq!(r["matched"].as_u64(), Some(0), "{r}");
+    assert!(r["vn200_messages"].as_u64().unwrap() >= 500, "{r}");
+    assert!(r["wakeups_per_s"].as_f64().unwrap() >= 150.0, "{r}");
+    assert!(r["cpu_percent_of_one_core"].as_f64().unwrap() > 0.0, "{r}");
+}
+
+#[test]
+fn the_floor_does_not_combine_with_options_of_vigil_run() {
+    for extra in [["--record", "raw"], ["--cpu-wakeup-latency-us", "0"]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["measure", "--floor"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{extra:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("cannot be used with"),
+            "{extra:?}"
+        );
+    }
+}

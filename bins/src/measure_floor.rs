@@ -1,0 +1,154 @@
+//! `vigil measure --floor`: what reading the simulated ports costs on this machine when
+//! nothing is done with the bytes (issue 21).
+//!
+//! `vigil measure` reports `vigil run`'s CPU, and on a virtual machine most of it can be the
+//! price of being woken, not vigil's work. `--floor` starts this reader in `vigil run`'s place
+//! (a hidden subcommand of the same executable, on the same terminals, with the same read
+//! policy) and reports the same figures for it: the ports read on arrival (`read_interval_ms`
+//! 0: the VN-200 and the Watson by default) are polled and read as their bytes arrive, the
+//! paced ones drained on the shared grid of their interval, and every byte is thrown away. No
+//! decode, no fusion, no publication (so no latency either). Its CPU is a floor under
+//! `vigil run`'s on the same machine and reads: the part no change inside vigil can remove.
+//!
+//! Decision: a port read on arrival is read with `VMIN` 1 here, where `vigil run` raises `VMIN`
+//! to a whole message once the stream is steady. With `VMIN` 1 this reader returns to user
+//! space on every chunk, so at the default 1-64-byte reads it does more than the service's
+//! kernel-only wake-ups; with whole-message reads (`--max-chunk-bytes 4096`) the two are the
+//! same, one wake-up a message: that is the comparison that measures the floor.
+
+use std::fs::File;
+use std::io::{ErrorKind, Read};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+
+/// Arguments of the hidden `vigil measure-floor` (started by `vigil measure --floor`).
+#[derive(Debug, Args)]
+pub struct FloorArgs {
+    /// A port as MS:PATH: read every MS milliseconds on a shared grid, or as its bytes arrive
+    /// when MS is 0 (repeatable).
+    #[arg(long = "port", value_name = "MS:PATH", value_parser = parse_port, required = true)]
+    pub ports: Vec<(f64, PathBuf)>,
+}
+
+/// Parses MS:PATH.
+fn parse_port(s: &str) -> Result<(f64, PathBuf), String> {
+    let (ms, path) = s
+        .split_once(':')
+        .ok_or_else(|| format!("{s:?}: expected MS:PATH"))?;
+    let ms: f64 = ms.parse().map_err(|e| format!("{ms:?}: {e}"))?;
+    if !(ms.is_finite() && ms >= 0.0) {
+        return Err(format!("{ms}: an interval is 0 or more milliseconds"));
+    }
+    Ok((ms, PathBuf::from(path)))
+}
+
+/// Opens a terminal raw and non-blocking, with `VMIN` 1 and `VTIME` 0 (as tokio-serial leaves
+/// `vigil run`'s ports before its reader takes them).
+fn open_raw(path: &PathBuf) -> Result<File> {
+    use rustix::fs::{Mode, OFlags};
+    use rustix::termios::{OptionalActions, SpecialCodeIndex, tcgetattr, tcsetattr};
+    let fd = rustix::fs::open(
+        path,
+        OFlags::RDWR | OFlags::NOCTTY | OFlags::NONBLOCK | OFlags::CLOEXEC,
+        Mode::empty(),
+    )
+    .with_context(|| format!("opening {}", path.display()))?;
+    let mut t = tcgetattr(&fd).with_context(|| format!("{}: not a terminal", path.display()))?;
+    t.make_raw();
+    t.special_codes[SpecialCodeIndex::VMIN] = 1;
+    t.special_codes[SpecialCodeIndex::VTIME] = 0;
+    tcsetattr(&fd, OptionalActions::Now, &t)?;
+    Ok(File::from(fd))
+}
+
+/// Reads `file` until it would block; false when it ended or failed.
+fn drain(mut file: &File, buf: &mut [u8]) -> bool {
+    loop {
+        match file.read(buf) {
+            Ok(0) => return false,
+            Ok(n) if n < buf.len() => return true,
+            Ok(_) => {}
+            Err(e) if e.kind() == ErrorKind::WouldBlock => return true,
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(_) => return false,
+        }
+    }
+}
+
+/// Reads the ports until one of them ends (or the process is stopped: `vigil measure` sends
+/// SIGTERM, whose default action ends it; there is nothing to clean up).
+pub fn run(args: &FloorArgs) -> Result<()> {
+    use rustix::event::{PollFd, PollFlags, Timespec, poll};
+    let mut arrival = Vec::new();
+    let mut paced = Vec::new();
+    for (ms, path) in &args.ports {
+        let file = open_raw(path)?;
+        if *ms == 0.0 {
+            arrival.push(file);
+        } else {
+            paced.push((Duration::from_secs_f64(ms / 1000.0), file));
+        }
+    }
+    let epoch = Instant::now();
+    // Each paced port's next drain: its interval's grid from one epoch, so ports with the same
+    // interval are drained in one wake-up, as `vigil run` does.
+    let mut next: Vec<Instant> = paced.iter().map(|(every, _)| epoch + *every).collect();
+    let mut buf = vec![0u8; vigil_service::runtime::reader::READ_BYTES];
+    // Built once: `poll` rewrites each entry's returned events.
+    let mut fds: Vec<PollFd<'_>> = arrival
+        .iter()
+        .map(|f| PollFd::new(f, PollFlags::IN))
+        .collect();
+    loop {
+        let now = Instant::now();
+        for ((every, file), at) in paced.iter().zip(next.iter_mut()) {
+            if *at <= now {
+                if !drain(file, &mut buf) {
+                    bail!("a paced port ended");
+                }
+                // The next multiple of the interval after now (missed ones are skipped).
+                let step = every.as_nanos().max(1);
+                let k = now.duration_since(epoch).as_nanos() / step + 1;
+                *at = epoch + Duration::from_nanos(u64::try_from(k * step).unwrap_or(u64::MAX));
+            }
+        }
+        let wait = next
+            .iter()
+            .min()
+            .map(|at| at.saturating_duration_since(Instant::now()));
+        let timeout = wait.map(|d| Timespec {
+            tv_sec: d.as_secs() as _,
+            tv_nsec: d.subsec_nanos() as _,
+        });
+        match poll(&mut fds, timeout.as_ref()) {
+            Ok(_) | Err(rustix::io::Errno::INTR) => {}
+            Err(e) => return Err(anyhow!("poll: {e}")),
+        }
+        for (p, file) in fds.iter().zip(&arrival) {
+            if !p.revents().is_empty() && !drain(file, &mut buf) {
+                bail!("a port read on arrival ended");
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ports_parse_as_interval_and_path() {
+        assert_eq!(
+            parse_port("10:/tmp/x/bahrs").unwrap(),
+            (10.0, PathBuf::from("/tmp/x/bahrs"))
+        );
+        // Only the first colon separates: a path may hold more.
+        assert_eq!(parse_port("0:/a:b").unwrap(), (0.0, PathBuf::from("/a:b")));
+        for bad in ["/tmp/x", "x:/p", "-1:/p", "inf:/p", "NaN:/p"] {
+            assert!(parse_port(bad).is_err(), "{bad}");
+        }
+    }
+}
