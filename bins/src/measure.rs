@@ -33,7 +33,7 @@ use vigil_bus::clock::monotonic_ns;
 use vigil_bus::payload::attitude::AttitudePayload;
 use vigil_bus::{Bus, BusConfig};
 use vigil_drivers::protocol::Protocol;
-use vigil_service::config::default_read_interval_ms;
+use vigil_service::config::{default_read_interval_ms, pacing_allowed};
 use vigil_sim::Simulator;
 use vigil_sim::scenario::Scenario;
 
@@ -313,12 +313,13 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         // The read policy `vigil run` would apply: the interval given, or the protocol's default.
         let mut floor_args = vec!["measure-floor".to_string()];
         for (device, path, interval) in &links {
-            let ms = match interval {
-                Some(ms) => *ms,
-                None => Protocol::resolve("", device)
-                    .map(default_read_interval_ms)
-                    .ok_or_else(|| anyhow!("{device}: no protocol of that name"))?,
-            };
+            let protocol = Protocol::resolve("", device)
+                .ok_or_else(|| anyhow!("{device}: no protocol of that name"))?;
+            let ms = interval.unwrap_or(default_read_interval_ms(protocol));
+            // As `vigil run`'s configuration check: the VN-200 is read on arrival only.
+            if ms > 0.0 && !pacing_allowed(protocol) {
+                bail!("--read-interval-ms {device}={ms}: the {device} is read on arrival only");
+            }
             floor_args.push("--port".into());
             floor_args.push(format!("{ms}:{}", path.display()));
         }

@@ -9,8 +9,9 @@ use std::process::Command;
 
 use serde_json::Value;
 
-#[test]
-fn every_vn200_message_comes_back_as_a_fused_attitude_in_another_process() {
+/// `vigil measure` on the `nominal` scenario (VN-200 at 200 Hz) for a 3 s window after 2 s,
+/// with `extra` arguments: its report, once it has succeeded.
+fn measure_nominal(extra: &[&str]) -> Value {
     let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
         .args([
             "measure",
@@ -21,11 +22,17 @@ fn every_vn200_message_comes_back_as_a_fused_attitude_in_another_process() {
             "--warmup",
             "2",
         ])
+        .args(extra)
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn every_vn200_message_comes_back_as_a_fused_attitude_in_another_process() {
+    let r = measure_nominal(&[]);
     let messages = r["vn200_messages"].as_u64().unwrap();
     let matched = r["matched"].as_u64().unwrap();
     let missed = r["missed"].as_u64().unwrap();
@@ -60,24 +67,7 @@ fn bad_arguments_are_refused() {
 /// and reports no latency, since it publishes nothing.
 #[test]
 fn the_floor_reader_reads_every_port_and_publishes_nothing() {
-    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args([
-            "measure",
-            "--floor",
-            "--scenario",
-            "nominal",
-            "--duration",
-            "3",
-            "--warmup",
-            "2",
-            "--max-chunk-bytes",
-            "4096",
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let r = measure_nominal(&["--floor", "--max-chunk-bytes", "4096"]);
     let dropped = r["dropped_bytes"].as_object().unwrap();
     assert_eq!(dropped.len(), 4, "{r}");
     assert!(dropped.values().all(|v| v.as_u64() == Some(0)), "{r}");
@@ -102,4 +92,17 @@ fn the_floor_does_not_combine_with_options_of_vigil_run() {
             "{extra:?}"
         );
     }
+}
+
+/// The floor reads the ports as `vigil run` would, so it refuses what `vigil run` refuses: a
+/// paced VN-200.
+#[test]
+fn the_floor_refuses_a_paced_vn200_like_vigil_run() {
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["measure", "--floor", "--read-interval-ms", "vn200=10"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("read on arrival only"), "{stderr}");
 }
