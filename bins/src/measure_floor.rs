@@ -19,10 +19,12 @@
 use std::fs::File;
 use std::io::{ErrorKind, Read};
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
+use tokio::time::Instant;
+use vigil_service::runtime::reader::{READ_BYTES, next_on_grid};
 
 /// Arguments of the hidden `vigil measure-floor` (started by `vigil measure --floor`).
 #[derive(Debug, Args)]
@@ -92,11 +94,12 @@ pub fn run(args: &FloorArgs) -> Result<()> {
             paced.push((Duration::from_secs_f64(ms / 1000.0), file));
         }
     }
+    // tokio's `Instant` (a std one inside): the grid is `vigil run`'s own `next_on_grid`.
     let epoch = Instant::now();
     // Each paced port's next drain: its interval's grid from one epoch, so ports with the same
     // interval are drained in one wake-up, as `vigil run` does.
     let mut next: Vec<Instant> = paced.iter().map(|(every, _)| epoch + *every).collect();
-    let mut buf = vec![0u8; vigil_service::runtime::reader::READ_BYTES];
+    let mut buf = vec![0u8; READ_BYTES];
     // Built once: `poll` rewrites each entry's returned events.
     let mut fds: Vec<PollFd<'_>> = arrival
         .iter()
@@ -109,10 +112,8 @@ pub fn run(args: &FloorArgs) -> Result<()> {
                 if !drain(file, &mut buf) {
                     bail!("a paced port ended");
                 }
-                // The next multiple of the interval after now (missed ones are skipped).
-                let step = every.as_nanos().max(1);
-                let k = now.duration_since(epoch).as_nanos() / step + 1;
-                *at = epoch + Duration::from_nanos(u64::try_from(k * step).unwrap_or(u64::MAX));
+                // The next instant of the grid (missed ones are skipped).
+                *at = next_on_grid(epoch, *every, now.max(*at + *every));
             }
         }
         let wait = next

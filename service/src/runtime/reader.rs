@@ -210,7 +210,7 @@ pub async fn read_on_arrival(
 }
 
 /// The first instant at or after `now` on the grid `epoch + k interval` (k = 0, 1, ...).
-fn next_on_grid(epoch: Instant, interval: Duration, now: Instant) -> Instant {
+pub fn next_on_grid(epoch: Instant, interval: Duration, now: Instant) -> Instant {
     let step = interval.as_nanos().max(1);
     let since = now.saturating_duration_since(epoch).as_nanos();
     let k = since.div_ceil(step);
