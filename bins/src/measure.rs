@@ -12,8 +12,9 @@
 //!
 //! - **The floor** (`--floor`, issue 21): the same figures for a reader that reads the same ports
 //!   the same way and discards the bytes ([`crate::measure_floor`]), started in `vigil run`'s
-//!   place: what being woken for the bytes costs on this machine, the part of `vigil run`'s
-//!   CPU that no change inside vigil can remove.
+//!   place: what being woken for the bytes costs on this machine. With whole-message reads it
+//!   is a floor under `vigil run`'s CPU; at smaller reads it is a plain reader's cost (see
+//!   there).
 //!
 //! The simulator runs in this process (its writes are stamped), `vigil run` is a child process
 //! (this executable) on the terminals, with a unique bus prefix. The first `--warmup` seconds
@@ -32,8 +33,6 @@ use serde::Serialize;
 use vigil_bus::clock::monotonic_ns;
 use vigil_bus::payload::attitude::AttitudePayload;
 use vigil_bus::{Bus, BusConfig};
-use vigil_drivers::protocol::Protocol;
-use vigil_service::config::{default_read_interval_ms, pacing_allowed};
 use vigil_sim::Simulator;
 use vigil_sim::scenario::Scenario;
 
@@ -310,18 +309,18 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     .context("connecting to the bus")?;
     let mut sub = bus.subscriber::<AttitudePayload>()?;
     let mut run = if args.floor {
-        // The read policy `vigil run` would apply: the interval given, or the protocol's default.
+        // The ports as `vigil run` would read them: its own configuration check resolves each
+        // port's interval (the one given or the protocol's default) and refuses what it
+        // refuses (a paced VN-200, an interval longer than the buffer holds).
+        let (_, ports) = vigil_service::config::Config::load(&config)?;
         let mut floor_args = vec!["measure-floor".to_string()];
-        for (device, path, interval) in &links {
-            let protocol = Protocol::resolve("", device)
-                .ok_or_else(|| anyhow!("{device}: no protocol of that name"))?;
-            let ms = interval.unwrap_or(default_read_interval_ms(protocol));
-            // As `vigil run`'s configuration check: the VN-200 is read on arrival only.
-            if ms > 0.0 && !pacing_allowed(protocol) {
-                bail!("--read-interval-ms {device}={ms}: the {device} is read on arrival only");
-            }
+        for port in &ports {
             floor_args.push("--port".into());
-            floor_args.push(format!("{ms}:{}", path.display()));
+            floor_args.push(format!(
+                "{}:{}",
+                port.read_interval_ns as f64 / 1e6,
+                port.path.display()
+            ));
         }
         let floor_args: Vec<&str> = floor_args.iter().map(String::as_str).collect();
         crate::demo::spawn("measure-floor", &floor_args, &log)?

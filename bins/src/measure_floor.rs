@@ -7,14 +7,14 @@
 //! policy) and reports the same figures for it: the ports read on arrival (`read_interval_ms`
 //! 0: the VN-200 and the Watson by default) are polled and read as their bytes arrive, the
 //! paced ones drained on the shared grid of their interval, and every byte is thrown away. No
-//! decode, no fusion, no publication (so no latency either). Its CPU is a floor under
-//! `vigil run`'s on the same machine and reads: the part no change inside vigil can remove.
+//! decode, no fusion, no publication (so no latency either).
 //!
 //! Decision: a port read on arrival is read with `VMIN` 1 here, where `vigil run` raises `VMIN`
 //! to a whole message once the stream is steady. With `VMIN` 1 this reader returns to user
 //! space on every chunk, so at the default 1-64-byte reads it does more than the service's
-//! kernel-only wake-ups; with whole-message reads (`--max-chunk-bytes 4096`) the two are the
-//! same, one wake-up a message: that is the comparison that measures the floor.
+//! kernel-only wake-ups (a plain reader's cost, not a floor under the service's); with
+//! whole-message reads (`--max-chunk-bytes 4096`) the two are the same, one wake-up a message,
+//! and its CPU is the floor under `vigil run`'s that no change inside vigil can remove.
 
 use std::fs::File;
 use std::io::{ErrorKind, Read};

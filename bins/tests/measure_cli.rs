@@ -94,8 +94,8 @@ fn the_floor_does_not_combine_with_options_of_vigil_run() {
     }
 }
 
-/// The floor reads the ports as `vigil run` would, so it refuses what `vigil run` refuses: a
-/// paced VN-200.
+/// The floor reads the ports as `vigil run` would (its configuration check), so it refuses
+/// what `vigil run` refuses: a paced VN-200.
 #[test]
 fn the_floor_refuses_a_paced_vn200_like_vigil_run() {
     let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
@@ -104,5 +104,8 @@ fn the_floor_refuses_a_paced_vn200_like_vigil_run() {
         .unwrap();
     assert!(!out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("read on arrival only"), "{stderr}");
+    assert!(
+        stderr.contains("it is read as its bytes arrive"),
+        "{stderr}"
+    );
 }
