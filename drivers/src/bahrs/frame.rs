@@ -17,8 +17,6 @@
 //! - 0xF2, 0xF3 and 0xFF are not padded (section 5 remarks).
 //! - The CRC is stored little-endian, like every other multi-byte field (section 2.1).
 
-use crc::{CRC_32_MPEG_2, Crc, Table};
-
 /// First frame marker byte, ASCII 'N'.
 pub const MARKER_1: u8 = b'N';
 /// Second frame marker byte, ASCII 'E'.
@@ -34,13 +32,86 @@ pub const CRC_LEN: usize = 4;
 /// Longest frame of protocol 2.0 (0xF3: 5 + 33 + 4), so the decoder never waits for more bytes.
 pub const MAX_FRAME_LEN: usize = 42;
 
-/// CRC-32/MPEG-2 (poly 0x04C11DB7, init 0xFFFFFFFF, no reflection, no final XOR), slice-by-16.
-pub const CRC32_MPEG2: Crc<u32, Table<16>> = Crc::<u32, Table<16>>::new(&CRC_32_MPEG_2);
+/// CRC-32/MPEG-2 generator polynomial (section 2.2), non-reflected.
+const CRC32_POLY: u32 = 0x04C1_1DB7;
 
-/// Computes the CRC-32/MPEG-2 of `bytes`.
+/// Slice-by-16 tables of CRC-32/MPEG-2: `CRC32_TABLES[k][b]` is the register contribution of byte
+/// `b` followed by `k` zero bytes. Built at compile time from the polynomial.
+static CRC32_TABLES: [[u32; 256]; 16] = {
+    let mut t = [[0u32; 256]; 16];
+    let mut b = 0;
+    while b < 256 {
+        let mut r = (b as u32) << 24;
+        let mut bit = 0;
+        while bit < 8 {
+            r = if r & 0x8000_0000 != 0 {
+                (r << 1) ^ CRC32_POLY
+            } else {
+                r << 1
+            };
+            bit += 1;
+        }
+        t[0][b] = r;
+        b += 1;
+    }
+    let mut k = 1;
+    while k < 16 {
+        let mut b = 0;
+        while b < 256 {
+            let prev = t[k - 1][b];
+            t[k][b] = (prev << 8) ^ t[0][(prev >> 24) as usize];
+            b += 1;
+        }
+        k += 1;
+    }
+    t
+};
+
+/// Feeds `N` bytes (4, 8 or 16) to the register in one step: the register is folded into the
+/// first four bytes and every byte looks its contribution up independently. The bytes after the
+/// first four do not depend on the register, so their part is combined first and the register's
+/// path through a step is one table load and a few XORs.
+#[inline(always)]
+fn crc32_step<const N: usize>(crc: u32, bytes: &[u8; N]) -> u32 {
+    let mut data = 0;
+    let mut i = 4;
+    while i < N {
+        data ^= CRC32_TABLES[N - 1 - i][bytes[i] as usize];
+        i += 1;
+    }
+    let [h0, h1, h2, h3] =
+        (crc ^ u32::from_be_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])).to_be_bytes();
+    data ^ ((CRC32_TABLES[N - 1][h0 as usize] ^ CRC32_TABLES[N - 2][h1 as usize])
+        ^ (CRC32_TABLES[N - 3][h2 as usize] ^ CRC32_TABLES[N - 4][h3 as usize]))
+}
+
+/// Computes the CRC-32/MPEG-2 (poly 0x04C11DB7, init 0xFFFFFFFF, no reflection, no final XOR) of
+/// `bytes`.
+///
+/// Slice-by-16, then one 8-byte and one 4-byte step for the rest: the bytes a frame's CRC covers
+/// are 16, 20 or 24 for the periodic messages, and finishing them byte by byte would make the tail
+/// a chain of up to 8 dependent table loads (the `crc` crate's slice-by-16 does that), which is
+/// what the decoder waits on.
 #[inline]
 pub fn crc32_mpeg2(bytes: &[u8]) -> u32 {
-    CRC32_MPEG2.checksum(bytes)
+    let mut crc = 0xFFFF_FFFF;
+    let mut chunks = bytes.chunks_exact(16);
+    for c in &mut chunks {
+        crc = crc32_step::<16>(crc, c.try_into().expect("16-byte chunk"));
+    }
+    let mut rest = chunks.remainder();
+    if let Some((c, tail)) = rest.split_first_chunk::<8>() {
+        crc = crc32_step(crc, c);
+        rest = tail;
+    }
+    if let Some((c, tail)) = rest.split_first_chunk::<4>() {
+        crc = crc32_step(crc, c);
+        rest = tail;
+    }
+    for &b in rest {
+        crc = (crc << 8) ^ CRC32_TABLES[0][usize::from((crc >> 24) as u8 ^ b)];
+    }
+    crc
 }
 
 /// Frame geometry of one message type.
@@ -166,6 +237,26 @@ mod tests {
             b"NE\x03\x00\x06",
         ] {
             assert_eq!(crc32_mpeg2(data), bitwise(data, 0xFFFF_FFFF), "{data:?}");
+        }
+    }
+
+    #[test]
+    fn crc_agrees_with_the_crc_crate_at_every_length_and_alignment() {
+        // The `crc` crate's CRC-32/MPEG-2 is an independent implementation (byte-wise table),
+        // so every path here (16-, 8-, 4-byte steps and the byte tail) is checked against it.
+        let reference = crc::Crc::<u32>::new(&crc::CRC_32_MPEG_2);
+        let data: Vec<u8> = (0..160u32)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+            .collect();
+        for start in 0..4 {
+            for end in start..=data.len() {
+                let bytes = &data[start..end];
+                assert_eq!(
+                    crc32_mpeg2(bytes),
+                    reference.checksum(bytes),
+                    "{start}..{end}"
+                );
+            }
         }
     }
 
