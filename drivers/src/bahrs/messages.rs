@@ -337,23 +337,41 @@ pub enum PayloadError {
     PageOutOfRange(u8),
 }
 
+// The field readers take the payload as a fixed-size array, so with the constant offsets of the
+// decode below every index is checked at compile time and the decode has no run-time bounds checks.
 #[inline]
-fn u16_at(p: &[u8], i: usize) -> u16 {
+fn u16_at<const N: usize>(p: &[u8; N], i: usize) -> u16 {
     u16::from_le_bytes([p[i], p[i + 1]])
 }
 #[inline]
-fn i16_at(p: &[u8], i: usize) -> i16 {
+fn i16_at<const N: usize>(p: &[u8; N], i: usize) -> i16 {
     i16::from_le_bytes([p[i], p[i + 1]])
 }
 #[inline]
-fn u32_at(p: &[u8], i: usize) -> u32 {
+fn u32_at<const N: usize>(p: &[u8; N], i: usize) -> u32 {
     u32::from_le_bytes([p[i], p[i + 1], p[i + 2], p[i + 3]])
 }
 #[inline]
-fn u64_at(p: &[u8], i: usize) -> u64 {
-    let mut b = [0u8; 8];
-    b.copy_from_slice(&p[i..i + 8]);
-    u64::from_le_bytes(b)
+fn u64_at<const N: usize>(p: &[u8; N], i: usize) -> u64 {
+    u64::from_le_bytes([
+        p[i],
+        p[i + 1],
+        p[i + 2],
+        p[i + 3],
+        p[i + 4],
+        p[i + 5],
+        p[i + 6],
+        p[i + 7],
+    ])
+}
+
+/// The documented payload length of `msg_type` (0 for types without a layout), for the array
+/// types of [`Message::decode_payload`].
+const fn len_of(msg_type: u8) -> usize {
+    match super::frame::layout(msg_type) {
+        Some(l) => l.payload_len,
+        None => 0,
+    }
 }
 
 impl Message {
@@ -394,67 +412,106 @@ impl Message {
     /// layer only hands over payloads of that length); anything else gives `None`.
     #[inline]
     pub fn decode_payload(msg_type: u8, p: &[u8]) -> Option<Result<Message, PayloadError>> {
-        let layout = super::frame::layout(msg_type)?;
-        if p.len() != layout.payload_len {
-            return None;
+        // Each arm takes the payload as an array of the type's documented length (a wrong length
+        // gives `None`), so the reads below need no bounds checks.
+        macro_rules! payload {
+            ($t:literal) => {{
+                let a: &[u8; len_of($t)] = p.try_into().ok()?;
+                a
+            }};
         }
-        let data_time = |p: &[u8]| DataTime {
+        let data_time = |p: &[u8; len_of(0x04)]| DataTime {
             seq: p[0],
             data_seq: p[1],
             mcu_time_us: u64_at(p, 2),
         };
         let m = match msg_type {
-            0x01 => Message::Inertial(Inertial {
-                seq: p[0],
-                specific_force_raw: [i16_at(p, 1), i16_at(p, 3), i16_at(p, 5)],
-                angular_rate_raw: [i16_at(p, 7), i16_at(p, 9), i16_at(p, 11)],
-                health: InertialHealth(u16_at(p, 13)),
-            }),
-            0x02 => Message::Navigation(Navigation {
-                seq: p[0],
-                pressure_height_raw: u16_at(p, 1),
-                velocity_down_raw: i16_at(p, 3),
-                roll_raw: i16_at(p, 5),
-                pitch_raw: i16_at(p, 7),
-                heading_raw: u16_at(p, 9),
-                health: NavigationHealth(u16_at(p, 11)),
-            }),
-            0x03 => Message::Accuracy(Accuracy {
-                seq: p[0],
-                std_north_raw: u16_at(p, 1),
-                std_east_raw: u16_at(p, 3),
-                std_heading_raw: u16_at(p, 5),
-                mcu_time_us: u64_at(p, 7),
-            }),
-            0x04 => Message::NavigationTime(data_time(p)),
-            0x05 => Message::InertialTime(data_time(p)),
-            0x06 => Message::SyncPulseTime(SyncPulseTime {
-                seq: p[0],
-                mcu_time_us: u64_at(p, 1),
-            }),
-            0x0F => Message::SoftwareVersion(SoftwareVersion {
-                project_code: [p[0], p[1], p[2]],
-                major: u16_at(p, 3),
-                minor: u16_at(p, 5),
-            }),
-            0x1F => Message::HardwareVersion(HardwareVersion {
-                mcu_id: u16_at(p, 0),
-                unique_id: [u32_at(p, 2), u32_at(p, 6), u32_at(p, 10)],
-            }),
-            0xF0 => Message::EnterDiagnostics,
-            0xF1 => Message::ExitDiagnostics,
-            0xF2 if p[0] > MAX_NVM_PAGE => return Some(Err(PayloadError::PageOutOfRange(p[0]))),
-            0xF2 => Message::ReadNvmPage { page: p[0] },
-            0xF3 if p[0] > MAX_NVM_PAGE => return Some(Err(PayloadError::PageOutOfRange(p[0]))),
+            0x01 => {
+                let p = payload!(0x01);
+                Message::Inertial(Inertial {
+                    seq: p[0],
+                    specific_force_raw: [i16_at(p, 1), i16_at(p, 3), i16_at(p, 5)],
+                    angular_rate_raw: [i16_at(p, 7), i16_at(p, 9), i16_at(p, 11)],
+                    health: InertialHealth(u16_at(p, 13)),
+                })
+            }
+            0x02 => {
+                let p = payload!(0x02);
+                Message::Navigation(Navigation {
+                    seq: p[0],
+                    pressure_height_raw: u16_at(p, 1),
+                    velocity_down_raw: i16_at(p, 3),
+                    roll_raw: i16_at(p, 5),
+                    pitch_raw: i16_at(p, 7),
+                    heading_raw: u16_at(p, 9),
+                    health: NavigationHealth(u16_at(p, 11)),
+                })
+            }
+            0x03 => {
+                let p = payload!(0x03);
+                Message::Accuracy(Accuracy {
+                    seq: p[0],
+                    std_north_raw: u16_at(p, 1),
+                    std_east_raw: u16_at(p, 3),
+                    std_heading_raw: u16_at(p, 5),
+                    mcu_time_us: u64_at(p, 7),
+                })
+            }
+            0x04 => Message::NavigationTime(data_time(payload!(0x04))),
+            0x05 => Message::InertialTime(data_time(payload!(0x05))),
+            0x06 => {
+                let p = payload!(0x06);
+                Message::SyncPulseTime(SyncPulseTime {
+                    seq: p[0],
+                    mcu_time_us: u64_at(p, 1),
+                })
+            }
+            0x0F => {
+                let p = payload!(0x0F);
+                Message::SoftwareVersion(SoftwareVersion {
+                    project_code: [p[0], p[1], p[2]],
+                    major: u16_at(p, 3),
+                    minor: u16_at(p, 5),
+                })
+            }
+            0x1F => {
+                let p = payload!(0x1F);
+                Message::HardwareVersion(HardwareVersion {
+                    mcu_id: u16_at(p, 0),
+                    unique_id: [u32_at(p, 2), u32_at(p, 6), u32_at(p, 10)],
+                })
+            }
+            0xF0 => {
+                payload!(0xF0);
+                Message::EnterDiagnostics
+            }
+            0xF1 => {
+                payload!(0xF1);
+                Message::ExitDiagnostics
+            }
+            0xF2 => {
+                let p = payload!(0xF2);
+                if p[0] > MAX_NVM_PAGE {
+                    return Some(Err(PayloadError::PageOutOfRange(p[0])));
+                }
+                Message::ReadNvmPage { page: p[0] }
+            }
             0xF3 => {
+                let p = payload!(0xF3);
+                if p[0] > MAX_NVM_PAGE {
+                    return Some(Err(PayloadError::PageOutOfRange(p[0])));
+                }
                 let mut data = [0u8; 32];
                 data.copy_from_slice(&p[1..33]);
                 Message::NvmPage(NvmPage { page: p[0], data })
             }
-            0xFF => Message::Ack(Ack {
-                acked_type: p[0],
-                status: p[1],
-            }),
+            0xFF => {
+                let p = payload!(0xFF);
+                Message::Ack(Ack {
+                    acked_type: p[0],
+                    status: p[1],
+                })
+            }
             _ => return None,
         };
         Some(Ok(m))
