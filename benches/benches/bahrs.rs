@@ -4,8 +4,8 @@ use bytes::BytesMut;
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use vigil_drivers::DeviceDecoder;
-use vigil_drivers::bahrs::frame::{CRC_LEN, HEADER_LEN, crc32_mpeg2, layout};
-use vigil_drivers::bahrs::{Decoder, Message};
+use vigil_drivers::bahrs::Decoder;
+use vigil_drivers::bahrs::frame::{CRC_LEN, crc32_mpeg2, layout};
 
 fn decode_stream(c: &mut Criterion) {
     // 100 s at default rates: about 3.3 MB, 30 100 frames (301 per second).
@@ -54,31 +54,6 @@ fn decode_stream(c: &mut Criterion) {
             }
             assert_eq!(bad, 0);
             bad
-        })
-    });
-    // Between the two: the work every frame needs, without the stream handling around it (marker
-    // and version checks, counters, the buffer advanced). A walk over a slice that takes each
-    // frame's length from its type, checks its CRC and decodes its payload. The decoder's distance
-    // above this is what its stream handling costs.
-    group.bench_function("walk_crc_and_payload", |b| {
-        b.iter(|| {
-            let s = black_box(&stream[..]);
-            let (mut at, mut n) = (0, 0usize);
-            while let Some(&msg_type) = s.get(at + 4) {
-                let layout = layout(msg_type).expect("documented type");
-                let f = &s[at..at + layout.frame_len()];
-                let (body, crc) = f.split_at(f.len() - CRC_LEN);
-                assert_eq!(
-                    crc32_mpeg2(body),
-                    u32::from_le_bytes(crc.try_into().unwrap())
-                );
-                let payload = &body[HEADER_LEN..HEADER_LEN + layout.payload_len];
-                black_box(&Message::decode_payload(msg_type, payload));
-                at += f.len();
-                n += 1;
-            }
-            assert_eq!(n, frames);
-            n
         })
     });
     group.finish();
