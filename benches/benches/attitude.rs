@@ -6,11 +6,16 @@
 //! - `stream_60s`: a whole 60 s synthetic stream (3000 BAHRS, 3000 VN-200, 711 Watson samples)
 //!   through push and next_record, reported per BAHRS sample (Elements = BAHRS samples).
 //!
-//! Both with the WMM2025 declination model (refreshed every 60 s, so the step uses the cache).
+//! - `prompt_step`: one `AttitudeChecker::prompt` (issue 10: the voted attitude at a VN-200
+//!   sample's time, published for every VN-200 message, 200-400 a second), after 45 s of the
+//!   stream with its records taken, so the verdicts are fresh.
+//!
+//! All with the WMM2025 declination model (refreshed every 60 s, so the step uses the cache).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use vigil_fusion::attitude::checker::AttitudeChecker;
+use vigil_fusion::attitude::isolation::Unit;
 use vigil_fusion::attitude::params::CheckParams;
 use vigil_fusion::attitude::synthetic::{Event, Scenario, Stream};
 use vigil_fusion::magnetic::Wmm;
@@ -73,6 +78,37 @@ fn bench(c: &mut Criterion) {
                 }
             }
             n
+        })
+    });
+    // The prompt at steady state: the stream up to 45 s through the checker, then a prompt at
+    // each iteration's time, 1 ns after the one before (prompt times must increase).
+    let mut ch = checker();
+    let mut t_last = 0;
+    for e in &events {
+        let t = match e {
+            Event::Bahrs(b) => b.t_gps_ns,
+            Event::Vn200(v) => v.t_gps_ns,
+            Event::Watson(w) => w.t_gps_ns,
+        };
+        if t - sc.t0_gps_ns > 45_000_000_000 {
+            break;
+        }
+        match e {
+            Event::Bahrs(b) => ch.push_bahrs(*b),
+            Event::Vn200(v) => {
+                ch.push_vn200(*v);
+                t_last = v.t_gps_ns;
+            }
+            Event::Watson(w) => ch.push_watson(*w),
+        }
+        while ch.next_record().is_some() {}
+    }
+    group.throughput(Throughput::Elements(1));
+    let mut t = t_last;
+    group.bench_function("prompt_step", |bch| {
+        bch.iter(|| {
+            t += 1;
+            black_box(ch.prompt(black_box(t), Unit::Vn200).expect("a later time"))
         })
     });
     group.finish();
