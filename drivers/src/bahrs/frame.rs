@@ -74,10 +74,8 @@ static CRC32_TABLES: [[u32; 256]; 16] = {
 #[inline(always)]
 fn crc32_step<const N: usize>(crc: u32, bytes: &[u8; N]) -> u32 {
     let mut data = 0;
-    let mut i = 4;
-    while i < N {
+    for i in 4..N {
         data ^= CRC32_TABLES[N - 1 - i][bytes[i] as usize];
-        i += 1;
     }
     let [h0, h1, h2, h3] =
         (crc ^ u32::from_be_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])).to_be_bytes();
