@@ -833,3 +833,44 @@ fn decoder_waits_at_most_one_max_frame() {
     assert_eq!(d.stats().checksum_failures, 1);
     assert!(buf.is_empty());
 }
+
+#[test]
+fn payload_decode_takes_exactly_the_documented_lengths() {
+    // Section 5's payload lengths, written out here rather than taken from the layout table.
+    let documented: [(u8, usize); 13] = [
+        (0x01, 15),
+        (0x02, 13),
+        (0x03, 15),
+        (0x04, 10),
+        (0x05, 10),
+        (0x06, 9),
+        (0x0F, 7),
+        (0x1F, 14),
+        (0xF0, 0),
+        (0xF1, 0),
+        (0xF2, 1),
+        (0xF3, 33),
+        (0xFF, 2),
+    ];
+    let bytes = [0u8; 40];
+    for (t, len) in documented {
+        let m = Message::decode_payload(t, &bytes[..len]);
+        assert_eq!(m.map(|r| r.map(|m| m.type_id())), Some(Ok(t)), "{t:#04x}");
+        assert_eq!(
+            Message::decode_payload(t, &bytes[..len + 1]),
+            None,
+            "{t:#04x} long"
+        );
+        if len > 0 {
+            assert_eq!(
+                Message::decode_payload(t, &bytes[..len - 1]),
+                None,
+                "{t:#04x} short"
+            );
+        }
+    }
+    // A type without a layout, at any length.
+    for len in [0, 1, 15] {
+        assert_eq!(Message::decode_payload(0x10, &bytes[..len]), None);
+    }
+}
