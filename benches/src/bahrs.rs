@@ -6,7 +6,8 @@ use vigil_drivers::bahrs::{
 };
 
 /// A BAHRS stream at the device's default rates (0x01 + 0x05 at 100 Hz, 0x02 + 0x04 at 50 Hz,
-/// 0x06 and 0x03 at 1 Hz) covering `seconds` of output, with varying values.
+/// 0x06 at 1 Hz; the 1 Hz 0x03 is left out) covering `seconds` of output, with varying values:
+/// 301 frames and 7,020 bytes a second (frames of 28, 20, 24, 20 and 20 bytes).
 pub fn bahrs_stream(seconds: u32) -> (Vec<u8>, usize) {
     let mut out = Vec::new();
     let mut frames = 0;
@@ -54,4 +55,18 @@ pub fn bahrs_stream(seconds: u32) -> (Vec<u8>, usize) {
         }
     }
     (out, frames)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sizes the doc comment and the benches state, by hand from section 5's layouts: per
+    /// second 100 x (28 + 20) + 50 x (24 + 20) + 20 bytes and 100 x 2 + 50 x 2 + 1 frames.
+    #[test]
+    fn the_stream_holds_the_stated_frames_and_bytes() {
+        let (stream, frames) = bahrs_stream(10);
+        assert_eq!(stream.len(), 70_200);
+        assert_eq!(frames, 3_010);
+    }
 }

@@ -14,7 +14,8 @@
 //!   the same way and discards the bytes ([`crate::measure_floor`]), started in `vigil run`'s
 //!   place: what being woken for the bytes costs on this machine. With whole-message reads it
 //!   is a floor under `vigil run`'s CPU; at smaller reads it is a plain reader's cost (see
-//!   there).
+//!   there). `--floor-publish` has it also publish each VN-200 message's GPS time, matched like
+//!   `vigil run`'s attitudes: the latency floor.
 //!
 //! The simulator runs in this process (its writes are stamped), `vigil run` is a child process
 //! (this executable) on the terminals, with a unique bus prefix. The first `--warmup` seconds
@@ -88,6 +89,12 @@ pub struct MeasureArgs {
     /// no latency (nothing is published).
     #[arg(long, conflicts_with_all = ["record", "cpu_wakeup_latency_us"])]
     pub floor: bool,
+    /// The floor with a latency: the reader also decodes the VN-200's messages and publishes
+    /// each one's GPS time at once as an attitude sample, which is matched as `vigil run`'s are.
+    /// Its latency is the least any service can have on this machine (the terminal, one
+    /// wake-up, one iceoryx2 publication and its event); its CPU is the floor's plus that.
+    #[arg(long, conflicts_with_all = ["record", "cpu_wakeup_latency_us"])]
+    pub floor_publish: bool,
 }
 
 /// CPU time and memory of a process at one moment.
@@ -308,12 +315,21 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     })
     .context("connecting to the bus")?;
     let mut sub = bus.subscriber::<AttitudePayload>()?;
-    let mut run = if args.floor {
+    let floor = args.floor || args.floor_publish;
+    let mut run = if floor {
         // The ports as `vigil run` would read them: its own configuration check resolves each
         // port's interval (the one given or the protocol's default) and refuses what it
         // refuses (a paced VN-200, an interval longer than the buffer holds).
         let (_, ports) = vigil_service::config::Config::load(&config)?;
         let mut floor_args = vec!["measure-floor".to_string()];
+        if args.floor_publish {
+            let vn200 = ports
+                .iter()
+                .find(|p| p.device == "vn200")
+                .ok_or_else(|| anyhow!("no VN-200 port in the configuration"))?;
+            floor_args.extend(["--bus-prefix".to_string(), prefix.to_string()]);
+            floor_args.extend(["--vn200".to_string(), vn200.path.display().to_string()]);
+        }
         for port in &ports {
             floor_args.push("--port".into());
             floor_args.push(format!(
@@ -384,7 +400,7 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let (dropped, chunks) = writer
         .join()
         .map_err(|_| anyhow!("the simulator thread panicked"))??;
-    // The floor reader has no handler: SIGTERM ends it, which is not a failure.
+    // The floor reader without a bus has no handler: SIGTERM ends it, which is not a failure.
     if !clean && !args.floor {
         eprintln!(
             "vigil measure: vigil run did not stop cleanly:\n{}",

@@ -109,3 +109,77 @@ fn the_floor_refuses_a_paced_vn200_like_vigil_run() {
         "{stderr}"
     );
 }
+
+/// `--floor-publish` (issue 21): the floor reader also decodes the VN-200 and publishes each
+/// message's GPS time, and `vigil measure` matches those against the simulator's own record of
+/// what it wrote (its truth, not the reader's): every message of the window comes back at its
+/// own GPS time or is counted as missed, the reader keeps up with every port, and it stops
+/// cleanly on SIGTERM (iceoryx2 catches it, so the bus is released).
+#[test]
+fn the_publishing_floor_returns_every_vn200_time_and_stops_cleanly() {
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args([
+            "measure",
+            "--scenario",
+            "nominal",
+            "--duration",
+            "3",
+            "--warmup",
+            "2",
+            "--floor-publish",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("did not stop cleanly"), "{stderr}");
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let messages = r["vn200_messages"].as_u64().unwrap();
+    let matched = r["matched"].as_u64().unwrap();
+    let missed = r["missed"].as_u64().unwrap();
+    assert!((500..=700).contains(&messages), "{r}");
+    assert!(
+        matched + missed >= messages && matched * 10 >= messages * 9,
+        "{r}"
+    );
+    assert_eq!(r["latency"]["samples"].as_u64(), Some(matched), "{r}");
+    assert_eq!(r["write_to_send"]["samples"].as_u64(), Some(matched), "{r}");
+    let dropped = r["dropped_bytes"].as_object().unwrap();
+    assert!(dropped.values().all(|v| v.as_u64() == Some(0)), "{r}");
+}
+
+/// The hidden reader refuses a `--vn200` that is not one of its ports read on arrival (it would
+/// otherwise publish nothing and report no latency without saying why), and `--bus-prefix` and
+/// `--vn200` come together.
+#[test]
+fn the_publishing_floor_needs_its_vn200_among_the_ports_read_on_arrival() {
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .arg("measure-floor")
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let stderr = run(&[
+        "--port",
+        "10:/dev/null",
+        "--bus-prefix",
+        "floortest",
+        "--vn200",
+        "/dev/null",
+    ]);
+    assert!(
+        stderr.contains("not one of the ports read on arrival"),
+        "{stderr}"
+    );
+    let stderr = run(&["--port", "0:/dev/null", "--vn200", "/dev/null"]);
+    assert!(stderr.contains("--bus-prefix"), "{stderr}");
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["measure", "--floor-publish", "--record", "raw"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot be used with"));
+}
