@@ -12,6 +12,11 @@ use serde_json::Value;
 /// `vigil measure` on the `nominal` scenario (VN-200 at 200 Hz) for a 3 s window after 2 s,
 /// with `extra` arguments: its report, once it has succeeded.
 fn measure_nominal(extra: &[&str]) -> Value {
+    measure_nominal_with_stderr(extra).0
+}
+
+/// [`measure_nominal`], and what it wrote to stderr.
+fn measure_nominal_with_stderr(extra: &[&str]) -> (Value, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
         .args([
             "measure",
@@ -25,9 +30,9 @@ fn measure_nominal(extra: &[&str]) -> Value {
         .args(extra)
         .output()
         .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(out.status.success(), "{stderr}");
-    serde_json::from_slice(&out.stdout).unwrap()
+    (serde_json::from_slice(&out.stdout).unwrap(), stderr)
 }
 
 #[test]
@@ -117,23 +122,8 @@ fn the_floor_refuses_a_paced_vn200_like_vigil_run() {
 /// cleanly on SIGTERM (iceoryx2 catches it, so the bus is released).
 #[test]
 fn the_publishing_floor_returns_every_vn200_time_and_stops_cleanly() {
-    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args([
-            "measure",
-            "--scenario",
-            "nominal",
-            "--duration",
-            "3",
-            "--warmup",
-            "2",
-            "--floor-publish",
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
+    let (r, stderr) = measure_nominal_with_stderr(&["--floor-publish"]);
     assert!(!stderr.contains("did not stop cleanly"), "{stderr}");
-    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
     let messages = r["vn200_messages"].as_u64().unwrap();
     let matched = r["matched"].as_u64().unwrap();
     let missed = r["missed"].as_u64().unwrap();
