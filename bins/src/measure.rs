@@ -93,7 +93,7 @@ pub struct MeasureArgs {
     /// each one's GPS time at once as an attitude sample, which is matched as `vigil run`'s are.
     /// Its latency is the least any service can have on this machine (the terminal, one
     /// wake-up, one iceoryx2 publication and its event); its CPU is the floor's plus that.
-    #[arg(long, conflicts_with_all = ["record", "cpu_wakeup_latency_us"])]
+    #[arg(long, conflicts_with_all = ["floor", "record", "cpu_wakeup_latency_us"])]
     pub floor_publish: bool,
 }
 
@@ -402,8 +402,13 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         .map_err(|_| anyhow!("the simulator thread panicked"))??;
     // The floor reader without a bus has no handler: SIGTERM ends it, which is not a failure.
     if !clean && !args.floor {
+        let what = if args.floor_publish {
+            "the floor reader"
+        } else {
+            "vigil run"
+        };
         eprintln!(
-            "vigil measure: vigil run did not stop cleanly:\n{}",
+            "vigil measure: {what} did not stop cleanly:\n{}",
             crate::demo::tail(&log, 10)
         );
     }

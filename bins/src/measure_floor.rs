@@ -57,6 +57,9 @@ pub struct FloorArgs {
     pub vn200: Option<PathBuf>,
 }
 
+/// Longest wait between two looks at iceoryx2's termination flag when publishing.
+const SIGNAL_CHECK: Duration = Duration::from_millis(100);
+
 /// The VN-200 side of the latency floor: vigil's decoder, and the publisher of the times.
 struct Timer {
     decoder: Vn200Decoder,
@@ -66,7 +69,8 @@ struct Timer {
 
 impl Timer {
     /// Decodes what `chunk` completes and publishes each binary message's GPS time (a message
-    /// without one is not published: `vigil run` would not fuse it at a GPS time either).
+    /// without one is not published: `vigil run` would not fuse it at a GPS time either). The
+    /// rest of the sample is its default: only `vigil measure`, on its own prefix, reads it.
     fn feed(&mut self, chunk: &[u8]) -> Result<()> {
         self.bytes.extend_from_slice(chunk);
         while let Some(m) = self.decoder.decode(&mut self.bytes) {
@@ -201,13 +205,15 @@ pub fn run(args: &FloorArgs) -> Result<()> {
                 *at = next_on_grid(epoch, *every, now.max(*at + *every));
             }
         }
-        // With a bus, at most 100 ms, so a SIGTERM caught by iceoryx2 is seen even if the
-        // signal came between the check above and the poll.
-        let wait = next
+        let mut wait = next
             .iter()
             .min()
-            .map(|at| at.saturating_duration_since(Instant::now()))
-            .or(bus.as_ref().map(|_| Duration::from_millis(100)));
+            .map(|at| at.saturating_duration_since(Instant::now()));
+        // With a bus, at most 100 ms (whatever the paced intervals), so a SIGTERM caught by
+        // iceoryx2 is seen soon even if it came between the check above and the poll.
+        if bus.is_some() {
+            wait = Some(wait.map_or(SIGNAL_CHECK, |w| w.min(SIGNAL_CHECK)));
+        }
         let timeout = wait.map(|d| Timespec {
             tv_sec: d.as_secs() as _,
             tv_nsec: d.subsec_nanos() as _,

@@ -166,10 +166,15 @@ fn the_publishing_floor_needs_its_vn200_among_the_ports_read_on_arrival() {
     );
     let stderr = run(&["--port", "0:/dev/null", "--vn200", "/dev/null"]);
     assert!(stderr.contains("--bus-prefix"), "{stderr}");
-    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
-        .args(["measure", "--floor-publish", "--record", "raw"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot be used with"));
+    for extra in ["--record=raw", "--floor"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+            .args(["measure", "--floor-publish", extra])
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{extra}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("cannot be used with"),
+            "{extra}"
+        );
+    }
 }
