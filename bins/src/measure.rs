@@ -91,8 +91,9 @@ pub struct MeasureArgs {
     pub floor: bool,
     /// The floor with a latency: the reader also decodes the VN-200's messages and publishes
     /// each one's GPS time at once as an attitude sample, which is matched as `vigil run`'s are.
-    /// Its latency is the least any service can have on this machine (the terminal, one
-    /// wake-up, one iceoryx2 publication and its event); its CPU is the floor's plus that.
+    /// Its latency (the terminal, one wake-up, one iceoryx2 publication and its event) is the
+    /// least a service woken and publishing as `vigil run` is can have on this machine; its CPU
+    /// is the floor's plus the decode and the publication.
     #[arg(long, conflicts_with_all = ["floor", "record", "cpu_wakeup_latency_us"])]
     pub floor_publish: bool,
 }

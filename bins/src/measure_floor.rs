@@ -14,8 +14,9 @@
 //! GPS time is published at once as an attitude sample (nothing else in it) on the prefix's
 //! `vigil/attitude`, which `vigil measure` subscribes to and matches as it does `vigil run`'s.
 //! Its latency is the terminal, one wake-up of a reader, a decode (about 0.1 us) and one
-//! iceoryx2 publication with its event: the least any service must do to hand a VN-200
-//! message's time to a subscriber in another process on this machine.
+//! iceoryx2 publication with its event: the least a service woken by the terminal and
+//! publishing over iceoryx2, as `vigil run` is, must do to hand a VN-200 message's time to a
+//! subscriber in another process on this machine.
 //!
 //! Decision: a port read on arrival is read with `VMIN` 1 here, where `vigil run` raises `VMIN`
 //! to a whole message once the stream is steady. With `VMIN` 1 this reader returns to user
