@@ -36,29 +36,25 @@ struct DevicePort {
     cadence: Cadence,
 }
 
-/// Reads in a row that must end exactly on one frame of the same length before
-/// [`Ingest::whole_message_bytes`] predicts that length.
+/// Frames in a row of one length, nothing skipped between them, before
+/// [`Ingest::bytes_until_whole_message`] predicts the next frame.
 const STEADY_FRAMES: u32 = 8;
 
-/// Whether a port's stream is a steady run of frames of one length (issue 21): each time its
-/// decoder's buffer is empty (a frame boundary), what was consumed since the previous boundary is
-/// compared with the frame before.
+/// Whether a port's stream is a steady run of frames of one length (issue 21), judged from its
+/// decoder's counters after each read, whatever the read boundaries: a reader woken late takes a
+/// frame and the start of the next, or two frames, in one read, and the run goes on.
 #[derive(Debug, Default, Clone, Copy)]
 struct Cadence {
-    /// Counters at the previous boundary: bytes consumed, bytes skipped, frames decoded.
+    /// Counters after the previous read: bytes consumed, bytes skipped, frames decoded.
     at: (u64, u64, u64),
-    /// Length of the frame between the last two boundaries, when exactly one frame and nothing
-    /// else was consumed, bytes.
+    /// Length of every frame of the run, bytes.
     len: Option<u64>,
-    /// Boundaries in a row that closed one frame of length `len`.
+    /// Frames in a row of length `len`.
     run: u32,
 }
 
 impl Cadence {
-    fn update(&mut self, stats: DecodeStats, pending: usize) {
-        if pending > 0 {
-            return;
-        }
+    fn update(&mut self, stats: DecodeStats) {
         let now = (
             stats.bytes_consumed,
             stats.bytes_skipped,
@@ -66,16 +62,26 @@ impl Cadence {
         );
         let (consumed, skipped, frames) = (now.0 - self.at.0, now.1 - self.at.1, now.2 - self.at.2);
         self.at = now;
-        if frames == 1 && skipped == 0 {
+        if skipped > 0 {
+            (self.len, self.run) = (None, 0);
+        } else if frames == 1 {
             if self.len == Some(consumed) {
                 self.run = self.run.saturating_add(1);
             } else {
-                self.len = Some(consumed);
-                self.run = 1;
+                (self.len, self.run) = (Some(consumed), 1);
             }
-        } else if frames > 0 || skipped > 0 {
-            self.len = None;
-            self.run = 0;
+        } else if frames > 1 {
+            // Several frames in one read: their lengths are not told apart, only their sum.
+            // Decision: a sum of exactly `frames` run lengths continues the run (a mix of other
+            // lengths with that sum is possible but harmless: a wrong prediction costs at most
+            // the reader's bounded wait, once); any other sum ends it.
+            if self.len.is_some_and(|l| consumed == l * frames) {
+                self.run = self
+                    .run
+                    .saturating_add(u32::try_from(frames).unwrap_or(u32::MAX));
+            } else {
+                (self.len, self.run) = (None, 0);
+            }
         }
     }
 }
@@ -209,8 +215,8 @@ impl Ingest {
         port.clock.push(t_host_ns as i64, bytes.len());
         let mut samples = std::mem::take(&mut self.samples);
         port.samples(bytes, false, &mut samples, &mut self.spare_vn200);
-        if let Decoding::Decoded(d, buf) = &port.decoding {
-            port.cadence.update(d.stats(), buf.len());
+        if let Decoding::Decoded(d, _) = &port.decoding {
+            port.cadence.update(d.stats());
         }
         let r = self.align(i, &mut samples, f);
         self.samples = samples;
@@ -291,19 +297,21 @@ impl Ingest {
         &self.aligner
     }
 
-    /// The length of the next frame of port `device`, bytes, when its stream is a steady run of
-    /// frames of one length and the last read ended exactly on a frame boundary (issue 21): the
-    /// live reader then waits for that many bytes before it wakes (`VMIN`). `None` otherwise:
-    /// mid-frame, after skipped bytes or a frame of another length, or fewer than
-    /// [`STEADY_FRAMES`] such frames in a row.
-    pub fn whole_message_bytes(&self, device: &str) -> Option<usize> {
+    /// How many more bytes complete port `device`'s next frame, when its stream is a steady run
+    /// of frames of one length (issue 21): the frame length less the bytes of it already
+    /// received. The live reader then waits for that many bytes before it wakes (`VMIN`).
+    /// `None` after skipped bytes or a frame of another length, before [`STEADY_FRAMES`] frames
+    /// in a row, or when the bytes waiting are not the start of such a frame (as many as a
+    /// frame, still undecoded).
+    pub fn bytes_until_whole_message(&self, device: &str) -> Option<usize> {
         let port = self.ports.iter().find(|p| p.name == device)?;
         let Decoding::Decoded(_, buf) = &port.decoding else {
             return None;
         };
         let c = port.cadence;
-        let len = c.len.filter(|_| buf.is_empty() && c.run >= STEADY_FRAMES)?;
-        usize::try_from(len).ok()
+        let len = c.len.filter(|_| c.run >= STEADY_FRAMES)?;
+        let missing = len.checked_sub(buf.len() as u64).filter(|m| *m > 0)?;
+        usize::try_from(missing).ok()
     }
 
     /// The decoder counters of `device` so far (as [`Ingest::finish`] reports them), or

@@ -166,7 +166,7 @@ fn vn_frame(g: i64, with_ypr: bool) -> Vec<u8> {
 }
 
 #[test]
-fn whole_message_bytes_only_after_a_steady_run_of_one_length_ending_on_a_boundary() {
+fn bytes_until_whole_message_after_a_steady_run_of_one_length_whatever_the_read_boundaries() {
     let mut r = Ingest::new();
     let mut f = |_: &AlignedSample| -> Result<(), ()> { Ok(()) };
     let mut t = 1u64;
@@ -174,6 +174,7 @@ fn whole_message_bytes_only_after_a_steady_run_of_one_length_ending_on_a_boundar
         t += 1;
         r.feed("vn200", "", t, b, &mut f).unwrap();
     };
+    let next = |r: &Ingest| r.bytes_until_whole_message("vn200");
     let short = vn_frame(G0, false);
     let long = vn_frame(G0, true);
     assert_eq!(long.len(), short.len() + 12, "YPR adds three f32");
@@ -181,28 +182,54 @@ fn whole_message_bytes_only_after_a_steady_run_of_one_length_ending_on_a_boundar
     for _ in 0..7 {
         let (a, b) = short.split_at(10);
         feed(&mut r, a);
-        assert_eq!(r.whole_message_bytes("vn200"), None, "mid-frame");
+        assert_eq!(next(&r), None, "fewer than eight frames");
         feed(&mut r, b);
     }
-    assert_eq!(r.whole_message_bytes("vn200"), None, "seven frames");
+    assert_eq!(next(&r), None, "seven frames");
     feed(&mut r, &short);
-    assert_eq!(r.whole_message_bytes("vn200"), Some(short.len()));
-    // Two frames in one read: the run is broken (more than one frame between boundaries).
+    assert_eq!(next(&r), Some(short.len()), "eight frames, on a boundary");
+    // A late reader: the first 10 bytes of the next frame came with the last one.
+    let (a, b) = short.split_at(10);
+    feed(&mut r, a);
+    assert_eq!(
+        next(&r),
+        Some(short.len() - 10),
+        "the rest of the next frame"
+    );
+    feed(&mut r, &[b, a].concat());
+    assert_eq!(
+        next(&r),
+        Some(short.len() - 10),
+        "one frame, 10 bytes of the next"
+    );
+    feed(&mut r, b);
+    assert_eq!(next(&r), Some(short.len()));
+    // Two frames in one read, and two and a half: the run goes on.
     feed(&mut r, &[short.clone(), short.clone()].concat());
-    assert_eq!(r.whole_message_bytes("vn200"), None);
-    for _ in 0..8 {
-        feed(&mut r, &short);
-    }
-    assert_eq!(r.whole_message_bytes("vn200"), Some(short.len()));
-    // A frame of another length starts a new run.
+    assert_eq!(next(&r), Some(short.len()));
+    feed(&mut r, &[&short[..], &short, a].concat());
+    assert_eq!(next(&r), Some(short.len() - 10));
+    feed(&mut r, b);
+    // A frame of another length starts a new run, alone or after one of the run's length (a sum
+    // that is not a whole number of run lengths).
     feed(&mut r, &long);
-    assert_eq!(r.whole_message_bytes("vn200"), None);
-    for _ in 0..7 {
+    assert_eq!(next(&r), None, "another length");
+    for _ in 0..8 {
         feed(&mut r, &long);
     }
-    assert_eq!(r.whole_message_bytes("vn200"), Some(long.len()));
-    // Garbage before a frame (skipped bytes) breaks it too.
+    assert_eq!(next(&r), Some(long.len()));
+    feed(&mut r, &[long.clone(), short.clone()].concat());
+    assert_eq!(next(&r), None, "two frames of two lengths");
+    for _ in 0..8 {
+        feed(&mut r, &long);
+    }
+    assert_eq!(next(&r), Some(long.len()));
+    // Garbage before a frame (skipped bytes) ends it too.
     feed(&mut r, &[[0x55u8, 0x66].as_slice(), &long].concat());
-    assert_eq!(r.whole_message_bytes("vn200"), None);
-    assert_eq!(r.whole_message_bytes("watson"), None, "a port never seen");
+    assert_eq!(next(&r), None, "skipped bytes");
+    assert_eq!(
+        r.bytes_until_whole_message("watson"),
+        None,
+        "a port never seen"
+    );
 }

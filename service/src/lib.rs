@@ -242,16 +242,17 @@ impl Service {
         self.publish_fused(t_host_ns, out);
     }
 
-    /// The length of port `port`'s next message, bytes, when the live reader may wait for it
-    /// whole (issue 21; see [`Ingest::whole_message_bytes`]): only the VN-200's binary stream.
+    /// How many more bytes complete port `port`'s next message, when the live reader may wait
+    /// for it whole (issue 21; see [`Ingest::bytes_until_whole_message`]): only the VN-200's
+    /// binary stream.
     /// Decision: not the host-timed ports (Watson, TT-Multi-RF, BAHRS navigation): a message
     /// of another length read late would carry the wait in its time.
-    pub fn whole_message_bytes(&self, port: usize) -> Option<usize> {
+    pub fn bytes_until_whole_message(&self, port: usize) -> Option<usize> {
         let p = self.ports.get(port)?;
         if p.port.protocol != vigil_drivers::protocol::Protocol::Vn200 {
             return None;
         }
-        self.replay.whole_message_bytes(&p.port.device)
+        self.replay.bytes_until_whole_message(&p.port.device)
     }
 
     fn publish_fused(&mut self, t_host_ns: u64, out: &mut impl Outputs) {

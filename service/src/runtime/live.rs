@@ -192,8 +192,8 @@ impl PortSink for Ctx {
         self.epoch
     }
 
-    fn whole_message_bytes(&self, i: usize) -> Option<usize> {
-        self.service.whole_message_bytes(i)
+    fn bytes_until_whole_message(&self, i: usize) -> Option<usize> {
+        self.service.bytes_until_whole_message(i)
     }
 
     fn opened(&mut self, i: usize) {

@@ -111,17 +111,20 @@ impl Vmin {
 /// Reads `file` as its bytes arrive, handing each chunk with its host monotonic read time (ns)
 /// to `chunk`, until the port fails or ends; returns why.
 ///
-/// `chunk` returns the length of the next message when the port's stream is a steady run of
-/// messages of one length and the read ended on a message boundary
-/// ([`vigil_fusion::ingest::Ingest::whole_message_bytes`]): the port is then made readable
-/// only once that many bytes wait ([`Vmin`]), so a message costs one return to user space
-/// however many USB packets carry it. The read, and so the message's receive time, is the
-/// moment its last byte arrived, as before.
+/// `chunk` returns how many more bytes complete the next message when the port's stream is a
+/// steady run of messages of one length
+/// ([`vigil_fusion::ingest::Ingest::bytes_until_whole_message`]; when the read ended on a message
+/// boundary, a whole message's length): the port is then made readable only once that many bytes
+/// wait ([`Vmin`]), so a message costs one return to user space however many USB packets carry
+/// it, even when a late wake-up read the start of the next message with the last one. The read,
+/// and so the message's receive time, is the moment its last byte arrived, as before.
 ///
 /// Decision: a message of another length (shorter: it never reaches `VMIN`) would wait for the
 /// next one. The wait is bounded: after 1.5 message periods without a read the port is read
 /// anyway and `VMIN` goes back to 1; such a message is stamped late by at most that, once, and
-/// the stream is read as it arrives until it is steady again (eight messages of one length).
+/// the stream is read as it arrives until it is steady again (eight messages of one length; a
+/// wait that ran out only because the device paused keeps the run, and `VMIN` is set again
+/// after the next read).
 /// The VN-200's messages carry their GPS time; the late stamp only feeds the host clock fit one
 /// high-delay point.
 pub async fn read_on_arrival(

@@ -53,10 +53,10 @@ pub trait PortSink {
     fn closed(&mut self, port: usize, reason: &str);
     /// Origin of the paced ports' common drain grid.
     fn epoch(&self) -> tokio::time::Instant;
-    /// The length of port `port`'s next message when its stream is steady and the last read
-    /// ended on a message boundary: a port read on arrival then wakes the service only once that
-    /// many bytes wait ([`reader::read_on_arrival`]). `None`: wake on every arrival.
-    fn whole_message_bytes(&self, _port: usize) -> Option<usize> {
+    /// How many more bytes complete port `port`'s next message when its stream is steady: a
+    /// port read on arrival then wakes the service only once that many bytes wait
+    /// ([`reader::read_on_arrival`]). `None`: wake on every arrival.
+    fn bytes_until_whole_message(&self, _port: usize) -> Option<usize> {
         None
     }
 }
@@ -105,7 +105,7 @@ pub async fn port_task<S: PortSink>(
                         let chunk = |t: u64, b: &[u8]| {
                             let mut c = ctx.borrow_mut();
                             c.chunk(i, t, b);
-                            c.whole_message_bytes(i)
+                            c.bytes_until_whole_message(i)
                         };
                         reader::read_on_arrival(file, chunk).await
                     }
