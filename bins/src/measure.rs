@@ -32,6 +32,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use serde::Serialize;
 use vigil_bus::clock::monotonic_ns;
+use vigil_bus::payload::alerts::{AlertPayload, STATE_CLEARED, STATE_LATCHED, STATE_RAISED};
 use vigil_bus::payload::attitude::AttitudePayload;
 use vigil_bus::{Bus, BusConfig};
 use vigil_sim::Simulator;
@@ -210,6 +211,12 @@ pub struct Report {
     pub peak_rss_mb: f64,
     /// Attitude payloads the subscriber missed (overflow).
     pub missed: u64,
+    /// The alerts `vigil run` published during the run, in order, each as "T s: STATE: REASON"
+    /// (T from the start of the run, the warm-up included). They explain messages that are not
+    /// matched: while the VN-200's GPS time disagrees with the host clock (the simulator itself
+    /// stalled for more than the cross-check's 20 ms margin on a busy host, say), its samples are
+    /// timed by another clock, so their attitudes carry that clock's time, not the simulator's.
+    pub alerts: Vec<String>,
     /// With `--record`: the channels recorded and the recording's size at the end, bytes (issue
     /// 20).
     pub recording: Option<(vigil_service::recording::ChannelSet, u64)>,
@@ -316,6 +323,8 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     })
     .context("connecting to the bus")?;
     let mut sub = bus.subscriber::<AttitudePayload>()?;
+    let mut alert_sub = bus.subscriber::<AlertPayload>()?;
+    let mut alerts = Vec::new();
     let floor = args.floor || args.floor_publish;
     let mut run = if floor {
         // The ports as `vigil run` would read them: its own configuration check resolves each
@@ -389,6 +398,17 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
             let h = &r.payload().header;
             received.insert(h.gps_time_ns, (h.send_mono_ns, now));
         }
+        while let Some(a) = alert_sub.try_receive()? {
+            let a = a.payload();
+            let state = match a.state {
+                STATE_RAISED => "raised",
+                STATE_CLEARED => "cleared",
+                STATE_LATCHED => "latched",
+                _ => "state unknown",
+            };
+            let at_s = start.elapsed().as_secs_f64();
+            alerts.push(format!("{at_s:.1} s: {state}: {}", a.reason()));
+        }
         let now = Instant::now();
         if first.is_none() && now >= warm_end {
             first = Some((proc_sample(run_pid)?, monotonic_ns()));
@@ -455,6 +475,7 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         rss_mb: p1.rss_kb as f64 / 1024.0,
         peak_rss_mb: p1.hwm_kb as f64 / 1024.0,
         missed: sub.missed(),
+        alerts,
         recording: args.record.map(|set| {
             let bytes = std::fs::metadata(dir.join("flight.mcap")).map_or(0, |m| m.len());
             (set, bytes)

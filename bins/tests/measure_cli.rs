@@ -178,3 +178,66 @@ fn the_publishing_floor_needs_its_vn200_among_the_ports_read_on_arrival() {
         );
     }
 }
+
+#[test]
+fn the_alerts_of_the_run_are_reported_in_order_with_their_time() {
+    // The BAHRS flags its roll an integrity risk from the scenario's t = 1 s: the monitor's
+    // alert must be in the report, raised, and not before the fault. (The run's start is the
+    // simulator's t = 0 give or take the few ms `vigil measure` takes to start writing.)
+    let scenario =
+        std::env::temp_dir().join(format!("vigil-measure-alert-{}.toml", std::process::id()));
+    std::fs::write(
+        &scenario,
+        r#"
+name = "bahrs-roll-health"
+description = "BAHRS roll flagged an integrity risk from t = 1 s"
+start_utc = "2026-06-01T10:00:00Z"
+
+[ownship]
+lat_deg = 47.40
+lon_deg = 8.50
+height_m = 600.0
+track_deg = 90.0
+speed_mps = 40.0
+segments = [{ kind = "straight", duration_s = 60.0 }]
+
+[[faults]]
+kind = "bahrs_health"
+from_s = 1.0
+signal = "roll"
+health = "integrity_risk"
+
+[devices.bahrs]
+[devices.watson]
+[devices.vn200]
+"#,
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["measure", "--scenario"])
+        .arg(&scenario)
+        .args(["--duration", "3", "--warmup", "1"])
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_file(&scenario);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let alerts: Vec<&str> = r["alerts"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no alerts array: {r}"))
+        .iter()
+        .map(|a| a.as_str().unwrap())
+        .collect();
+    let raised = alerts
+        .iter()
+        .find(|a| a.contains(": raised: BAHRS health integrity risk"))
+        .unwrap_or_else(|| panic!("{alerts:?}"));
+    let at_s: f64 = raised.split(" s: ").next().unwrap().parse().unwrap();
+    assert!((1.0..4.0).contains(&at_s), "{raised}");
+    let times: Vec<f64> = alerts
+        .iter()
+        .map(|a| a.split(" s: ").next().unwrap().parse().unwrap())
+        .collect();
+    assert!(times.is_sorted(), "{alerts:?}");
+}
