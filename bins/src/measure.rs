@@ -406,8 +406,14 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
                 STATE_LATCHED => "latched",
                 _ => "state unknown",
             };
+            // A clearing's reason already starts with "cleared: ".
+            let reason = a.reason();
+            let reason = reason
+                .strip_prefix(state)
+                .and_then(|r| r.strip_prefix(": "))
+                .unwrap_or(reason);
             let at_s = start.elapsed().as_secs_f64();
-            alerts.push(format!("{at_s:.1} s: {state}: {}", a.reason()));
+            alerts.push(format!("{at_s:.1} s: {state}: {reason}"));
         }
         let now = Instant::now();
         if first.is_none() && now >= warm_end {
