@@ -212,10 +212,11 @@ pub struct Report {
     /// Attitude payloads the subscriber missed (overflow).
     pub missed: u64,
     /// The alerts `vigil run` published during the run, in order, each as "T s: STATE: REASON"
-    /// (T from the start of the run, the warm-up included). They explain messages that are not
-    /// matched: while the VN-200's GPS time disagrees with the host clock (the simulator itself
-    /// stalled for more than the cross-check's 20 ms margin on a busy host, say), its samples are
-    /// timed by another clock, so their attitudes carry that clock's time, not the simulator's.
+    /// (T: when it was received, s from the start of the run, the warm-up included). They explain
+    /// messages that are not matched: while the VN-200's GPS time disagrees with the host clock
+    /// (the simulator itself stalled for more than the cross-check's 20 ms margin on a busy
+    /// host, say), its samples are timed by another clock, so their attitudes carry that clock's
+    /// time, not the simulator's.
     pub alerts: Vec<String>,
     /// With `--record`: the channels recorded and the recording's size at the end, bytes (issue
     /// 20).
