@@ -210,16 +210,26 @@ fn a_killed_subscriber_neither_blocks_the_publisher_nor_disturbs_others() {
     let mut alive = std::mem::take(&mut durations);
 
     // Phase 2: SIGKILL the child (std's kill() sends SIGKILL on Unix). Its ports stay
-    // registered until the dead node is cleaned up; publishing must not notice.
+    // registered until the dead node is cleaned up; publishing must not notice. Every alert
+    // sent while the dead subscriber is still connected fails for it and is counted. A parallel
+    // test's `Bus::new` may clean the dead node up meanwhile (see phase 3); from then on the
+    // attitude reaches the healthy subscriber alone and alerts stop failing, so the failures
+    // are counted against the rounds whose attitude still reached two subscribers (one off
+    // when the cleanup fell between a round's attitude and its alert).
     child.kill().unwrap();
     child.wait().unwrap();
+    let failed_alive = alerts.failed_deliveries();
+    let mut connected = 0u64;
     for _ in 0..N {
-        round(&mut att, &mut alerts, &mut durations);
+        if round(&mut att, &mut alerts, &mut durations) == 2 {
+            connected += 1;
+        }
     }
     let mut dead = std::mem::take(&mut durations);
-    assert_eq!(
-        alerts.failed_deliveries(),
-        (2 * N - policy.buffer_size) as u64
+    let failed_dead = alerts.failed_deliveries() - failed_alive;
+    assert!(
+        failed_dead.abs_diff(connected) <= 1,
+        "{failed_dead} alerts failed in {connected} rounds with the dead subscriber connected"
     );
 
     // Phase 3: dead-node cleanup disconnects the dead subscriber: attitude now reaches only the
