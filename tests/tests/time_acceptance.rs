@@ -35,6 +35,9 @@ struct Case {
     /// The devices whose `clock_disagreement` bit the case must raise; no other may be raised
     /// (issue 18 point 4: a false disagreement replaces a right time by a worse one).
     disagreeing: &'static [Device],
+    /// Whether the TT-Multi-RF's line must be seen busy ([`Aligner::ttmrf_line_busy`]); in a
+    /// case that does not fill it, it must never be (a busy line widens host-timed sigmas).
+    busy_tt_line: bool,
 }
 
 fn none(_: &mut Aligner) {}
@@ -145,13 +148,22 @@ fn judge(c: &Case, seed: u64) -> (Run, Vec<String>) {
     let seen: Vec<Device> = r.disagreements_first_s.keys().copied().collect();
     println!(
         "{}: clock_disagreement raised {:?} (first at s), at the end {:?}; disagreeing times: \
-         VN-200 {}, TT-Multi-RF {}",
+         VN-200 {}, TT-Multi-RF {}; TT-Multi-RF messages on a busy line {}",
         c.name,
         r.disagreements_first_s,
         r.disagreements_at_end,
         r.vn200_disagreeing,
-        r.tt_disagreeing
+        r.tt_disagreeing,
+        r.tt_busy_messages
     );
+    if (r.tt_busy_messages > 0) != c.busy_tt_line {
+        failures.push(format!(
+            "{}: {} TT-Multi-RF messages on a busy line, expected {}",
+            c.name,
+            r.tt_busy_messages,
+            if c.busy_tt_line { "some" } else { "none" }
+        ));
+    }
     if seen != c.disagreeing {
         failures.push(format!(
             "{}: clock_disagreement raised for {seen:?}, expected {:?}",
@@ -218,6 +230,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "0x06 sent 0.3 s late",
@@ -226,6 +239,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "0x06 sent 0.7 s late",
@@ -234,6 +248,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "0x06 repeated every 100 ms",
@@ -242,6 +257,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "software pulse capture 0-30 us",
@@ -250,6 +266,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "wrong PPS edge (+100 ms)",
@@ -258,6 +275,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[Device::Bahrs],
+            busy_tt_line: false,
         },
         Case {
             name: "PPS absent (sync not wired)",
@@ -266,6 +284,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "BAHRS MCU reset at 20 s",
@@ -279,6 +298,7 @@ fn pps_and_pulse_report_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
     ];
     let runs = check_all(&cases);
@@ -386,6 +406,7 @@ fn links_outages_and_time_stamp_readings() {
             setup: ftdi_16,
             extra_jitter_ns: ftdi_16_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "FTDI 1 ms (Watson, TT CSV, BAHRS)",
@@ -394,6 +415,7 @@ fn links_outages_and_time_stamp_readings() {
             setup: ftdi_1,
             extra_jitter_ns: ftdi_1_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "TT-Multi-RF CSV at 115200",
@@ -409,6 +431,7 @@ fn links_outages_and_time_stamp_readings() {
             setup: tt_115200,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "JSON ts rounded",
@@ -417,6 +440,7 @@ fn links_outages_and_time_stamp_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "GNSS outage 15-60 s (PPS stops)",
@@ -431,6 +455,7 @@ fn links_outages_and_time_stamp_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "VN-200 GNSS loss 15-60 s (PPS stops)",
@@ -445,6 +470,7 @@ fn links_outages_and_time_stamp_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "UTC midnight",
@@ -453,6 +479,7 @@ fn links_outages_and_time_stamp_readings() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
     ];
     let runs = check_all(&cases);
@@ -493,6 +520,7 @@ fn vn200_silent_for_five_minutes_keeps_the_traffic_aligned() {
         setup: none,
         extra_jitter_ns: no_jitter,
         disagreeing: &[],
+        busy_tt_line: false,
     };
     let runs = check_all(std::slice::from_ref(&case));
     let r = &runs[0].1;
@@ -532,6 +560,7 @@ fn host_stamp_bursts() {
         setup: none,
         extra_jitter_ns: bursts_jitter,
         disagreeing: &[],
+        busy_tt_line: false,
     };
     check_all(std::slice::from_ref(&case));
 }
@@ -567,6 +596,7 @@ fn a_device_time_a_second_off_disagrees_with_the_host_clock() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[Device::Vn200],
+            busy_tt_line: false,
         },
         Case {
             name: "TT-Multi-RF ts / TS24h +1 s from 20 s",
@@ -575,6 +605,7 @@ fn a_device_time_a_second_off_disagrees_with_the_host_clock() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[Device::Ttmrf],
+            busy_tt_line: false,
         },
     ];
     let runs = check_all(&cases);
@@ -641,6 +672,7 @@ fn a_vn200_time_a_second_off_without_a_second_source_is_never_passed_off() {
         setup: none,
         extra_jitter_ns: no_jitter,
         disagreeing: &[Device::Vn200],
+        busy_tt_line: false,
     };
     let runs = check_all(std::slice::from_ref(&case));
     let r = &runs[0].1;
@@ -692,6 +724,7 @@ fn native_uart_and_usb_cdc_ports() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
         Case {
             name: "USB CDC (Watson, TT CSV)",
@@ -700,7 +733,60 @@ fn native_uart_and_usb_cdc_ports() {
             setup: none,
             extra_jitter_ns: no_jitter,
             disagreeing: &[],
+            busy_tt_line: false,
         },
     ];
     check_all(&cases);
+}
+
+/// The TT-Multi-RF sending more than its line carries: `vigil measure`'s full-rates scenario
+/// (300 intruders, JSON and raw HEX at 921 600 baud, about 101 kB/s of output for 92 kB/s of
+/// line). The simulated module queues its output up to its transmit buffer (about 40 ms) and
+/// discards what does not fit, as a UART device does. Its `ts` / TS24h stay right (they name
+/// when each report was made, not when it left); the host sees every message 33-45 ms after
+/// it. No clock may be called disagreeing for it, and no time may be passed off.
+#[test]
+fn a_saturated_tt_line_queues_without_a_false_disagreement() {
+    let case = Case {
+        name: "TT-Multi-RF line saturated (full-rates)",
+        scenario: Scenario::from_toml(include_str!("../data/full-rates.toml")).unwrap(),
+        seconds: 30,
+        setup: none,
+        extra_jitter_ns: no_jitter,
+        disagreeing: &[],
+        busy_tt_line: true,
+    };
+    let runs = check_all(std::slice::from_ref(&case));
+    // The line is seen busy: its TT-Multi-RF messages are counted so, from the first second.
+    let r = &runs[0].1;
+    assert!(r.tt_busy_messages > 0, "the line was not seen busy");
+}
+
+/// A busy line's host-timed samples are late by an unknown queue of up to the limit (0.5 s):
+/// their goal is that limit.
+fn queue_limit_jitter(d: Device) -> i64 {
+    if d == Device::Ttmrf { 500 * MS } else { 0 }
+}
+
+/// As above with CSV and HEXd at 115 200 baud (no time of their own: every TT-Multi-RF sample
+/// host-timed; at 921 600 baud they fit the line). The module's 4 KiB buffer holds 0.36 s of
+/// output at that rate: lines arrive up to that late against what the host clock says, and no
+/// sample may be passed off with a sigma that does not cover it.
+#[test]
+fn a_saturated_tt_line_widens_its_host_timed_samples() {
+    let mut scenario = Scenario::from_toml(include_str!("../data/full-rates.toml")).unwrap();
+    let tt = scenario.devices.ttmrf.as_mut().unwrap();
+    tt.protocol = "csv".into();
+    tt.raw = "hexd".into();
+    tt.baud = 115_200;
+    let case = Case {
+        name: "TT-Multi-RF line saturated, CSV and HEXd at 115200",
+        scenario,
+        seconds: 30,
+        setup: tt_115200,
+        extra_jitter_ns: queue_limit_jitter,
+        disagreeing: &[],
+        busy_tt_line: true,
+    };
+    check_all(std::slice::from_ref(&case));
 }

@@ -27,6 +27,7 @@ use super::bahrs::{BahrsAligner, BahrsAlignerConfig};
 use super::cross_check::{CrossCheckConfig, host_view};
 use super::host::{HostClock, HostClockConfig};
 use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
+use super::line_load::LineLoad;
 use super::pps::PpsReferences;
 use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
 use super::vn200::{Vn200Aligner, Vn200AlignerConfig, Vn200Times};
@@ -185,6 +186,15 @@ pub struct Aligner {
     tt_disagreement: bool,
     /// TT-Multi-RF times that disagreed with the host clock.
     tt_disagreeing: u64,
+    // --- a TT-Multi-RF sending more than its line carries ---
+    /// Bytes of its messages over the last moments of host time ([`LineLoad`]).
+    tt_line: LineLoad,
+    /// How long its line had been full at its latest message, at most
+    /// [`TtAlignerConfig::queue_limit_ns`], ns (0: not full): the longest that message can
+    /// have waited in the module's queue.
+    tt_queue_ns: i64,
+    /// Its messages received while its line was busy.
+    tt_busy_messages: u64,
 }
 
 impl Aligner {
@@ -206,6 +216,9 @@ impl Aligner {
             tt_host: HostClock::new(cfg.host),
             tt_disagreement: false,
             tt_disagreeing: 0,
+            tt_line: LineLoad::default(),
+            tt_queue_ns: 0,
+            tt_busy_messages: 0,
         }
     }
 
@@ -251,6 +264,50 @@ impl Aligner {
     /// TT-Multi-RF times (JSON `ts`, TS24h) that disagreed with the host clock so far.
     pub fn ttmrf_times_disagreeing(&self) -> u64 {
         self.tt_disagreeing
+    }
+
+    /// Whether the TT-Multi-RF's line was full at its latest message ([`LineLoad`]): its
+    /// output waits in the module, so its times teach no host clock, its own time may precede
+    /// its arrival by as long as the line has been full (at most
+    /// [`TtAlignerConfig::queue_limit_ns`]), and its host-timed samples carry that wait in
+    /// their sigma.
+    pub fn ttmrf_line_busy(&self) -> bool {
+        self.tt_queue_ns > 0
+    }
+
+    /// TT-Multi-RF messages received while its line was full, so far.
+    pub fn ttmrf_busy_messages(&self) -> u64 {
+        self.tt_busy_messages
+    }
+
+    /// Counts a TT-Multi-RF message on its line and notes how long the line has been full.
+    /// Decision: when it becomes full the TT's host clock is dropped, since the references it
+    /// learned just before may already have been queued (a line full from power-on is seen
+    /// after 100 ms, long before five seconds of references could lock it).
+    fn note_tt_line(&mut self, rx: Rx) {
+        self.tt_line.add(rx.host_ns, rx.wire_len);
+        let full_ns = self
+            .tt_line
+            .full_for_ns(rx.host_ns, self.base.ttmrf.link.baud);
+        let queue_ns = full_ns.min(self.cfg.ttmrf.queue_limit_ns);
+        if queue_ns > 0 && self.tt_queue_ns == 0 {
+            self.tt_host = HostClock::new(self.cfg.host);
+        }
+        self.tt_queue_ns = queue_ns;
+        self.tt_busy_messages += u64::from(queue_ns > 0);
+    }
+
+    /// The TT-Multi-RF's link for its host-timed samples: while its line is full, a message
+    /// waited in the module between 0 and the time the line has been full (at most the queue
+    /// limit) before it was sent, taken as uniform (half of it added to its delay, it /
+    /// sqrt(12) to its sigma).
+    fn tt_link(&self) -> HostTimedLink {
+        let link = self.cfg.ttmrf.link;
+        if self.tt_queue_ns > 0 {
+            link.with_read_interval(u64::try_from(self.tt_queue_ns).unwrap_or(0))
+        } else {
+            link
+        }
     }
 
     /// The host clock model.
@@ -395,6 +452,9 @@ impl Aligner {
         rx: Rx,
         out: &mut Vec<AlignedSample>,
     ) {
+        if device == Device::Ttmrf {
+            self.note_tt_line(rx);
+        }
         let time = self.place_checked(&other, rx);
         if self.learn_tt_host(&other, rx, &time) {
             // A new host-clock reference may free what waits for it.
@@ -557,7 +617,10 @@ impl Aligner {
 
     /// GPS time of a sample whose time depends on the host clock (Watson, TT-Multi-RF).
     fn place_host_dependent(&self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
-        let tt = &self.cfg.ttmrf;
+        let tt = &TtAlignerConfig {
+            link: self.tt_link(),
+            ..self.cfg.ttmrf
+        };
         let h = first_byte_host_ns(rx, tt.link.baud);
         let host = Self::pick(&self.host, &self.tt_host, h);
         let leap = self
@@ -591,7 +654,9 @@ impl Aligner {
     /// delay, with the port's link sigma. A disagreeing time is replaced by the host-timed
     /// placement (its sigma; not a reference of the TT's host clock), or marked
     /// [`NotAligned::ClockDisagreement`] without a host clock. TS1s is not checked: its second
-    /// is named by the host clock itself.
+    /// is named by the host clock itself. While the TT's line is full its time may precede the
+    /// view by as long as the line has been full, up to the queue limit
+    /// ([`CrossCheckConfig::disagrees_after_queue`]).
     fn place_checked(&mut self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
         let time = self.place_host_dependent(sample, rx);
         let Ok(a) = time else { return time };
@@ -607,23 +672,24 @@ impl Aligner {
             t.saturating_sub(link.output_delay_ns),
             (s * s + link.output_delay_sigma_ns.powi(2)).sqrt(),
         );
-        self.tt_disagreement = self
-            .cfg
-            .cross_check
-            .disagrees((a.t_gps_ns, a.sigma_ns), view);
+        self.tt_disagreement = self.cfg.cross_check.disagrees_after_queue(
+            (a.t_gps_ns, a.sigma_ns),
+            view,
+            self.tt_queue_ns,
+        );
         if !self.tt_disagreement {
             return time;
         }
         self.tt_disagreeing += 1;
         let host = Self::pick(&self.host, &self.tt_host, h);
-        host_timed(host, rx, link).or(Err(NotAligned::ClockDisagreement))
+        host_timed(host, rx, self.tt_link()).or(Err(NotAligned::ClockDisagreement))
     }
 
     /// A TT-Multi-RF sample placed by its own GNSS time (JSON `ts`, raw TS24h) is a reference of
     /// the second host clock: host time its first byte left against its GPS time plus the
     /// port's assumed output delay (issue 18 point 6). TS1s is not one (its second is named by
-    /// the host clock itself).
-    /// Returns true when a reference was added.
+    /// the host clock itself), nor is any while the TT's line is full (its messages waited in
+    /// the module). Returns true when a reference was added.
     fn learn_tt_host(
         &mut self,
         sample: &Sample,
@@ -631,7 +697,9 @@ impl Aligner {
         time: &Result<AlignedTime, NotAligned>,
     ) -> bool {
         let Ok(a) = time else { return false };
-        if a.source != TimeSource::UtcTimeOfDay
+        // A busy line's messages left the module late by an unknown queue: not references.
+        if self.tt_queue_ns > 0
+            || a.source != TimeSource::UtcTimeOfDay
             || a.status != ClockStatus::Locked
             || !matches!(sample, Sample::TtText(_) | Sample::TtRaw(_))
         {

@@ -979,3 +979,71 @@ fn the_bahrs_clock_report_follows_the_latest_mcu_time_of_any_timed_message() {
     );
     assert!((report(&al) - offset_at(26.0)).abs() < 5_000.0);
 }
+
+/// A TT-Multi-RF whose output exceeds its line by 10 % from G0 + 8.1 s: 200-byte JSON messages
+/// back to back (one every 2.17 ms at 921 600 baud), each waiting in the module's queue, which
+/// grows by a tenth of the time elapsed up to 40 ms (its buffer), so a `ts` precedes its
+/// sending by that much. The line reads as full once 100 ms hold 80 % of what it carries
+/// (7 373 bytes: the 37th message, 78 ms in), when the queue is 8 ms, inside the cross-check's
+/// margin; the 884 messages from there on are counted as on a full line.
+#[test]
+fn a_busy_ttmrf_line_is_no_reference_and_its_queue_is_no_disagreement() {
+    let mut al = locked_on_vn200();
+    // A right `ts` on a quiet line teaches the TT's host clock.
+    let t = G0 + 8_000 * MS;
+    tt_out(&mut al, json_at(t, t)).unwrap();
+    assert!(al.tt_host_clock().last_reference_host_ns().is_some());
+    assert!(!al.ttmrf_line_busy());
+    let (mut last, start) = (None, G0 + 8_100 * MS);
+    for k in 0..921 {
+        let t = start + k * tx_ns(200, 921_600);
+        let queue = ((t - start) / 10).min(40 * MS);
+        last = Some((t, tt_out(&mut al, json_at(t, t - queue)).unwrap()));
+    }
+    assert!(al.ttmrf_line_busy());
+    let busy = al.ttmrf_busy_messages();
+    assert!((882..=886).contains(&busy), "{busy}");
+    // The TT's host clock was dropped when the line became busy and learned nothing since.
+    assert_eq!(al.tt_host_clock().last_reference_host_ns(), None);
+    // 40 ms early is a queue, not a disagreement: the `ts` stands (the whole ms at or before
+    // the instant it names, plus the 0.25 ms mid-point).
+    assert!(al.clock_disagreements().is_empty());
+    assert_eq!(al.ttmrf_times_disagreeing(), 0);
+    let (t, a) = last.unwrap();
+    assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+    let e = a.t_gps_ns - (t - 40 * MS);
+    assert!((-750_000..=250_000).contains(&e), "{e}");
+    // A host-timed message on the busy line: its wait of 0 ..= 0.5 s taken as uniform, 250 ms
+    // earlier than on a quiet line, sigma at least 0.5 s / sqrt(12) = 144.3 ms.
+    let t = G0 + 10_100 * MS;
+    let (_, rx) = json_at(t, t);
+    let no_ts = || Sample::TtText(Box::new(TextMessage::Json(Box::default())));
+    let busy = tt_out(&mut al, (no_ts(), rx)).unwrap();
+    let quiet = tt_out(&mut locked_on_vn200(), (no_ts(), rx)).unwrap();
+    assert_eq!(busy.source, TimeSource::HostClock);
+    assert!(
+        (quiet.t_gps_ns - busy.t_gps_ns - 250 * MS).abs() <= 1,
+        "{busy:?} {quiet:?}"
+    );
+    assert!(busy.sigma_ns >= 144_337_000.0, "{}", busy.sigma_ns);
+    assert!(
+        (busy.sigma_ns.powi(2) - quiet.sigma_ns.powi(2) - (500e6f64).powi(2) / 12.0).abs() < 1e6,
+        "{} {}",
+        busy.sigma_ns,
+        quiet.sigma_ns
+    );
+    // One-sided: a `ts` 30 ms after it was sent (nothing arrives before it is made) and a `ts`
+    // a second early still disagree.
+    let t = G0 + 10_102 * MS;
+    assert_eq!(
+        tt_out(&mut al, json_at(t, t + 30 * MS)).unwrap().source,
+        TimeSource::HostClock
+    );
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+    let t = G0 + 10_104 * MS;
+    tt_out(&mut al, json_at(t, t)).unwrap();
+    assert!(al.clock_disagreements().is_empty());
+    let t = G0 + 10_106 * MS;
+    tt_out(&mut al, json_at(t, t - S)).unwrap();
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+}

@@ -58,7 +58,19 @@ impl CrossCheckConfig {
 
     /// Whether a device time `(t, sigma)` disagrees with the host view `(t, sigma)`, ns.
     pub fn disagrees(&self, dev: (i64, f64), host: (i64, f64)) -> bool {
-        (dev.0.saturating_sub(host.0) as f64).abs() > self.tolerance_ns(dev.1, host.1)
+        self.disagrees_after_queue(dev, host, 0)
+    }
+
+    /// As [`Self::disagrees`], for a device whose output may have waited up to `queue_ns` in
+    /// its own transmit buffer (a busy line, [`super::line_load`]): its time may then precede
+    /// the host's view of its sending by up to that much more, never follow it. One-sided:
+    /// a device time later than the view by more than the tolerance still disagrees (nothing
+    /// is received before it is made), and so does one earlier by more than the tolerance and
+    /// the queue.
+    pub fn disagrees_after_queue(&self, dev: (i64, f64), host: (i64, f64), queue_ns: i64) -> bool {
+        let tol = self.tolerance_ns(dev.1, host.1);
+        let d = dev.0.saturating_sub(host.0) as f64;
+        d > tol || -d > tol + queue_ns.max(0) as f64
     }
 }
 
@@ -91,6 +103,23 @@ mod tests {
         assert!(c.disagrees((1_000 * S + 22_500_001, 300e3), (1_000 * S, 400e3)));
         assert!(c.disagrees((1_000 * S + 23 * MS, 300e3), (1_000 * S, 400e3)));
         assert!(c.disagrees((1_000 * S - S, 300e3), (1_000 * S, 400e3)));
+    }
+
+    #[test]
+    fn a_queue_widens_the_early_side_only_by_hand() {
+        let c = CrossCheckConfig::default();
+        let host = (1_000 * S, 400e3);
+        // Tolerance 22.5 ms (above); a queue of up to 500 ms: early by up to 522.5 ms agrees.
+        assert!(!c.disagrees_after_queue((1_000 * S - 522_500_000, 300e3), host, 500 * MS));
+        assert!(c.disagrees_after_queue((1_000 * S - 522_500_001, 300e3), host, 500 * MS));
+        // Late: the queue does not help (a message is not received before it is made).
+        assert!(!c.disagrees_after_queue((1_000 * S + 22_500_000, 300e3), host, 500 * MS));
+        assert!(c.disagrees_after_queue((1_000 * S + 22_500_001, 300e3), host, 500 * MS));
+        // A second early is still a second off.
+        assert!(c.disagrees_after_queue((1_000 * S - S, 300e3), host, 500 * MS));
+        // 40 ms early (the simulator's full line): only with the queue.
+        assert!(c.disagrees((1_000 * S - 40 * MS, 300e3), host));
+        assert!(!c.disagrees_after_queue((1_000 * S - 40 * MS, 300e3), host, 500 * MS));
     }
 
     #[test]

@@ -24,6 +24,7 @@ pub mod cross_check;
 pub mod gps;
 pub mod host;
 pub mod host_timed;
+pub mod line_load;
 pub mod mcu_host;
 pub mod pps;
 pub mod seq;

@@ -37,6 +37,14 @@ pub struct TtAlignerConfig {
     /// 1-sigma of a TS24h / TS1s stamp, ns. Decision: 1 us (a PPS-disciplined counter; the
     /// manual gives ns resolution but no accuracy).
     pub ts24h_sigma_ns: f64,
+    /// Longest wait of a message in the module's transmit buffer while its line is busy
+    /// ([`super::line_load`]), ns. Decision: the manual states neither the buffer nor what the
+    /// module does when its output exceeds the line; 0.5 s of output is 46 KB at 921 600 baud
+    /// (far more than an MCU-class module holds; the simulator's 4 KiB wait 44 ms) and half the
+    /// smallest time fault the cross-check is for (a `ts` a second off), which stays caught. A
+    /// deeper queue (a large buffer at a low baud) is called a disagreement: fail-safe, its
+    /// samples are then host-timed with this wait in their sigma.
+    pub queue_limit_ns: i64,
 }
 
 impl Default for TtAlignerConfig {
@@ -48,6 +56,7 @@ impl Default for TtAlignerConfig {
                 output_delay_sigma_ns: 500_000.0,
             },
             ts24h_sigma_ns: 1_000.0,
+            queue_limit_ns: 500_000_000,
         }
     }
 }

@@ -68,6 +68,8 @@ pub struct Run {
     pub disagreements_at_end: Vec<Device>,
     /// TT-Multi-RF times that disagreed with the host clock.
     pub tt_disagreeing: u64,
+    /// TT-Multi-RF messages received while its line was busy.
+    pub tt_busy_messages: u64,
     /// The VN-200 aligner's GPS times that disagreed with the host clock.
     pub vn200_disagreeing: u64,
 }
@@ -318,6 +320,7 @@ pub fn run_with(
         disagreements_first_s,
         disagreements_at_end: aligner.clock_disagreements(),
         tt_disagreeing: aligner.ttmrf_times_disagreeing(),
+        tt_busy_messages: aligner.ttmrf_busy_messages(),
         vn200_disagreeing: aligner.vn200().stats().disagreeing,
     }
 }
