@@ -302,12 +302,11 @@ impl Aligner {
     /// limit) before it was sent, taken as uniform (half of it added to its delay, it /
     /// sqrt(12) to its sigma).
     fn tt_link(&self) -> HostTimedLink {
-        let link = self.cfg.ttmrf.link;
-        if self.tt_queue_ns > 0 {
-            link.with_read_interval(u64::try_from(self.tt_queue_ns).unwrap_or(0))
-        } else {
-            link
-        }
+        // A wait of 0 (a line not full) leaves the link as it is.
+        self.cfg
+            .ttmrf
+            .link
+            .with_read_interval(u64::try_from(self.tt_queue_ns).unwrap_or(0))
     }
 
     /// The host clock model.

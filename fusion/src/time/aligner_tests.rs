@@ -1047,3 +1047,58 @@ fn a_busy_ttmrf_line_is_no_reference_and_its_queue_is_no_disagreement() {
     tt_out(&mut al, json_at(t, t - S)).unwrap();
     assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
 }
+
+/// The TT's host clock and a line that fills: an aligner fed a VN-200 at 40 Hz and, from G0,
+/// one right JSON `ts` every 100 ms (2 kB/s: a quiet line), which lock the TT's host clock;
+/// then JSON messages back to back (200 bytes every 2.17 ms) only until the line first reads
+/// as full, then quiet again. The TT's host clock is dropped at that first full message (the
+/// references just before may have been queued), learns nothing while the line is full, and
+/// learns again once it is quiet.
+#[test]
+fn the_tt_host_clock_is_dropped_when_the_line_fills_and_learns_again_when_it_empties() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let mut vn_next = G0;
+    let mut feed_vn_until = |al: &mut Aligner, t: i64| {
+        while vn_next <= t {
+            let (s, rx) = vn200(vn_next);
+            al.handle(s, rx);
+            vn_next += 25 * MS;
+        }
+    };
+    for k in 0..80 {
+        let t = G0 + k * 100 * MS;
+        feed_vn_until(&mut al, t);
+        // The first ones wait for a host clock (they come out later): not looked at.
+        let (s, rx) = json_at(t, t);
+        al.handle(s, rx);
+    }
+    let h = G0 + 7_900 * MS + OFF;
+    assert_eq!(al.tt_host_clock().status(h), ClockStatus::Locked);
+    assert!(!al.ttmrf_line_busy());
+    assert_eq!(al.ttmrf_busy_messages(), 0);
+    // Back to back until the line reads as full (the 37th message, by hand: see the test
+    // above), then stop.
+    let start = G0 + 8_000 * MS;
+    let mut k = 0;
+    while !al.ttmrf_line_busy() {
+        let t = start + k * tx_ns(200, 921_600);
+        feed_vn_until(&mut al, t);
+        tt_out(&mut al, json_at(t, t)).unwrap();
+        k += 1;
+        assert!(k < 100, "the line never read as full");
+    }
+    assert_eq!(al.ttmrf_busy_messages(), 1);
+    assert_eq!(al.tt_host_clock().last_reference_host_ns(), None);
+    // Quiet again from 1 s later: the line no longer reads as full, and each right `ts`
+    // teaches the TT's host clock again.
+    let t = start + 1_000 * MS;
+    feed_vn_until(&mut al, t);
+    let (s, rx) = json_at(t, t);
+    tt_out(&mut al, (s, rx)).unwrap();
+    assert!(!al.ttmrf_line_busy());
+    assert_eq!(al.ttmrf_busy_messages(), 1);
+    assert_eq!(
+        al.tt_host_clock().last_reference_host_ns(),
+        Some(rx.host_ns - tx_ns(200, 921_600))
+    );
+}

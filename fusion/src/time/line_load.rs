@@ -70,11 +70,11 @@ impl LineLoad {
             // a model): counted in the newest one.
             Some(n) if index <= n => n,
             Some(n) => {
-                // The slots passed over saw nothing.
+                // The slots passed over saw nothing, and the new one starts empty (more than
+                // SLOTS of them: every slot).
                 for i in (n + 1)..=index.min(n + SLOTS as i64) {
                     self.slots[ring(i)] = 0;
                 }
-                self.slots[ring(index)] = 0;
                 index
             }
             None => index,
@@ -94,9 +94,10 @@ impl LineLoad {
         // Bytes per slot at FULL_FRACTION of the line.
         let full_per_slot = FULL_FRACTION * f64::from(baud) / 10.0 * SLOT_NS as f64 * 1e-9;
         let (mut bytes, mut longest) = (0.0, 0);
+        // `now >= newest`, so every slot from `now - SLOTS + 1` up to `newest` is in the history.
         for k in 0..SLOTS as i64 {
             let i = now - k;
-            if i <= newest && i > newest - SLOTS as i64 {
+            if i <= newest {
                 bytes += f64::from(self.slots[ring(i)]);
             }
             let span = (k + 1) * SLOT_NS;
@@ -178,6 +179,20 @@ mod tests {
         }
         assert_eq!(l.full_for_ns(last, 921_600), 0);
         assert_eq!(l.full_for_ns(last + 9 * MS, 921_600), 0);
+    }
+
+    /// A full line, 300 ms of silence, then one byte: the slots passed over are empty, not
+    /// what they held a history ago. By hand: n slots back hold 1 byte for n <= 60, then 400
+    /// more per slot, and 400 (n - 60) + 1 never reaches 368.64 n within 128 slots.
+    #[test]
+    fn slots_passed_over_are_empty() {
+        let mut l = LineLoad::default();
+        for k in 0..400 {
+            l.add(10 * S + k * 2_500_000, 200);
+        }
+        assert_eq!(l.full_for_ns(10 * S + 997_500_000, 921_600), 640 * MS);
+        l.add(11 * S + 295 * MS, 1);
+        assert_eq!(l.full_for_ns(11 * S + 295 * MS, 921_600), 0);
     }
 
     #[test]
