@@ -42,8 +42,8 @@ pub struct TtAlignerConfig {
     /// module does when its output exceeds the line; 0.5 s of output is 46 KB at 921 600 baud
     /// (far more than an MCU-class module holds; the simulator's 4 KiB wait 44 ms) and half the
     /// smallest time fault the cross-check is for (a `ts` a second off), which stays caught. A
-    /// deeper queue (a large buffer at a low baud) is called a disagreement: fail-safe, its
-    /// samples are then host-timed with this wait in their sigma.
+    /// deeper queue (a large buffer at a low baud) is called a disagreement and raised as one;
+    /// its samples are then host-timed with a sigma that covers only this limit.
     pub queue_limit_ns: i64,
 }
 
