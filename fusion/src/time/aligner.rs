@@ -193,7 +193,7 @@ pub struct Aligner {
     /// [`TtAlignerConfig::queue_limit_ns`], ns (0: not full): the longest that message can
     /// have waited in the module's queue.
     tt_queue_ns: i64,
-    /// Its messages received while its line was busy.
+    /// Its messages received while its line was full.
     tt_busy_messages: u64,
 }
 
@@ -283,7 +283,7 @@ impl Aligner {
     /// Counts a TT-Multi-RF message on its line and notes how long the line has been full.
     /// Decision: when it becomes full the TT's host clock is dropped, since the references it
     /// learned just before may already have been queued (a line full from power-on is seen
-    /// after 100 ms, long before five seconds of references could lock it).
+    /// within its first 100 ms, long before five seconds of references could lock it).
     fn note_tt_line(&mut self, rx: Rx) {
         self.tt_line.add(rx.host_ns, rx.wire_len);
         let full_ns = self
@@ -696,7 +696,7 @@ impl Aligner {
         time: &Result<AlignedTime, NotAligned>,
     ) -> bool {
         let Ok(a) = time else { return false };
-        // A busy line's messages left the module late by an unknown queue: not references.
+        // A full line's messages left the module late by an unknown queue: not references.
         if self.tt_queue_ns > 0
             || a.source != TimeSource::UtcTimeOfDay
             || a.status != ClockStatus::Locked

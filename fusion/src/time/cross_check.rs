@@ -62,7 +62,7 @@ impl CrossCheckConfig {
     }
 
     /// As [`Self::disagrees`], for a device whose output may have waited up to `queue_ns` in
-    /// its own transmit buffer (a busy line, [`super::line_load`]): its time may then precede
+    /// its own transmit buffer (a full line, [`super::line_load`]): its time may then precede
     /// the host's view of its sending by up to that much more, never follow it. One-sided:
     /// a device time later than the view by more than the tolerance still disagrees (nothing
     /// is received before it is made), and so does one earlier by more than the tolerance and

@@ -37,7 +37,7 @@ pub struct TtAlignerConfig {
     /// 1-sigma of a TS24h / TS1s stamp, ns. Decision: 1 us (a PPS-disciplined counter; the
     /// manual gives ns resolution but no accuracy).
     pub ts24h_sigma_ns: f64,
-    /// Longest wait of a message in the module's transmit buffer while its line is busy
+    /// Longest wait of a message in the module's transmit buffer while its line is full
     /// ([`super::line_load`]), ns. Decision: the manual states neither the buffer nor what the
     /// module does when its output exceeds the line; 0.5 s of output is 46 KB at 921 600 baud
     /// (far more than an MCU-class module holds; the simulator's 4 KiB wait 44 ms) and half the
