@@ -25,8 +25,8 @@
 //! (92 kB/s): the simulated module queues it 33-45 ms and discards about a fifth, as a device
 //! would; the aligner sees the line full (`fusion::time::line_load`).
 
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -40,6 +40,7 @@ use vigil_bus::{Bus, BusConfig};
 use vigil_sim::Simulator;
 use vigil_sim::scenario::Scenario;
 
+use crate::demo::SimPort;
 use crate::listen::LatencyStats;
 use crate::sim_live::{LiveSink, Stamp, Stamper, link_ports, open_pty};
 
@@ -206,7 +207,13 @@ pub struct Report {
     /// Bytes the simulator could not write because a terminal was full (the service read too
     /// late), per port (device, bytes), over the whole run. Any is a failure of the run: a
     /// real serial line would have lost them.
-    pub dropped_bytes: std::collections::BTreeMap<String, u64>,
+    pub dropped_bytes: BTreeMap<String, u64>,
+    /// Messages the simulated devices lost before the terminals, per device, over the whole
+    /// run (the simulator's truth): a device whose output exceeds its line discards what its
+    /// buffer cannot hold, as the default scenario's TT-Multi-RF does (about a fifth of its
+    /// output; `vigil run` says so with the `line_full` alert). Not a failure of the service,
+    /// which never saw them; a scenario whose devices lose nothing reports an empty map.
+    pub device_lost_messages: BTreeMap<String, u64>,
     /// Resident set of `vigil run` at the end, MB.
     pub rss_mb: f64,
     /// Its peak resident set, MB.
@@ -296,16 +303,18 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
             );
         }
     }
-    let links: Vec<(&str, PathBuf, Option<f64>)> = names
+    let links: Vec<SimPort> = ports
         .iter()
-        .map(|d| {
-            let interval = args
+        .map(|p| SimPort {
+            device: p.device,
+            path: pty_dir.join(p.device),
+            read_interval_ms: args
                 .read_interval_ms
                 .iter()
                 .rev()
-                .find(|(device, _)| device == d)
-                .map(|(_, ms)| *ms);
-            (*d, pty_dir.join(d), interval)
+                .find(|(device, _)| device == p.device)
+                .map(|(_, ms)| *ms),
+            baud: Some(p.baud),
         })
         .collect();
     let config = dir.join("vigil.toml");
@@ -366,11 +375,11 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
     let total_s = args.warmup + args.duration + 0.5;
     let (tx, stamps) = mpsc::channel::<Stamp>();
     let vn_port = u16::try_from(vn200)?;
-    let writer = std::thread::spawn(move || -> Result<(Vec<u64>, u64)> {
+    let writer = std::thread::spawn(move || -> Result<(Vec<u64>, u64, BTreeMap<&str, u64>)> {
         let mut sink = LiveSink::new(ptys, 1.0).with_stamper(Stamper::new("vn200", vn_port, tx));
         sim.run((total_s * 1e9) as i64, &mut sink)
             .map_err(|e| anyhow!("simulation: {e}"))?;
-        Ok((sink.dropped_by_port, sink.chunks))
+        Ok((sink.dropped_by_port, sink.chunks, sink.lost_messages))
     });
 
     let start = Instant::now();
@@ -427,7 +436,7 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
         }
     }
     let clean = run.stop(Duration::from_secs(5));
-    let (dropped, chunks) = writer
+    let (dropped, chunks, lost) = writer
         .join()
         .map_err(|_| anyhow!("the simulator thread panicked"))??;
     // The floor reader without a bus has no handler: SIGTERM ends it, which is not a failure.
@@ -481,6 +490,7 @@ fn measure(args: &MeasureArgs, dir: &Path, prefix: &str) -> Result<Report> {
             .zip(dropped)
             .map(|(n, d)| (n.to_string(), d))
             .collect(),
+        device_lost_messages: lost.into_iter().map(|(d, n)| (d.to_string(), n)).collect(),
         rss_mb: p1.rss_kb as f64 / 1024.0,
         peak_rss_mb: p1.hwm_kb as f64 / 1024.0,
         missed: sub.missed(),

@@ -104,6 +104,11 @@ pub struct LiveSink {
     pub dropped_by_port: Vec<u64>,
     /// Chunks written (one write each).
     pub chunks: u64,
+    /// Messages that never reached a terminal whole, per device, from the simulator's truth:
+    /// discarded by a device whose output exceeds its line (its buffer full), or lost or
+    /// damaged by a link fault of the scenario. Not the service's doing: what a real device on
+    /// such a line would lose.
+    pub lost_messages: std::collections::BTreeMap<&'static str, u64>,
 }
 
 impl LiveSink {
@@ -116,6 +121,7 @@ impl LiveSink {
             start: None,
             stamper: None,
             chunks: 0,
+            lost_messages: std::collections::BTreeMap::new(),
         }
     }
 
@@ -183,6 +189,9 @@ impl Sink for LiveSink {
     }
 
     fn truth(&mut self, record: &TruthRecord, _t_host_ns: u64) -> Result<(), SinkError> {
+        if record.corrupted {
+            *self.lost_messages.entry(record.device).or_default() += 1;
+        }
         if let Some(st) = self
             .stamper
             .as_mut()

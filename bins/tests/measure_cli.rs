@@ -54,6 +54,67 @@ fn every_vn200_message_comes_back_as_a_fused_attitude_in_another_process() {
     assert!(r["cpu_percent_of_one_core"].as_f64().unwrap() > 0.0, "{r}");
     let rss = r["rss_mb"].as_f64().unwrap();
     assert!(rss > 1.0 && rss < 200.0, "{r}");
+    // `nominal`'s devices fit their lines: none loses a message before the terminals, and the
+    // service raises no full-line alert.
+    assert_eq!(
+        r["device_lost_messages"].as_object().map(|m| m.len()),
+        Some(0),
+        "{r}"
+    );
+    let alerts = r["alerts"].as_array().unwrap();
+    assert!(
+        !alerts
+            .iter()
+            .any(|a| a.as_str().unwrap().contains("fills its serial line")),
+        "{r}"
+    );
+}
+
+/// A TT-Multi-RF whose output exceeds its line (forty targets in JSON and raw HEX at 9600
+/// baud, about 960 bytes/s): the simulated module discards what its buffer cannot hold, which
+/// `vigil measure` reports from the simulator's truth, and `vigil run`, which never sees those
+/// messages, says its line is full (`line_full`, raised about 1.3 s after the start).
+#[test]
+fn a_ttmrf_line_too_slow_for_its_output_is_reported_and_alerted() {
+    let base = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/data/rules/base.toml"
+    ))
+    .unwrap();
+    let toml = base.replace(
+        "[devices.ttmrf]",
+        "[traffic]\ncount = 40\nradius_m = 20000.0\nheight_band_m = 1000.0\nseed = 44\n\n\
+         [devices.ttmrf]\nbaud = 9600\nraw = \"hex\"",
+    );
+    assert_ne!(toml, base);
+    let dir = std::env::temp_dir().join(format!("vigil-measure-line-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("slow-tt.toml");
+    std::fs::write(&path, toml).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vigil"))
+        .args(["measure", "--duration", "3", "--warmup", "1", "--scenario"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let lost = &r["device_lost_messages"];
+    assert!(lost["ttmrf"].as_u64().unwrap_or(0) > 0, "{r}");
+    // Only the TT-Multi-RF's line is too slow.
+    assert_eq!(lost.as_object().unwrap().len(), 1, "{r}");
+    let alerts = r["alerts"].as_array().unwrap();
+    assert!(
+        alerts.iter().any(|a| {
+            let a = a.as_str().unwrap();
+            a.contains("raised: TT-Multi-RF output fills its serial line")
+        }),
+        "{r}"
+    );
+    // The terminals themselves lost nothing: the service read in time.
+    let dropped = r["dropped_bytes"].as_object().unwrap();
+    assert!(dropped.values().all(|v| v.as_u64() == Some(0)), "{r}");
 }
 
 #[test]

@@ -321,8 +321,10 @@ VIGIL_ASSERT(offsetof(vigil_IntegrityPayload, devices) == 56, "offset of vigil_I
 VIGIL_ASSERT(sizeof(((vigil_IntegrityPayload *)0)->devices) == 832, "size of vigil_IntegrityPayload.devices");
 VIGIL_ASSERT(offsetof(vigil_IntegrityPayload, clock_disagreement) == 888, "offset of vigil_IntegrityPayload.clock_disagreement");
 VIGIL_ASSERT(sizeof(((vigil_IntegrityPayload *)0)->clock_disagreement) == 1, "size of vigil_IntegrityPayload.clock_disagreement");
-VIGIL_ASSERT(offsetof(vigil_IntegrityPayload, reserved_clock) == 889, "offset of vigil_IntegrityPayload.reserved_clock");
-VIGIL_ASSERT(sizeof(((vigil_IntegrityPayload *)0)->reserved_clock) == 7, "size of vigil_IntegrityPayload.reserved_clock");
+VIGIL_ASSERT(offsetof(vigil_IntegrityPayload, line_full) == 889, "offset of vigil_IntegrityPayload.line_full");
+VIGIL_ASSERT(sizeof(((vigil_IntegrityPayload *)0)->line_full) == 1, "size of vigil_IntegrityPayload.line_full");
+VIGIL_ASSERT(offsetof(vigil_IntegrityPayload, reserved_clock) == 890, "offset of vigil_IntegrityPayload.reserved_clock");
+VIGIL_ASSERT(sizeof(((vigil_IntegrityPayload *)0)->reserved_clock) == 6, "size of vigil_IntegrityPayload.reserved_clock");
 VIGIL_ASSERT(offsetof(vigil_IntegrityPayload, active_alert_count) == 896, "offset of vigil_IntegrityPayload.active_alert_count");
 VIGIL_ASSERT(sizeof(((vigil_IntegrityPayload *)0)->active_alert_count) == 4, "size of vigil_IntegrityPayload.active_alert_count");
 VIGIL_ASSERT(offsetof(vigil_IntegrityPayload, active_alert_total) == 900, "offset of vigil_IntegrityPayload.active_alert_total");

@@ -1363,9 +1363,22 @@ typedef struct vigil_IntegrityPayload {
    */
   uint8_t clock_disagreement;
   /**
+   * `line_full`: one bit per `DEVICE_*` code (`1 << code`) whose serial line has carried
+   * at least 80 % of its baud rate for at least the last 100 ms of host time: the device's
+   * output may be waiting in its own queue (its times are then widened by that wait) and,
+   * once its buffer is full, lost in the device, where the host cannot count it. Set today
+   * only for the TT-Multi-RF, the one device whose configured output can exceed its line.
+   * 0: no line is full. Layout v4: the first byte of v3's `reserved_clock` (the type name
+   * changed with it, so a v3 subscriber never takes v4's bit for padding, nor a v4
+   * subscriber a v3 publisher's 0 for "no line full").
+   *
+   * Alert rule `line_full` (0x10).
+   */
+  uint8_t line_full;
+  /**
    * Explicit padding; always 0.
    */
-  uint8_t reserved_clock[7];
+  uint8_t reserved_clock[6];
   /**
    * Number of valid entries in `active_alerts`.
    */

@@ -222,6 +222,7 @@ fn layouts() -> Vec<Layout> {
             clock_sigma_s,
             devices,
             clock_disagreement,
+            line_full,
             reserved_clock,
             active_alert_count,
             active_alert_total,

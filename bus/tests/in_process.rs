@@ -268,7 +268,7 @@ fn type_names_are_explicit_and_versioned() {
             "vigil.Ownship.v2",
             "vigil.Target.v3",
             "vigil.TrafficHeader.v1",
-            "vigil.Integrity.v3",
+            "vigil.Integrity.v4",
             "vigil.Alert.v1"
         ]
     );

@@ -512,8 +512,11 @@ pub(crate) fn clock_disagreement(p: &IntegrityPayload, params: &MonitorParams, o
                              week wrong?): not used, VN-200 timed by its start-up clock or the \
                              host clock"
                 .to_string(),
+            // Within the 160-byte reason; the line's own alert (`line_full`) tells the two
+            // causes apart when the line is full.
             DEVICE_TTMRF => "TT-Multi-RF ts / TS24h disagrees with the host clock (a second \
-                             off?): not used, TT-Multi-RF timed by the host clock"
+                             off, or queued over 0.5 s on a full line?): not used; timed by the \
+                             host clock or not aligned"
                 .to_string(),
             other => format!("device code {other}: clock disagrees with the host clock"),
         };
@@ -526,6 +529,27 @@ pub(crate) fn clock_disagreement(p: &IntegrityPayload, params: &MonitorParams, o
             SEVERITY_CAUTION,
             reason,
         );
+    }
+}
+
+/// Full line rule: one alert per `DEVICE_*` code whose bit is set in the integrity payload's
+/// `line_full`. The payload carries only the bits, so the reason says what a full line does to
+/// the device's data and what the user can change.
+pub(crate) fn line_full(p: &IntegrityPayload, params: &MonitorParams, out: &mut Active) {
+    for code in 0..8u8 {
+        if p.line_full & (1 << code) == 0 {
+            continue;
+        }
+        let reason = match code {
+            // Within the alert's 160-byte reason.
+            DEVICE_TTMRF => "TT-Multi-RF output fills its serial line: reports wait in the \
+                             module (times widened) and may be lost there; send fewer formats \
+                             or raise the baud rate"
+                .to_string(),
+            other => format!("device code {other}: output fills its serial line"),
+        };
+        let id = Rule::LineFull.alert_id(u32::from(code));
+        push(out, params, Rule::LineFull, id, SEVERITY_CAUTION, reason);
     }
 }
 

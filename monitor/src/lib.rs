@@ -52,6 +52,7 @@
 //! | `inertial_miscompare` (per signal) | `inertial[INERTIAL_*].verdict == VERDICT_FAIL` (a BAHRS specific force or angular rate axis against the VN-200, both usable) | caution | 0 | 2 |
 //! | `health_disagreement` (per combination) | integrity `health_checks[HEALTH_*].state == HEALTH_DISAGREE` (BAHRS pulses without a VN-200 fix, a fix without pulses, an INS mode against its fix bit; not compared is never a disagreement) | caution | 3 | 2 |
 //! | `clock_disagreement` (per device) | integrity `clock_disagreement & (1 << DEVICE_*) != 0` (the device's own time against the host clock; the reason names the clock and what was done with its samples) | caution | 1 | 2 |
+//! | `line_full` (per device) | integrity `line_full & (1 << DEVICE_*) != 0` (the device's messages fill its line: its output waits, and may be lost, in the device; the reason says what to change) | caution | 1 | 2 |
 //!
 //! No rule latches by default; any can (`[monitor.RULE] latch = true`). Why the delays are 0
 //! where they are: the fusion cross-check and the traffic alert filter already apply persistence
@@ -258,6 +259,7 @@ impl Monitor {
             conditions::clock(p, &params, &mut active);
             conditions::health(p, &params, &mut active);
             conditions::clock_disagreement(p, &params, &mut active);
+            conditions::line_full(p, &params, &mut active);
             self.devices.conditions(p, t, &params, &mut active);
         }
         self.feeds.conditions(t, start, &params, &mut active);

@@ -77,6 +77,10 @@ impl RuleTiming {
             // a VN-200 message every 5 ms); 1 s of it set before raising passes over a single
             // late host read, and 2 s without it (two agreeing BAHRS pulses) clear.
             Rule::ClockDisagreement => Self::new(1.0, 2.0),
+            // The bit is judged at each integrity report (1 Hz) over the line's last 100 ms or
+            // more: raised when two reports a second apart find it full (one burst of traffic
+            // does not raise), cleared after 2 s of reports that do not.
+            Rule::LineFull => Self::new(1.0, 2.0),
         }
     }
 
@@ -144,6 +148,7 @@ timing_field!(de_vertical_miscompare, Rule::VerticalMiscompare);
 timing_field!(de_inertial_miscompare, Rule::InertialMiscompare);
 timing_field!(de_health_disagreement, Rule::HealthDisagreement);
 timing_field!(de_clock_disagreement, Rule::ClockDisagreement);
+timing_field!(de_line_full, Rule::LineFull);
 
 /// Every plausibility flag: the default of [`MonitorParams::spoofing_flags`]. (Issue 23: the
 /// slow-drift flag of issue 24 was missing here, so a patient spoof never raised
@@ -213,6 +218,9 @@ pub struct MonitorParams {
     /// Timing of [`Rule::ClockDisagreement`].
     #[serde(deserialize_with = "de_clock_disagreement")]
     pub clock_disagreement: RuleTiming,
+    /// Timing of [`Rule::LineFull`].
+    #[serde(deserialize_with = "de_line_full")]
+    pub line_full: RuleTiming,
 
     /// A device is silent when its last valid message is older than this, s.
     pub device_silent_s: f64,
@@ -251,6 +259,7 @@ impl Default for MonitorParams {
             inertial_miscompare: RuleTiming::default_for(Rule::InertialMiscompare),
             health_disagreement: RuleTiming::default_for(Rule::HealthDisagreement),
             clock_disagreement: RuleTiming::default_for(Rule::ClockDisagreement),
+            line_full: RuleTiming::default_for(Rule::LineFull),
             device_silent_s: 2.0,
             feed_silent_s: 2.0,
             decode_window_s: 10.0,
@@ -295,6 +304,7 @@ impl MonitorParams {
             Rule::InertialMiscompare => &self.inertial_miscompare,
             Rule::HealthDisagreement => &self.health_disagreement,
             Rule::ClockDisagreement => &self.clock_disagreement,
+            Rule::LineFull => &self.line_full,
         }
     }
 
@@ -318,6 +328,7 @@ impl MonitorParams {
             Rule::InertialMiscompare => &mut self.inertial_miscompare,
             Rule::HealthDisagreement => &mut self.health_disagreement,
             Rule::ClockDisagreement => &mut self.clock_disagreement,
+            Rule::LineFull => &mut self.line_full,
         }
     }
 
@@ -390,6 +401,7 @@ fn rule_doc(rule: Rule) -> &'static str {
             "The BAHRS health or sync pulses contradict the VN-200 INS status"
         }
         Rule::ClockDisagreement => "A device's own clock disagrees with the host clock",
+        Rule::LineFull => "A device sends about as much as its serial line carries",
     }
 }
 

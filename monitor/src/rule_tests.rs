@@ -1077,6 +1077,50 @@ fn clock_disagreement_per_device_bit_after_one_second_clears_after_two() {
     assert_eq!(t, 4200);
 }
 
+// --- a full serial line (issue 21 point 5: output lost in the device is said) ---
+#[test]
+fn line_full_per_device_bit_after_one_second_clears_after_two() {
+    let mut rig = Rig::new(MonitorParams::default());
+    rig.run(1000);
+    // The TT-Multi-RF's line (bit 3) is full from t = 1.0 s; a device code no device has
+    // (bit 6) is reported by its number, not dropped.
+    rig.integ.line_full = (1 << DEVICE_TTMRF) | (1 << 6);
+    // Set for less than the 1 s delay: nothing.
+    assert!(rig.run(900).is_empty());
+    let out = rig.run(300);
+    let ids: Vec<u32> = out.iter().map(|(_, a)| a.alert_id).collect();
+    // Rule code 0x10, subject the DEVICE_* code; both raised at 2.0 s, caution.
+    assert_eq!(ids, vec![0x1000_0003, 0x1000_0006]);
+    for (t, a) in &out {
+        assert_eq!(
+            (*t, a.state, a.severity),
+            (2000, STATE_RAISED, SEVERITY_CAUTION)
+        );
+    }
+    let tt = out[0].1.reason();
+    assert!(
+        tt.starts_with("TT-Multi-RF output fills its serial line"),
+        "{tt}"
+    );
+    // The reason is whole: it ends with the advice, inside the 160-byte field.
+    assert!(tt.ends_with("raise the baud rate"), "{tt}");
+    assert_eq!(
+        out[1].1.reason(),
+        "device code 6: output fills its serial line"
+    );
+    // The clock rule, which shares the payload, raises nothing for these bits.
+    assert!(out.iter().all(|(_, a)| a.alert_id >> 24 == 0x10));
+    // The TT's line empties from 2.2 s: cleared 2 s (hysteresis) later; bit 6 stays.
+    rig.integ.line_full = 1 << 6;
+    let (t, _) = only(
+        &rig.run(3000),
+        Rule::LineFull.alert_id(u32::from(DEVICE_TTMRF)),
+        STATE_CLEARED,
+        SEVERITY_CAUTION,
+    );
+    assert_eq!(t, 4200);
+}
+
 // --- issue 23: tests for the mutants the first cargo-mutants run over links.rs and
 // conditions.rs left alive. Each names the behaviour it pins; the expected words come from the
 // device documents (BAHRS 2-bit health, VN-200 InsStatus mode) or from hand computation.

@@ -89,11 +89,15 @@ pub enum Rule {
     /// integrity payload's `clock_disagreement` bit of its `DEVICE_*` code): its own time is not
     /// used, its samples are timed by another clock or not aligned.
     ClockDisagreement,
+    /// A device's serial line is full (the integrity payload's `line_full` bit of its
+    /// `DEVICE_*` code): it sends about as much as its baud rate carries, so its output waits in
+    /// the device and, once the device's buffer is full, is lost there unseen by the host.
+    LineFull,
 }
 
 impl Rule {
     /// Every rule, in evaluation order.
-    pub const ALL: [Rule; 17] = [
+    pub const ALL: [Rule; 18] = [
         Rule::AttitudeMiscompare,
         Rule::UnitIsolated,
         Rule::UnitHealth,
@@ -111,6 +115,7 @@ impl Rule {
         Rule::InertialMiscompare,
         Rule::HealthDisagreement,
         Rule::ClockDisagreement,
+        Rule::LineFull,
     ];
 
     /// The rule's base code (the top byte of its alert ids; per-target rules add the address
@@ -134,6 +139,7 @@ impl Rule {
             Rule::InertialMiscompare => 0x0D,
             Rule::HealthDisagreement => 0x0E,
             Rule::ClockDisagreement => 0x0F,
+            Rule::LineFull => 0x10,
         }
     }
 
@@ -157,6 +163,7 @@ impl Rule {
             Rule::InertialMiscompare => "inertial_miscompare",
             Rule::HealthDisagreement => "health_disagreement",
             Rule::ClockDisagreement => "clock_disagreement",
+            Rule::LineFull => "line_full",
         }
     }
 
@@ -190,6 +197,7 @@ impl Rule {
             0x0D => Rule::InertialMiscompare,
             0x0E => Rule::HealthDisagreement,
             0x0F => Rule::ClockDisagreement,
+            0x10 => Rule::LineFull,
             0x20..=0x2F => Rule::TrafficAlert,
             0x30..=0x3F => Rule::SuspectedSpoofing,
             _ => return None,

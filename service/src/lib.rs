@@ -403,6 +403,13 @@ impl Service {
             .clock_disagreements()
             .iter()
             .fold(0, |bits, d| bits | 1 << convert::device_code_of(*d));
+        // A serial line carrying its capacity: output queued, perhaps lost, in the device.
+        p.line_full = self
+            .replay
+            .aligner()
+            .lines_full(h)
+            .iter()
+            .fold(0, |bits, d| bits | 1 << convert::device_code_of(*d));
         // Issue 25 point 4: every BAHRS signal's health and the health cross-check.
         convert::health(&mut p, self.pipeline.health(), self.gps_time(t_host_ns));
         p

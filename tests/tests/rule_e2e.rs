@@ -83,7 +83,9 @@ impl Outputs for Stream {
 struct Run {
     t0_gps_ns: i64,
     stream: Stream,
-    messages: Vec<(&'static str, bool)>,
+    /// Every message of the truth: device, corrupted (damaged or lost on the link, or
+    /// discarded by a device whose buffer was full), scenario seconds it was ready to send.
+    messages: Vec<(&'static str, bool, f64)>,
 }
 
 /// One alert transition: scenario seconds, state, severity, reason.
@@ -161,7 +163,14 @@ fn run(sc: &Scenario, seconds: i64) -> Run {
     Run {
         t0_gps_ns: sim.world().start_gps_ns,
         stream: out,
-        messages: sink.truth.iter().map(|r| (r.device, r.corrupted)).collect(),
+        messages: sink
+            .truth
+            .iter()
+            .map(|r| {
+                let t_s = (r.t_tx_gps_ns - sim.world().start_gps_ns) as f64 / 1e9;
+                (r.device, r.corrupted, t_s)
+            })
+            .collect(),
     }
 }
 
@@ -219,7 +228,7 @@ fn number_after(text: &str, key: &str) -> f64 {
 }
 
 /// Rules whose end-to-end test lives in this file, with the test's name.
-const COVERED_HERE: [(Rule, &str); 15] = [
+const COVERED_HERE: [(Rule, &str); 16] = [
     (
         Rule::AttitudeMiscompare,
         "attitude_miscompare_on_a_bahrs_roll_bias",
@@ -261,6 +270,10 @@ const COVERED_HERE: [(Rule, &str); 15] = [
     (
         Rule::ClockDisagreement,
         "clock_disagreement_on_a_vn200_gps_time_then_a_ttmrf_ts_a_second_off",
+    ),
+    (
+        Rule::LineFull,
+        "line_full_on_a_ttmrf_line_too_slow_for_its_traffic_clears_while_the_link_is_cut",
     ),
 ];
 
@@ -557,6 +570,89 @@ fn clock_disagreement_on_a_vn200_gps_time_then_a_ttmrf_ts_a_second_off() {
     );
 }
 
+/// Forty intruders for a TT-Multi-RF whose line is made too slow for them (below), and the
+/// line cut from 10 s to 16 s.
+const TT_LINE_TOO_SLOW: &str = r#"
+[traffic]
+count = 40
+radius_m = 20000.0
+height_band_m = 1000.0
+seed = 44
+
+[[faults]]
+kind = "link_loss"
+device = "ttmrf"
+from_s = 10.0
+to_s = 16.0
+"#;
+
+#[test]
+fn line_full_on_a_ttmrf_line_too_slow_for_its_traffic_clears_while_the_link_is_cut() {
+    // Forty targets in JSON (one report each a second, about 300 bytes) plus their raw HEX
+    // frames are several kB/s: at 9600 baud (960 bytes/s) the line is full from the first
+    // second. The service sees the line full after 100 ms of it; the rule raises 1 s (delay)
+    // after the first 1 Hz integrity report that says so, once the monitor has a GPS time. While
+    // the link is cut (10-16 s) nothing arrives, so the next report after 10 s finds the line
+    // not full, and the alert clears 2 s (hysteresis) later. When the link returns the module's
+    // queue pours out and fills the line again: raised once more, 1 s later.
+    let mut sc = scenario(TT_LINE_TOO_SLOW);
+    let tt = sc.devices.ttmrf.as_mut().unwrap();
+    tt.baud = 9600;
+    tt.raw = "hex".into();
+    let slow = run(&sc, 22);
+    let id = Rule::LineFull.alert_id(u32::from(DEVICE_TTMRF));
+    let tr = slow.transitions(id);
+    let spells: Vec<(u8, f64)> = tr.iter().map(|t| (t.state, t.t_s)).collect();
+    eprintln!("{spells:?}");
+    // Integrity reports come at about 0.2-0.3 s past each second of this run: the first to see the
+    // line full is at 0.3 s, so raised at 1.3 s; the first after the cut is at 10.3 s, cleared
+    // at 12.3 s; the first after the link returns at 16.3 s, raised at 17.3 s (a tick of margin
+    // on each).
+    assert_eq!(tr.len(), 3, "{spells:?}");
+    let states: Vec<u8> = tr.iter().map(|t| t.state).collect();
+    assert_eq!(states, [STATE_RAISED, STATE_CLEARED, STATE_RAISED]);
+    assert!((1.1..1.5).contains(&tr[0].t_s), "{spells:?}");
+    assert!((12.1..12.5).contains(&tr[1].t_s), "{spells:?}");
+    assert!((17.1..17.5).contains(&tr[2].t_s), "{spells:?}");
+    assert!(tr.iter().all(|t| t.severity == SEVERITY_CAUTION));
+    assert!(
+        tr[0]
+            .reason
+            .starts_with("TT-Multi-RF output fills its serial line")
+    );
+    // The published bit agrees: set in the integrity report just before the first raise.
+    let bit_at = |t_s: f64| {
+        slow.stream
+            .events
+            .iter()
+            .filter_map(|(_, e)| match e {
+                Published::Integrity(p) if slow.secs(p.header.gps_time_ns) <= t_s => {
+                    Some(p.line_full)
+                }
+                _ => None,
+            })
+            .next_back()
+    };
+    assert_eq!(bit_at(1.0), Some(1 << DEVICE_TTMRF));
+    assert_eq!(bit_at(11.0), Some(0));
+    // What the alert says is so in the simulator's truth: the module discarded reports while
+    // the line was full (2-9 s, before the cut, where nothing else loses a message).
+    let discarded = slow
+        .messages
+        .iter()
+        .filter(|(d, c, t)| *d == "ttmrf" && *c && (2.0..9.0).contains(t))
+        .count();
+    assert!(discarded > 0, "no TT-Multi-RF report was discarded");
+
+    // The same traffic at the default 921 600 baud fits the line: no report is discarded and
+    // the rule never raises (a line at a fraction of its capacity is no alert).
+    let mut sc = scenario(TT_LINE_TOO_SLOW);
+    sc.devices.ttmrf.as_mut().unwrap().raw = "hex".into();
+    let fits = run(&sc, 8);
+    assert!(fits.transitions(id).is_empty());
+    assert!(!fits.messages.iter().any(|(d, c, _)| *d == "ttmrf" && *c));
+}
+
 // --- device and link rules ---
 
 /// The Watson's link is cut from 8 s to 12 s.
@@ -633,8 +729,8 @@ rate = 2.0e-3
     let bahrs: Vec<bool> = run
         .messages
         .iter()
-        .filter(|(d, _)| *d == "bahrs")
-        .map(|(_, c)| *c)
+        .filter(|(d, _, _)| *d == "bahrs")
+        .map(|(_, c, _)| *c)
         .collect();
     let damaged = bahrs.iter().filter(|c| **c).count() as f64;
     let per_s = bahrs.len() as f64 / 23.0;

@@ -768,6 +768,50 @@ fn queue_limit_jitter(d: Device) -> i64 {
     if d == Device::Ttmrf { 500 * MS } else { 0 }
 }
 
+fn tt_9600(a: &mut Aligner) {
+    a.set_baud(Device::Ttmrf, 9600);
+}
+
+/// As above at 9600 baud (960 bytes/s for several kB/s of output): the module's 4 KiB buffer
+/// now holds 4.3 s, far beyond the aligner's 0.5 s queue limit, so a `ts` comes seconds before
+/// its arrival. The host cannot tell such a queue from a clock a second off: the TT-Multi-RF's
+/// clock is called disagreeing, and what neither its own time nor the host clock can place is
+/// not aligned (`line_full`); no time may be passed off with a sigma that does not cover it
+/// (before this was handled, the frames whose TS24h was called disagreeing were host-timed
+/// with the 0.5 s queue limit in their sigma: 306 beyond 5 sigma, seconds wrong).
+#[test]
+fn a_tt_line_queued_beyond_the_limit_is_not_aligned_rather_than_wrong() {
+    let mut scenario = Scenario::from_toml(include_str!("../data/full-rates.toml")).unwrap();
+    scenario.devices.ttmrf.as_mut().unwrap().baud = 9600;
+    let case = Case {
+        name: "TT-Multi-RF line saturated, JSON and HEX at 9600",
+        scenario,
+        seconds: 30,
+        setup: tt_9600,
+        extra_jitter_ns: queue_limit_jitter,
+        disagreeing: &[Device::Ttmrf],
+        busy_tt_line: true,
+    };
+    let runs = check_all(std::slice::from_ref(&case));
+    let r = &runs[0].1;
+    let tt: Vec<&Joined> = r
+        .joined
+        .iter()
+        .filter(|j| j.device == Device::Ttmrf)
+        .collect();
+    let placed = tt.iter().filter(|j| j.source.is_some()).count();
+    println!("TT-Multi-RF samples: {} in all, {placed} placed", tt.len());
+    // Most are not aligned (the queue is seconds long from the first second on) ...
+    assert!(placed * 2 < tt.len(), "{placed} of {}", tt.len());
+    // ... and none placed by the host clock once the line's own times show the long queue:
+    // every host-timed one comes from the first second, before the queue passed the limit.
+    let late_host_timed = tt
+        .iter()
+        .filter(|j| j.source == Some(TimeSource::HostClock) && j.at_s > 2.0)
+        .count();
+    assert_eq!(late_host_timed, 0);
+}
+
 /// As above with CSV and HEXd at 115 200 baud (no time of their own: every TT-Multi-RF sample
 /// host-timed; at 921 600 baud they fit the line). The module's 4 KiB buffer holds 0.36 s of
 /// output at that rate: lines arrive up to that late against what the host clock says, and no

@@ -111,22 +111,39 @@ impl Drop for Guard {
     }
 }
 
-/// The `vigil run` configuration for the simulator's terminals: (device, terminal, its
-/// `read_interval_ms` when not the default).
-pub(crate) fn run_config(prefix: &str, ports: &[(&str, PathBuf, Option<f64>)]) -> String {
+/// One simulated port for [`run_config`].
+pub(crate) struct SimPort<'a> {
+    /// Device name (the port's `device`).
+    pub device: &'a str,
+    /// Its terminal.
+    pub path: PathBuf,
+    /// Its `read_interval_ms`, when not the protocol's default.
+    pub read_interval_ms: Option<f64>,
+    /// The simulated line's baud rate, when known. A terminal carries bytes at any rate, so
+    /// nothing would tell `vigil run` a slower line than the protocol's default; and the
+    /// service judges whether a line is full against its configured baud.
+    pub baud: Option<u32>,
+}
+
+/// The `vigil run` configuration for the simulator's terminals.
+pub(crate) fn run_config(prefix: &str, ports: &[SimPort]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
         "# Written by `vigil demo` / `vigil measure`.\n[bus]\nprefix = \"{prefix}\"\n"
     );
-    for (device, path, interval) in ports {
+    for p in ports {
         let _ = writeln!(
             s,
-            "[[ports]]\ndevice = \"{device}\"\npath = \"{}\"",
-            path.display()
+            "[[ports]]\ndevice = \"{}\"\npath = \"{}\"",
+            p.device,
+            p.path.display()
         );
-        if let Some(ms) = interval {
+        if let Some(ms) = p.read_interval_ms {
             let _ = writeln!(s, "read_interval_ms = {ms:?}");
+        }
+        if let Some(baud) = p.baud {
+            let _ = writeln!(s, "baud = {baud}");
         }
         s.push('\n');
     }
@@ -237,6 +254,11 @@ pub(crate) fn in_temp_dir<T>(kind: &str, f: impl FnOnce(&Path, &str) -> Result<T
 
 fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
     let pty_dir = dir.join("ports");
+    // The scenario's bauds, for `vigil run`'s configuration (the simulator runs in its own
+    // process; a terminal does not carry the rate).
+    let scenario = crate::sim_cmd::load_scenario(&args.scenario)?;
+    let sim_ports = vigil_sim::Simulator::new(&scenario, args.seed)?.ports();
+    let baud_of = |d: &str| sim_ports.iter().find(|p| p.device == d).map(|p| p.baud);
     // The simulation runs a little longer than the demo, so the ports stay open to the end.
     let sim_secs = format!("{}", args.duration.ceil() + 10.0);
     let seed = args.seed.to_string();
@@ -257,11 +279,16 @@ fn demo(args: &DemoArgs, dir: &Path, prefix: &str) -> Result<()> {
     )?;
     // The simulator creates one link per device it models.
     let until = Instant::now() + Duration::from_secs(10);
-    let ports: Vec<(&str, PathBuf, Option<f64>)> = loop {
-        let found: Vec<(&str, PathBuf, Option<f64>)> = DEVICES
+    let ports: Vec<SimPort> = loop {
+        let found: Vec<SimPort> = DEVICES
             .iter()
-            .map(|d| (*d, pty_dir.join(d), None))
-            .filter(|(_, p, _)| p.exists())
+            .map(|d| SimPort {
+                device: d,
+                path: pty_dir.join(d),
+                read_interval_ms: None,
+                baud: baud_of(d),
+            })
+            .filter(|p| p.path.exists())
             .collect();
         if !sim.running() {
             bail!("the simulator stopped:\n{}", tail(&dir.join("sim.log"), 10));

@@ -247,7 +247,7 @@ class DeviceIntegrity(ctypes.Structure):
 
 
 class IntegrityPayload(ctypes.Structure):
-    """iceoryx2 type name `vigil.Integrity.v3`."""
+    """iceoryx2 type name `vigil.Integrity.v4`."""
 
     _fields_ = [
         ("header", Header),
@@ -259,7 +259,8 @@ class IntegrityPayload(ctypes.Structure):
         ("clock_sigma_s", ctypes.c_double),
         ("devices", (DeviceIntegrity) * 8),
         ("clock_disagreement", ctypes.c_uint8),
-        ("reserved_clock", (ctypes.c_uint8) * 7),
+        ("line_full", ctypes.c_uint8),
+        ("reserved_clock", (ctypes.c_uint8) * 6),
         ("active_alert_count", ctypes.c_uint32),
         ("active_alert_total", ctypes.c_uint32),
         ("active_alerts", (ActiveAlert) * 32),
@@ -276,7 +277,7 @@ class IntegrityPayload(ctypes.Structure):
 
     @staticmethod
     def type_name() -> str:
-        return "vigil.Integrity.v3"
+        return "vigil.Integrity.v4"
 
 
 class AlertPayload(ctypes.Structure):
@@ -309,6 +310,6 @@ LAYOUT = {
     "ActiveAlert": (176, 8, {"alert_id": (0, 4), "severity": (4, 1), "state": (5, 1), "reserved": (6, 2), "raised_gps_ns": (8, 8), "reason": (16, 160)}),
     "HealthComparison": (16, 8, {"state": (0, 1), "reason": (1, 1), "reserved": (2, 6), "disagree_s": (8, 8)}),
     "DeviceIntegrity": (104, 8, {"name": (0, 16), "device": (16, 1), "link_state": (17, 1), "reserved": (18, 6), "last_message_age_s": (24, 8), "bytes_received": (32, 8), "bytes_consumed": (40, 8), "bytes_skipped": (48, 8), "messages": (56, 8), "checksum_failures": (64, 8), "unknown_types": (72, 8), "malformed": (80, 8), "reconnects": (88, 8), "invalid_values": (96, 8)}),
-    "IntegrityPayload": (6632, 8, {"header": (0, 32), "device_count": (32, 4), "clock_status": (36, 1), "leap_seconds_known": (37, 1), "reserved": (38, 2), "clock_offset_s": (40, 8), "clock_sigma_s": (48, 8), "devices": (56, 832), "clock_disagreement": (888, 1), "reserved_clock": (889, 7), "active_alert_count": (896, 4), "active_alert_total": (900, 4), "active_alerts": (904, 5632), "bahrs_navigation_health": (6536, 5), "bahrs_inertial_health": (6541, 6), "vn200_ins_mode": (6547, 1), "vn200_gnss_fix": (6548, 1), "reserved_health": (6549, 1), "vn200_ins_status": (6550, 2), "vn200_status_age_s": (6552, 8), "bahrs_pulse_age_s": (6560, 8), "health_checks": (6568, 64)}),
+    "IntegrityPayload": (6632, 8, {"header": (0, 32), "device_count": (32, 4), "clock_status": (36, 1), "leap_seconds_known": (37, 1), "reserved": (38, 2), "clock_offset_s": (40, 8), "clock_sigma_s": (48, 8), "devices": (56, 832), "clock_disagreement": (888, 1), "line_full": (889, 1), "reserved_clock": (890, 6), "active_alert_count": (896, 4), "active_alert_total": (900, 4), "active_alerts": (904, 5632), "bahrs_navigation_health": (6536, 5), "bahrs_inertial_health": (6541, 6), "vn200_ins_mode": (6547, 1), "vn200_gnss_fix": (6548, 1), "reserved_health": (6549, 1), "vn200_ins_status": (6550, 2), "vn200_status_age_s": (6552, 8), "bahrs_pulse_age_s": (6560, 8), "health_checks": (6568, 64)}),
     "AlertPayload": (208, 8, {"header": (0, 32), "alert_id": (32, 4), "severity": (36, 1), "state": (37, 1), "reserved": (38, 2), "raised_gps_ns": (40, 8), "reason": (48, 160)}),
 }

@@ -8,6 +8,9 @@
 //! units' health agrees, disagrees, or was not compared and why. The rule table behind the
 //! combinations (what each state implies, with the document references) is in
 //! `vigil_fusion::attitude::health`.
+//!
+//! Layout v4 (issue 21 point 5) gives one byte of padding a meaning: `line_full`, the devices
+//! whose serial line is full, so output the device itself queues and discards is said.
 
 use iceoryx2::prelude::ZeroCopySend;
 use serde::Serialize;
@@ -227,7 +230,7 @@ pub struct DeviceIntegrity {
 /// Integrity snapshot: every configured device and the clock.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend, Serialize)]
-#[type_name("vigil.Integrity.v3")]
+#[type_name("vigil.Integrity.v4")]
 #[serde(into = "IntegrityJson")]
 pub struct IntegrityPayload {
     /// Common header.
@@ -253,9 +256,20 @@ pub struct IntegrityPayload {
     /// the host clock: a wrong edge or second). Its samples are then timed by the other clock
     /// (with that clock's wider sigma) or marked not aligned. 0: every checked clock agrees.
     pub clock_disagreement: u8,
+    /// `line_full`: one bit per `DEVICE_*` code (`1 << code`) whose serial line has carried
+    /// at least 80 % of its baud rate for at least the last 100 ms of host time: the device's
+    /// output may be waiting in its own queue (its times are then widened by that wait) and,
+    /// once its buffer is full, lost in the device, where the host cannot count it. Set today
+    /// only for the TT-Multi-RF, the one device whose configured output can exceed its line.
+    /// 0: no line is full. Layout v4: the first byte of v3's `reserved_clock` (the type name
+    /// changed with it, so a v3 subscriber never takes v4's bit for padding, nor a v4
+    /// subscriber a v3 publisher's 0 for "no line full").
+    ///
+    /// Alert rule `line_full` (0x10).
+    pub line_full: u8,
     /// Explicit padding; always 0.
     #[serde(skip)]
-    pub reserved_clock: [u8; 7],
+    pub reserved_clock: [u8; 6],
     // --- issue 25: the active alert set (the monitor inside `vigil run`) ---
     /// Number of valid entries in `active_alerts`.
     pub active_alert_count: u32,
@@ -307,7 +321,8 @@ impl Default for IntegrityPayload {
             clock_sigma_s: 0.0,
             devices: [DeviceIntegrity::default(); MAX_DEVICES],
             clock_disagreement: 0,
-            reserved_clock: [0; 7],
+            line_full: 0,
+            reserved_clock: [0; 6],
             active_alert_count: 0,
             active_alert_total: 0,
             active_alerts: [ActiveAlert::default(); MAX_ACTIVE_ALERTS],
@@ -335,6 +350,7 @@ struct IntegrityJson {
     clock_sigma_s: f64,
     devices: Vec<DeviceIntegrity>,
     clock_disagreement: u8,
+    line_full: u8,
     active_alert_count: u32,
     active_alert_total: u32,
     active_alerts: Vec<ActiveAlert>,
@@ -359,6 +375,7 @@ impl From<IntegrityPayload> for IntegrityJson {
             clock_sigma_s: p.clock_sigma_s,
             devices: p.devices().to_vec(),
             clock_disagreement: p.clock_disagreement,
+            line_full: p.line_full,
             active_alert_count: p.active_alert_count,
             active_alert_total: p.active_alert_total,
             active_alerts: p.active_alerts().to_vec(),

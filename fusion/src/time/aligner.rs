@@ -195,6 +195,11 @@ pub struct Aligner {
     tt_queue_ns: i64,
     /// Its messages received while its line was full.
     tt_busy_messages: u64,
+    /// Its latest time of its own (JSON `ts`, TS24h) on a full line came earlier than the host
+    /// clock's view of its arrival by more than the queue limit, and the line has stayed full
+    /// since: its queue is longer than the limit (or its clock is wrong), so a sample timed by
+    /// the host clock is not aligned ([`NotAligned::LineFull`]).
+    tt_queue_beyond_limit: bool,
 }
 
 impl Aligner {
@@ -219,6 +224,7 @@ impl Aligner {
             tt_line: LineLoad::default(),
             tt_queue_ns: 0,
             tt_busy_messages: 0,
+            tt_queue_beyond_limit: false,
         }
     }
 
@@ -275,6 +281,22 @@ impl Aligner {
         self.tt_queue_ns > 0
     }
 
+    /// The devices whose serial line is full at host time `host_ns` (`line_full` in the
+    /// integrity topic): the TT-Multi-RF when its messages have filled at least 80 % of its
+    /// line for at least the last 100 ms up to `host_ns` ([`LineLoad::full_for_ns`]). Judged at
+    /// `host_ns`, not at the latest message, so a module that falls silent after a full spell
+    /// is not reported full for ever. Decision: only the TT-Multi-RF is watched, because its
+    /// load grows with the traffic it hears; the other devices send a fixed configured output,
+    /// and their lines are not watched (README, time alignment, "Not yet right").
+    pub fn lines_full(&self, host_ns: i64) -> Vec<Device> {
+        let full = self.tt_line.full_for_ns(host_ns, self.base.ttmrf.link.baud);
+        if full > 0 {
+            vec![Device::Ttmrf]
+        } else {
+            Vec::new()
+        }
+    }
+
     /// TT-Multi-RF messages received while its line was full, so far.
     pub fn ttmrf_busy_messages(&self) -> u64 {
         self.tt_busy_messages
@@ -295,6 +317,8 @@ impl Aligner {
         }
         self.tt_queue_ns = queue_ns;
         self.tt_busy_messages += u64::from(queue_ns > 0);
+        // An empty line has no queue.
+        self.tt_queue_beyond_limit &= queue_ns > 0;
     }
 
     /// The TT-Multi-RF's link for its host-timed samples: while its line is full, a message
@@ -656,12 +680,24 @@ impl Aligner {
     /// is named by the host clock itself. While the TT's line is full its time may precede the
     /// view by as long as the line has been full, up to the queue limit
     /// ([`CrossCheckConfig::disagrees_after_queue`]).
+    ///
+    /// Decision (the manual states neither the module's buffer nor what it does when full): a
+    /// time of its own earlier than the view by more than the tolerance and the queue limit, on
+    /// a full line, is a queue longer than the limit or a wrong clock, and the host cannot tell
+    /// which. Either way neither it nor the host clock can place the message, nor any other
+    /// message of that line until one of its own times agrees again or the line empties: they
+    /// are [`NotAligned::LineFull`] (a 4 KiB buffer holds 4.3 s at 9600 baud, far beyond any
+    /// sigma the host-timed placement could claim).
     fn place_checked(&mut self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
         let time = self.place_host_dependent(sample, rx);
         let Ok(a) = time else { return time };
         let link = self.cfg.ttmrf.link;
         let h = first_byte_host_ns(rx, link.baud);
         if a.source != TimeSource::UtcTimeOfDay {
+            // Host-timed, or a TS1s second named by the host clock.
+            if self.tt_queue_beyond_limit && sample.device() == Device::Ttmrf {
+                return Err(NotAligned::LineFull);
+            }
             return time;
         }
         let Some((t, s)) = host_view(&self.host, &self.tt_host, h) else {
@@ -677,9 +713,14 @@ impl Aligner {
             self.tt_queue_ns,
         );
         if !self.tt_disagreement {
+            self.tt_queue_beyond_limit = false;
             return time;
         }
         self.tt_disagreeing += 1;
+        if self.tt_queue_ns > 0 && a.t_gps_ns < view.0 {
+            self.tt_queue_beyond_limit = true;
+            return Err(NotAligned::LineFull);
+        }
         let host = Self::pick(&self.host, &self.tt_host, h);
         host_timed(host, rx, self.tt_link()).or(Err(NotAligned::ClockDisagreement))
     }

@@ -1043,8 +1043,45 @@ fn a_busy_ttmrf_line_is_no_reference_and_its_queue_is_no_disagreement() {
     let t = G0 + 10_104 * MS;
     tt_out(&mut al, json_at(t, t)).unwrap();
     assert!(al.clock_disagreements().is_empty());
+    // A second early on the full line: a queue longer than the 0.5 s limit or a wrong clock,
+    // which the host cannot tell apart, so neither places it, nor a message without a time
+    // of its own after it (its wait is unknown).
     let t = G0 + 10_106 * MS;
-    tt_out(&mut al, json_at(t, t - S)).unwrap();
+    assert_eq!(
+        tt_out(&mut al, json_at(t, t - S)),
+        Err(NotAligned::LineFull)
+    );
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+    let at = |t: i64| json_at(t, t).1;
+    assert_eq!(
+        tt_out(&mut al, (no_ts(), at(G0 + 10_108 * MS))),
+        Err(NotAligned::LineFull)
+    );
+    // 0.4 s early is inside the limit: the `ts` stands, and the line's host-timed messages are
+    // placed again.
+    let t = G0 + 10_110 * MS;
+    let a = tt_out(&mut al, json_at(t, t - 400 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+    assert!(al.clock_disagreements().is_empty());
+    let a = tt_out(&mut al, (no_ts(), at(G0 + 10_112 * MS))).unwrap();
+    assert_eq!(a.source, TimeSource::HostClock);
+    // A second early once more, then the line empties (nothing for a second: the next message
+    // finds the last 640 ms empty): its messages are placed again, by the host clock.
+    let t = G0 + 10_114 * MS;
+    assert_eq!(
+        tt_out(&mut al, json_at(t, t - S)),
+        Err(NotAligned::LineFull)
+    );
+    let t = G0 + 11_200 * MS;
+    let a = tt_out(&mut al, (no_ts(), at(t))).unwrap();
+    assert!(!al.ttmrf_line_busy());
+    assert_eq!(a.source, TimeSource::HostClock);
+    // A `ts` a second early on a quiet line is a plain disagreement: host-timed.
+    let t = G0 + 11_202 * MS;
+    assert_eq!(
+        tt_out(&mut al, json_at(t, t - S)).unwrap().source,
+        TimeSource::HostClock
+    );
     assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
 }
 

@@ -91,6 +91,11 @@ pub enum NotAligned {
     /// The device's own time disagrees with the host clock beyond their combined sigmas
     /// ([`cross_check`], issue 18 point 4) and no other clock could place the sample.
     ClockDisagreement,
+    /// The device's line is full and its own times came earlier than their arrival by more
+    /// than the queue limit: its messages wait in its buffer longer than the limit (or its
+    /// clock is wrong), so how long a message without a time of its own waited is unknown
+    /// (TT-Multi-RF; [`line_load`]).
+    LineFull,
 }
 
 /// How a message reached the host: the inputs of every receive-time computation.

@@ -12,7 +12,7 @@
 //! | `/vigil/traffic/geojson`| protobuf | `foxglove.GeoJSON` (Map)         | with the traffic      |
 //! | `/vigil/alerts`         | JSON     | `vigil.Alert.v1`                 | every transition      |
 //! | `/vigil/attitude`       | JSON     | `vigil.Attitude.v4`              | at most 10 Hz         |
-//! | `/vigil/integrity`      | JSON     | `vigil.Integrity.v3`             | as published (1 Hz)   |
+//! | `/vigil/integrity`      | JSON     | `vigil.Integrity.v4`             | as published (1 Hz)   |
 //!
 //! The JSON messages are the bus payloads' own serde form (the same as `vigil listen`: NaN is
 //! `null`); each JSON schema is derived from that form (see [`json_schema`]), so it cannot drift
@@ -165,7 +165,7 @@ impl Channels {
             integrity: json_channel(
                 ctx,
                 TOPIC_INTEGRITY,
-                "vigil.Integrity.v3",
+                "vigil.Integrity.v4",
                 &IntegrityPayload::default(),
             )?,
         })

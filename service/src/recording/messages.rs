@@ -352,6 +352,12 @@ pub struct Integrity {
     pub clock_sigma_s: Option<f64>,
     /// Devices.
     pub devices: Vec<IntegrityDevice>,
+    /// The devices whose own clock disagrees with the host clock: one bit per `DEVICE_*` code
+    /// of `vigil-bus` (`1 << code`; 0 BAHRS, 1 VN-200, 3 TT-Multi-RF), as on the bus.
+    pub clock_disagreement: u8,
+    /// The devices whose serial line is full (output waiting, perhaps lost, in the device):
+    /// one bit per `DEVICE_*` code, as on the bus (layout v4).
+    pub line_full: u8,
     // --- issue 25 point 4 ---
     /// BAHRS health (`HEALTH_*` of `vigil-bus`: 0 unavailable, 1 safe, 2 integrity risk, 3
     /// undefined, 255 none yet) of pressure height, downward velocity, roll, pitch, heading.
@@ -406,6 +412,8 @@ impl Integrity {
                     reconnects: d.reconnects,
                 })
                 .collect(),
+            clock_disagreement: p.clock_disagreement,
+            line_full: p.line_full,
             bahrs_navigation_health: p.bahrs_navigation_health,
             bahrs_inertial_health: p.bahrs_inertial_health,
             vn200_ins_status: (p.vn200_ins_mode != integ::VN200_STATUS_NONE)
