@@ -717,7 +717,12 @@ impl Aligner {
             return time;
         }
         self.tt_disagreeing += 1;
-        if self.tt_queue_ns > 0 && a.t_gps_ns < view.0 {
+        let early = self.cfg.cross_check.early_beyond_queue(
+            (a.t_gps_ns, a.sigma_ns),
+            view,
+            self.tt_queue_ns,
+        );
+        if self.tt_queue_ns > 0 && early {
             self.tt_queue_beyond_limit = true;
             return Err(NotAligned::LineFull);
         }

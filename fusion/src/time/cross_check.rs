@@ -70,7 +70,16 @@ impl CrossCheckConfig {
     pub fn disagrees_after_queue(&self, dev: (i64, f64), host: (i64, f64), queue_ns: i64) -> bool {
         let tol = self.tolerance_ns(dev.1, host.1);
         let d = dev.0.saturating_sub(host.0) as f64;
-        d > tol || -d > tol + queue_ns.max(0) as f64
+        d > tol || self.early_beyond_queue(dev, host, queue_ns)
+    }
+
+    /// The early side of [`Self::disagrees_after_queue`]: the device time precedes the host
+    /// view by more than the tolerance and `queue_ns`. On a full line that is a queue longer
+    /// than `queue_ns` or a wrong clock, which the host cannot tell apart.
+    pub fn early_beyond_queue(&self, dev: (i64, f64), host: (i64, f64), queue_ns: i64) -> bool {
+        let tol = self.tolerance_ns(dev.1, host.1);
+        let d = dev.0.saturating_sub(host.0) as f64;
+        -d > tol + queue_ns.max(0) as f64
     }
 }
 
@@ -115,6 +124,14 @@ mod tests {
         // Late: the queue does not help (a message is not received before it is made).
         assert!(!c.disagrees_after_queue((1_000 * S + 22_500_000, 300e3), host, 500 * MS));
         assert!(c.disagrees_after_queue((1_000 * S + 22_500_001, 300e3), host, 500 * MS));
+        // The early side alone: the same boundary; late is never early.
+        assert!(!c.early_beyond_queue((1_000 * S - 522_500_000, 300e3), host, 500 * MS));
+        assert!(c.early_beyond_queue((1_000 * S - 522_500_001, 300e3), host, 500 * MS));
+        assert!(!c.early_beyond_queue((1_000 * S + S, 300e3), host, 500 * MS));
+        // Without a queue: the tolerance alone; a negative queue counts as none.
+        assert!(!c.early_beyond_queue((1_000 * S - 22_500_000, 300e3), host, 0));
+        assert!(c.early_beyond_queue((1_000 * S - 22_500_001, 300e3), host, -MS));
+        assert!(!c.early_beyond_queue((1_000 * S - 22_000_000, 300e3), host, -MS));
         // A second early is still a second off.
         assert!(c.disagrees_after_queue((1_000 * S - S, 300e3), host, 500 * MS));
         // 40 ms early (the simulator's full line): only with the queue.
