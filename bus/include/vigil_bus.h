@@ -1367,7 +1367,8 @@ typedef struct vigil_IntegrityPayload {
    * at least 80 % of its baud rate for at least the last 100 ms of host time: the device's
    * output may be waiting in its own queue (its times are then widened by that wait) and,
    * once its buffer is full, lost in the device, where the host cannot count it. Set today
-   * only for the TT-Multi-RF, the one device whose configured output can exceed its line.
+   * only for the TT-Multi-RF, whose output grows with the traffic it hears (the others send
+   * a fixed configured output, and their lines are not watched).
    * 0: no line is full. Layout v4: the first byte of v3's `reserved_clock` (the type name
    * changed with it, so a v3 subscriber never takes v4's bit for padding, nor a v4
    * subscriber a v3 publisher's 0 for "no line full").

@@ -588,10 +588,10 @@ to_s = 16.0
 
 #[test]
 fn line_full_on_a_ttmrf_line_too_slow_for_its_traffic_clears_while_the_link_is_cut() {
-    // Forty targets in JSON (one report each a second, about 300 bytes) plus their raw HEX
-    // frames are several kB/s: at 9600 baud (960 bytes/s) the line is full from the first
-    // second. The service sees the line full after 100 ms of it; the rule raises 1 s (delay)
-    // after the first 1 Hz integrity report that says so, once the monitor has a GPS time. While
+    // Forty targets in JSON (one report each a second) plus their raw HEX frames are more
+    // than the 960 bytes/s of 9600 baud (the simulator discards some: asserted below), so the
+    // line is full from the first second. The service sees the line full after 100 ms of it;
+    // the rule raises 1 s (delay) after the first 1 Hz integrity report that says so. While
     // the link is cut (10-16 s) nothing arrives, so the next report after 10 s finds the line
     // not full, and the alert clears 2 s (hysteresis) later. When the link returns the module's
     // queue pours out and fills the line again: raised once more, 1 s later.

@@ -772,7 +772,7 @@ fn tt_9600(a: &mut Aligner) {
     a.set_baud(Device::Ttmrf, 9600);
 }
 
-/// As above at 9600 baud (960 bytes/s for several kB/s of output): the module's 4 KiB buffer
+/// As above at 9600 baud (960 bytes/s for about 101 kB/s of output): the module's 4 KiB buffer
 /// now holds 4.3 s, far beyond the aligner's 0.5 s queue limit, so a `ts` comes seconds before
 /// its arrival. The host cannot tell such a queue from a clock a second off: the TT-Multi-RF's
 /// clock is called disagreeing, and what neither its own time nor the host clock can place is
