@@ -627,6 +627,14 @@ pub fn device_code_of(d: Device) -> u8 {
     }
 }
 
+/// One bit per device (`1 << DEVICE_*` code): the integrity payload's `clock_disagreement` and
+/// `line_full`.
+pub fn device_bits(devices: impl IntoIterator<Item = Device>) -> u8 {
+    devices
+        .into_iter()
+        .fold(0, |bits, d| bits | 1 << device_code_of(d))
+}
+
 /// The integrity payload: one entry per port (at most [`MAX_DEVICES`]), the clock status, and
 /// the host clock's offset from GPS time with its sigma (from the host-clock model, the report of
 /// the host-timed devices), at GPS time `t_gps_ns` (0 when unknown).

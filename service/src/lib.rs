@@ -397,19 +397,9 @@ impl Service {
             .table_valid;
         let mut p = convert::integrity(&reports, &clocks, leap, t_gps);
         // Issue 18: the clocks' cross-checks.
-        p.clock_disagreement = self
-            .replay
-            .aligner()
-            .clock_disagreements()
-            .iter()
-            .fold(0, |bits, d| bits | 1 << convert::device_code_of(*d));
+        p.clock_disagreement = convert::device_bits(self.replay.aligner().clock_disagreements());
         // A serial line carrying its capacity: output queued, perhaps lost, in the device.
-        p.line_full = self
-            .replay
-            .aligner()
-            .lines_full(h)
-            .iter()
-            .fold(0, |bits, d| bits | 1 << convert::device_code_of(*d));
+        p.line_full = convert::device_bits(self.replay.aligner().lines_full(h));
         // Issue 25 point 4: every BAHRS signal's health and the health cross-check.
         convert::health(&mut p, self.pipeline.health(), self.gps_time(t_host_ns));
         p

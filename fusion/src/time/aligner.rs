@@ -288,13 +288,11 @@ impl Aligner {
     /// is not reported full for ever. Decision: only the TT-Multi-RF is watched, because its
     /// load grows with the traffic it hears; the other devices send a fixed configured output,
     /// and their lines are not watched (README, time alignment, "Not yet right").
-    pub fn lines_full(&self, host_ns: i64) -> Vec<Device> {
+    /// An iterator, not a `Vec`: the report runs on the live path, which allocates nothing
+    /// in steady state.
+    pub fn lines_full(&self, host_ns: i64) -> impl Iterator<Item = Device> + use<> {
         let full = self.tt_line.full_for_ns(host_ns, self.base.ttmrf.link.baud);
-        if full > 0 {
-            vec![Device::Ttmrf]
-        } else {
-            Vec::new()
-        }
+        (full > 0).then_some(Device::Ttmrf).into_iter()
     }
 
     /// TT-Multi-RF messages received while its line was full, so far.
