@@ -293,16 +293,22 @@ fn session(settings: &[(&str, String)]) -> zenoh::Session {
 #[test]
 fn a_bridge_behind_a_router_recovers_when_the_router_restarts() {
     let prefix = format!("vigil-test-{}-bridge-router", std::process::id());
-    let port = free_port();
-    let endpoint = format!("tcp/127.0.0.1:{port}");
-    let try_router = || {
+    let router_on = |endpoint: &str| {
         try_session(&[
             ("mode", "\"router\"".to_string()),
             ("listen/endpoints", format!("[\"{endpoint}\"]")),
             ("scouting/multicast/enabled", "false".to_string()),
         ])
     };
-    let r1 = try_router().unwrap();
+    // A port found free can be taken by a test running beside this one before the router binds
+    // it (seen in CI: "Address already in use"): a few ports are tried.
+    let (endpoint, r1) = (0..5)
+        .find_map(|_| {
+            let endpoint = format!("tcp/127.0.0.1:{}", free_port());
+            router_on(&endpoint).ok().map(|r| (endpoint, r))
+        })
+        .expect("a router on a free port");
+    let try_router = || router_on(&endpoint);
     let config = common::tmp("bridge_router", "bridge.toml");
     std::fs::write(
         &config,
