@@ -543,8 +543,8 @@ pub(crate) fn line_full(p: &IntegrityPayload, params: &MonitorParams, out: &mut 
         let reason = match code {
             // Within the alert's 160-byte reason.
             DEVICE_TTMRF => "TT-Multi-RF output fills its serial line: reports wait in the \
-                             module (times widened) and may be lost there; send fewer formats \
-                             or raise the baud rate"
+                             module (times widened or not aligned) and may be lost there; send \
+                             fewer formats or raise the baud"
                 .to_string(),
             other => format!("device code {other}: output fills its serial line"),
         };

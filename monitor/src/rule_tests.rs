@@ -1103,7 +1103,7 @@ fn line_full_per_device_bit_after_one_second_clears_after_two() {
         "{tt}"
     );
     // The reason is whole: it ends with the advice, inside the 160-byte field.
-    assert!(tt.ends_with("raise the baud rate"), "{tt}");
+    assert!(tt.ends_with("raise the baud"), "{tt}");
     assert_eq!(
         out[1].1.reason(),
         "device code 6: output fills its serial line"

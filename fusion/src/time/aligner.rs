@@ -200,6 +200,13 @@ pub struct Aligner {
     /// since: its queue is longer than the limit (or its clock is wrong), so a sample timed by
     /// the host clock is not aligned ([`NotAligned::LineFull`]).
     tt_queue_beyond_limit: bool,
+    /// Its line had been full for longer than [`TtAlignerConfig::queue_limit_ns`] at its
+    /// latest message: the wait of a message without a time of its own may then pass the limit,
+    /// unless a recent time of its own bounds it (`tt_queue_bounded_until_ns`).
+    tt_full_beyond_limit: bool,
+    /// Host time (arrival) up to which the latest agreeing time of its own bounds the module's
+    /// queue within the limit, ns; `i64::MIN` for none. See [`Self::place_checked`].
+    tt_queue_bounded_until_ns: i64,
 }
 
 impl Aligner {
@@ -225,6 +232,8 @@ impl Aligner {
             tt_queue_ns: 0,
             tt_busy_messages: 0,
             tt_queue_beyond_limit: false,
+            tt_full_beyond_limit: false,
+            tt_queue_bounded_until_ns: i64::MIN,
         }
     }
 
@@ -310,6 +319,7 @@ impl Aligner {
             .tt_line
             .full_for_ns(rx.host_ns, self.base.ttmrf.link.baud);
         let queue_ns = full_ns.min(self.cfg.ttmrf.queue_limit_ns);
+        self.tt_full_beyond_limit = full_ns > self.cfg.ttmrf.queue_limit_ns;
         if queue_ns > 0 && self.tt_queue_ns == 0 {
             self.tt_host = HostClock::new(self.cfg.host);
         }
@@ -686,6 +696,19 @@ impl Aligner {
     /// message of that line until one of its own times agrees again or the line empties: they
     /// are [`NotAligned::LineFull`] (a 4 KiB buffer holds 4.3 s at 9600 baud, far beyond any
     /// sigma the host-timed placement could claim).
+    ///
+    /// Decision (the same silence; a line with no time of its own, CSV or HEXd without TS24h,
+    /// gives no such evidence): a message's wait is bounded by how long the line has been full
+    /// ([`super::line_load`]), and a host-timed message carries a wait up to the queue limit in
+    /// its sigma. Once the line has been full for longer than the limit, that bound no longer
+    /// covers it, and only a time of its own can: one that agrees, having preceded the host's
+    /// view by `early`, waited at most `early` plus the cross-check's tolerance, and a message
+    /// sent after it (in order, behind it in the queue) at most that plus the host time since.
+    /// While that stays within the limit the line's host-timed messages are placed with the
+    /// limit in their sigma; otherwise they are [`NotAligned::LineFull`]. So a line full for
+    /// more than 0.5 s that carries no time of its own is not aligned until it empties: its
+    /// module's buffer, which sets the real wait (0.36 s for 4 KiB at 115 200 baud, 4.3 s at
+    /// 9600), is not documented, and a buffer assumed would be a guess.
     fn place_checked(&mut self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
         let time = self.place_host_dependent(sample, rx);
         let Ok(a) = time else { return time };
@@ -693,7 +716,10 @@ impl Aligner {
         let h = first_byte_host_ns(rx, link.baud);
         if a.source != TimeSource::UtcTimeOfDay {
             // Host-timed, or a TS1s second named by the host clock.
-            if self.tt_queue_beyond_limit && sample.device() == Device::Ttmrf {
+            if sample.device() == Device::Ttmrf
+                && (self.tt_queue_beyond_limit
+                    || (self.tt_full_beyond_limit && rx.host_ns > self.tt_queue_bounded_until_ns))
+            {
                 return Err(NotAligned::LineFull);
             }
             return time;
@@ -712,6 +738,14 @@ impl Aligner {
         );
         if !self.tt_disagreement {
             self.tt_queue_beyond_limit = false;
+            // This message waited at most `early + tol` (the cross-check's own tolerance); a
+            // later one, in order behind it, at most that plus the host time since.
+            let early = (view.0.saturating_sub(a.t_gps_ns)).max(0);
+            let tol = self.cfg.cross_check.tolerance_ns(a.sigma_ns, view.1) as i64;
+            self.tt_queue_bounded_until_ns = rx
+                .host_ns
+                .saturating_add(self.cfg.ttmrf.queue_limit_ns)
+                .saturating_sub(early.saturating_add(tol));
             return time;
         }
         self.tt_disagreeing += 1;

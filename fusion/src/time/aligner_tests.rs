@@ -1148,3 +1148,87 @@ fn the_tt_host_clock_is_dropped_when_the_line_fills_and_learns_again_when_it_emp
         Some(rx.host_ns - tx_ns(200, 921_600))
     );
 }
+
+/// A TT-Multi-RF line with no time of its own (CSV, HEXd without TS24h) sending 10 % more than
+/// its line carries, 200-byte messages back to back at 921 600 baud from G0 + 8 s. A message's
+/// wait is bounded by how long the line has been full (a [`LineLoad`] fed the same messages
+/// is the oracle, its own tests by hand), and the host-timed sigma covers a wait up to the
+/// 0.5 s limit: so every message is placed while that span is 500 ms or less (exactly 500 ms
+/// included: the bound then equals the limit) and not aligned after (`LineFull`). About 400 ms
+/// in, by hand: back-to-back output over `E` ms covers a span of up to `E / 0.8` ms at the 80 %
+/// threshold. A `ts` that agrees bounds the wait again, for the limit less its own wait and
+/// the cross-check's tolerance; the line's emptying ends it all.
+#[test]
+fn a_full_line_without_times_of_its_own_is_not_aligned_once_its_wait_may_pass_the_limit() {
+    let mut al = locked_on_vn200();
+    let mut oracle = LineLoad::default();
+    let no_ts = || Sample::TtText(Box::new(TextMessage::Json(Box::default())));
+    let at = |t: i64| json_at(t, t).1;
+    let start = G0 + 8_000 * MS;
+    let step = tx_ns(200, 921_600);
+    let (mut first_full, mut placed_at_500) = (None, 0);
+    let mut k = 0;
+    let mut t = start;
+    while t < start + 700 * MS {
+        let rx = at(t);
+        oracle.add(rx.host_ns, rx.wire_len);
+        let full = oracle.full_for_ns(rx.host_ns, 921_600);
+        let got = tt_out(&mut al, (no_ts(), rx));
+        if full > 500 * MS {
+            assert_eq!(got, Err(NotAligned::LineFull), "at {} ms", (t - start) / MS);
+            first_full.get_or_insert(t - start);
+        } else {
+            let a = got.unwrap();
+            assert_eq!(a.source, TimeSource::HostClock);
+            placed_at_500 += usize::from(full == 500 * MS);
+        }
+        k += 1;
+        t = start + k * step;
+    }
+    assert!(placed_at_500 > 0, "no message saw a span of exactly 500 ms");
+    let first = first_full.unwrap();
+    assert!((395 * MS..=415 * MS).contains(&first), "{first}");
+    // A `ts` 40 ms early agrees (the line has been full: a queue) and bounds the wait: for the
+    // limit less those 40 ms and the tolerance (20 ms unknown link and 5 sigmas of about 1 ms).
+    let t = start + k * step;
+    let e = (json_at(t, t - 40 * MS).1).host_ns;
+    let a = tt_out(&mut al, json_at(t, t - 40 * MS)).unwrap();
+    assert_eq!(a.source, TimeSource::UtcTimeOfDay);
+    let until = al.tt_queue_bounded_until_ns;
+    assert!(
+        (e + 500 * MS - 40 * MS - 30 * MS..=e + 500 * MS - 40 * MS - 20 * MS).contains(&until),
+        "{} ms",
+        (until - e) / MS
+    );
+    // The line stays full; host-timed messages are placed up to that bound, exactly at it
+    // included, and not aligned 1 ns after it.
+    k += 1;
+    while start + k * step < until - OFF - step - MS {
+        let t = start + k * step;
+        assert_eq!(
+            tt_out(&mut al, (no_ts(), at(t))).unwrap().source,
+            TimeSource::HostClock
+        );
+        k += 1;
+    }
+    let on_bound = Rx {
+        host_ns: until,
+        ..at(t)
+    };
+    assert_eq!(
+        tt_out(&mut al, (no_ts(), on_bound)).unwrap().source,
+        TimeSource::HostClock
+    );
+    let past = Rx {
+        host_ns: until + 1,
+        ..at(t)
+    };
+    assert_eq!(tt_out(&mut al, (no_ts(), past)), Err(NotAligned::LineFull));
+    // After a second of silence the line is empty and its messages are placed again.
+    let t = start + 2_200 * MS;
+    assert_eq!(
+        tt_out(&mut al, (no_ts(), at(t))).unwrap().source,
+        TimeSource::HostClock
+    );
+    assert!(!al.ttmrf_line_busy());
+}

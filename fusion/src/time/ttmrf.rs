@@ -42,8 +42,11 @@ pub struct TtAlignerConfig {
     /// module does when its output exceeds the line; 0.5 s of output is 46 KB at 921 600 baud
     /// (far more than an MCU-class module holds; the simulator's 4 KiB wait 44 ms) and half the
     /// smallest time fault the cross-check is for (a `ts` a second off), which stays caught. A
-    /// deeper queue (a large buffer at a low baud) is called a disagreement and raised as one;
-    /// its samples are then host-timed with a sigma that covers only this limit.
+    /// deeper queue (a large buffer at a low baud) is called a disagreement and raised as one,
+    /// and the line's samples no time of its own can place are then not aligned; so are they
+    /// once the line has been full for longer than this with no time of its own bounding the
+    /// wait (`Aligner::place_checked`). Must stay under the 640 ms a [`super::line_load`]
+    /// history spans, or a line full for longer would not be seen.
     pub queue_limit_ns: i64,
 }
 
