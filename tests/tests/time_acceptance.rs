@@ -854,12 +854,12 @@ fn a_saturated_tt_line_without_times_of_its_own_is_placed_only_while_its_wait_is
             tt.len(),
             placed.len()
         );
-        // The line is full from the start and stays so: nothing is placed once it has been
-        // full for 0.5 s. (Here nothing is placed at all: the first samples wait for the host
-        // clock, which the VN-200 locks a few seconds in, and are placed by the line's state
-        // then, when its wait is already unbounded.) Every placed sample, were there any, is
+        // The line is full from the start and stays so: only samples that arrived in its first
+        // 0.5 s of being full are placed (they wait for the host clock, and are placed with
+        // the wait their line allowed at their arrival), nothing after. Every placed one is
         // judged by `check_all` above: within its sigma.
         assert!(placed.iter().all(|j| j.at_s < 1.0), "{baud}");
+        assert!(!placed.is_empty(), "{baud}");
         assert!(tt.len() > 500, "{baud}: {}", tt.len());
     }
 }

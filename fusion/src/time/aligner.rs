@@ -155,6 +155,22 @@ struct Held {
     index: u64,
     sample: Sample,
     rx: Rx,
+    /// The TT-Multi-RF line at its arrival: a message held for the host clock is placed with
+    /// the wait its line allowed then, not with the line's state when the clock arrives.
+    tt_line: TtLineAt,
+}
+
+/// A TT-Multi-RF line's state at a message's arrival: what bounds that message's wait in the
+/// module's transmit queue ([`LineLoad`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct TtLineAt {
+    /// How long the line had been full, at most [`TtAlignerConfig::queue_limit_ns`], ns (0:
+    /// not full): the longest the message can have waited.
+    queue_ns: i64,
+    /// The line had been full for longer than the limit: the wait of a message without a time
+    /// of its own may pass the limit, unless a recent time of its own bounds it
+    /// (`Aligner::tt_queue_bounded_until_ns`).
+    beyond_limit: bool,
 }
 
 /// Puts the samples of every device on GPS time.
@@ -189,10 +205,8 @@ pub struct Aligner {
     // --- a TT-Multi-RF sending more than its line carries ---
     /// Bytes of its messages over the last moments of host time ([`LineLoad`]).
     tt_line: LineLoad,
-    /// How long its line had been full at its latest message, at most
-    /// [`TtAlignerConfig::queue_limit_ns`], ns (0: not full): the longest that message can
-    /// have waited in the module's queue.
-    tt_queue_ns: i64,
+    /// Its line at its latest message.
+    tt_line_at: TtLineAt,
     /// Its messages received while its line was full.
     tt_busy_messages: u64,
     /// Its latest time of its own (JSON `ts`, TS24h) on a full line came earlier than the host
@@ -200,10 +214,6 @@ pub struct Aligner {
     /// since: its queue is longer than the limit (or its clock is wrong), so a sample timed by
     /// the host clock is not aligned ([`NotAligned::LineFull`]).
     tt_queue_beyond_limit: bool,
-    /// Its line had been full for longer than [`TtAlignerConfig::queue_limit_ns`] at its
-    /// latest message: the wait of a message without a time of its own may then pass the limit,
-    /// unless a recent time of its own bounds it (`tt_queue_bounded_until_ns`).
-    tt_full_beyond_limit: bool,
     /// Host time (arrival) up to which the latest agreeing time of its own bounds the module's
     /// queue within the limit, ns; `i64::MIN` for none. See [`Self::place_checked`].
     tt_queue_bounded_until_ns: i64,
@@ -229,10 +239,9 @@ impl Aligner {
             tt_disagreement: false,
             tt_disagreeing: 0,
             tt_line: LineLoad::default(),
-            tt_queue_ns: 0,
+            tt_line_at: TtLineAt::default(),
             tt_busy_messages: 0,
             tt_queue_beyond_limit: false,
-            tt_full_beyond_limit: false,
             tt_queue_bounded_until_ns: i64::MIN,
         }
     }
@@ -287,7 +296,7 @@ impl Aligner {
     /// [`TtAlignerConfig::queue_limit_ns`]), and its host-timed samples carry that wait in
     /// their sigma.
     pub fn ttmrf_line_busy(&self) -> bool {
-        self.tt_queue_ns > 0
+        self.tt_line_at.queue_ns > 0
     }
 
     /// The devices whose serial line is full at host time `host_ns` (`line_full` in the
@@ -319,11 +328,13 @@ impl Aligner {
             .tt_line
             .full_for_ns(rx.host_ns, self.base.ttmrf.link.baud);
         let queue_ns = full_ns.min(self.cfg.ttmrf.queue_limit_ns);
-        self.tt_full_beyond_limit = full_ns > self.cfg.ttmrf.queue_limit_ns;
-        if queue_ns > 0 && self.tt_queue_ns == 0 {
+        if queue_ns > 0 && self.tt_line_at.queue_ns == 0 {
             self.tt_host = HostClock::new(self.cfg.host);
         }
-        self.tt_queue_ns = queue_ns;
+        self.tt_line_at = TtLineAt {
+            queue_ns,
+            beyond_limit: full_ns > self.cfg.ttmrf.queue_limit_ns,
+        };
         self.tt_busy_messages += u64::from(queue_ns > 0);
         // An empty line has no queue.
         self.tt_queue_beyond_limit &= queue_ns > 0;
@@ -333,12 +344,12 @@ impl Aligner {
     /// waited in the module between 0 and the time the line has been full (at most the queue
     /// limit) before it was sent, taken as uniform (half of it added to its delay, it /
     /// sqrt(12) to its sigma).
-    fn tt_link(&self) -> HostTimedLink {
+    fn tt_link(&self, line: TtLineAt) -> HostTimedLink {
         // A wait of 0 (a line not full) leaves the link as it is.
         self.cfg
             .ttmrf
             .link
-            .with_read_interval(u64::try_from(self.tt_queue_ns).unwrap_or(0))
+            .with_read_interval(u64::try_from(line.queue_ns).unwrap_or(0))
     }
 
     /// The host clock model.
@@ -486,7 +497,7 @@ impl Aligner {
         if device == Device::Ttmrf {
             self.note_tt_line(rx);
         }
-        let time = self.place_checked(&other, rx);
+        let time = self.place_checked(&other, rx, self.tt_line_at);
         if self.learn_tt_host(&other, rx, &time) {
             // A new host-clock reference may free what waits for it.
             self.retry_held(out);
@@ -498,6 +509,7 @@ impl Aligner {
                     index,
                     sample: other,
                     rx,
+                    tt_line: self.tt_line_at,
                 },
                 out,
             );
@@ -647,9 +659,15 @@ impl Aligner {
     }
 
     /// GPS time of a sample whose time depends on the host clock (Watson, TT-Multi-RF).
-    fn place_host_dependent(&self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
+    /// `line`: the TT-Multi-RF line at the sample's arrival.
+    fn place_host_dependent(
+        &self,
+        sample: &Sample,
+        rx: Rx,
+        line: TtLineAt,
+    ) -> Result<AlignedTime, NotAligned> {
         let tt = &TtAlignerConfig {
-            link: self.tt_link(),
+            link: self.tt_link(line),
             ..self.cfg.ttmrf
         };
         let h = first_byte_host_ns(rx, tt.link.baud);
@@ -709,8 +727,13 @@ impl Aligner {
     /// more than 0.5 s that carries no time of its own is not aligned until it empties: its
     /// module's buffer, which sets the real wait (0.36 s for 4 KiB at 115 200 baud, 4.3 s at
     /// 9600), is not documented, and a buffer assumed would be a guess.
-    fn place_checked(&mut self, sample: &Sample, rx: Rx) -> Result<AlignedTime, NotAligned> {
-        let time = self.place_host_dependent(sample, rx);
+    fn place_checked(
+        &mut self,
+        sample: &Sample,
+        rx: Rx,
+        line: TtLineAt,
+    ) -> Result<AlignedTime, NotAligned> {
+        let time = self.place_host_dependent(sample, rx, line);
         let Ok(a) = time else { return time };
         let link = self.cfg.ttmrf.link;
         let h = first_byte_host_ns(rx, link.baud);
@@ -718,7 +741,7 @@ impl Aligner {
             // Host-timed, or a TS1s second named by the host clock.
             if sample.device() == Device::Ttmrf
                 && (self.tt_queue_beyond_limit
-                    || (self.tt_full_beyond_limit && rx.host_ns > self.tt_queue_bounded_until_ns))
+                    || (line.beyond_limit && rx.host_ns > self.tt_queue_bounded_until_ns))
             {
                 return Err(NotAligned::LineFull);
             }
@@ -734,7 +757,7 @@ impl Aligner {
         self.tt_disagreement = self.cfg.cross_check.disagrees_after_queue(
             (a.t_gps_ns, a.sigma_ns),
             view,
-            self.tt_queue_ns,
+            line.queue_ns,
         );
         if !self.tt_disagreement {
             self.tt_queue_beyond_limit = false;
@@ -749,17 +772,16 @@ impl Aligner {
             return time;
         }
         self.tt_disagreeing += 1;
-        let early = self.cfg.cross_check.early_beyond_queue(
-            (a.t_gps_ns, a.sigma_ns),
-            view,
-            self.tt_queue_ns,
-        );
-        if self.tt_queue_ns > 0 && early {
+        let early =
+            self.cfg
+                .cross_check
+                .early_beyond_queue((a.t_gps_ns, a.sigma_ns), view, line.queue_ns);
+        if line.queue_ns > 0 && early {
             self.tt_queue_beyond_limit = true;
             return Err(NotAligned::LineFull);
         }
         let host = Self::pick(&self.host, &self.tt_host, h);
-        host_timed(host, rx, self.tt_link()).or(Err(NotAligned::ClockDisagreement))
+        host_timed(host, rx, self.tt_link(line)).or(Err(NotAligned::ClockDisagreement))
     }
 
     /// A TT-Multi-RF sample placed by its own GNSS time (JSON `ts`, raw TS24h) is a reference of
@@ -775,7 +797,7 @@ impl Aligner {
     ) -> bool {
         let Ok(a) = time else { return false };
         // A full line's messages left the module late by an unknown queue: not references.
-        if self.tt_queue_ns > 0
+        if self.tt_line_at.queue_ns > 0
             || a.source != TimeSource::UtcTimeOfDay
             || a.status != ClockStatus::Locked
             || !matches!(sample, Sample::TtText(_) | Sample::TtRaw(_))
@@ -807,7 +829,7 @@ impl Aligner {
             return;
         }
         for h in std::mem::take(&mut self.held) {
-            let time = self.place_checked(&h.sample, h.rx);
+            let time = self.place_checked(&h.sample, h.rx, h.tt_line);
             if time == Err(NotAligned::HostClockUnknown) {
                 self.held.push_back(h);
             } else {

@@ -1232,3 +1232,66 @@ fn a_full_line_without_times_of_its_own_is_not_aligned_once_its_wait_may_pass_th
     );
     assert!(!al.ttmrf_line_busy());
 }
+
+/// A TT-Multi-RF message that waits for the host clock is placed with the wait its line
+/// allowed at its arrival, not with the line's state when the clock locks. JSON messages
+/// without `ts` back to back at 921 600 baud for 300 ms from G0 - 1.5 s (the line reads as
+/// full from about 80 ms in), then one more 1.2 s later on a quiet line: all wait, since the
+/// host clock is known only from the VN-200's first messages at G0. When they are placed (as
+/// soon as it is: `Locking`), the last of the
+/// burst carries the wait its line allowed then (a [`LineLoad`] fed the same messages is the
+/// oracle), uniform: its variance exceeds the quiet one's by that wait squared over 12. Before,
+/// it was placed as the line stood when the clock became known (quiet): no wait, the quiet
+/// sigma of 0.7 ms for a message that may have waited 375 ms.
+#[test]
+fn a_held_ttmrf_message_keeps_the_wait_its_line_allowed_at_its_arrival() {
+    let mut al = Aligner::new(AlignerConfig::default());
+    let mut oracle = LineLoad::default();
+    let no_ts = || Sample::TtText(Box::new(TextMessage::Json(Box::default())));
+    let mut out = Vec::new();
+    let mut vn_next = G0;
+    let mut feed_vn_until = |al: &mut Aligner, t: i64, out: &mut Vec<AlignedSample>| {
+        while vn_next <= t {
+            let (s, rx) = vn200(vn_next);
+            out.extend(al.handle(s, rx));
+            vn_next += 25 * MS;
+        }
+    };
+    let (start, step) = (G0 - 1_500 * MS, tx_ns(200, 921_600));
+    let (mut k, mut wait) = (0, 0);
+    while k * step < 300 * MS {
+        let t = start + k * step;
+        feed_vn_until(&mut al, t, &mut out);
+        let rx = json_at(t, t).1;
+        oracle.add(rx.host_ns, rx.wire_len);
+        wait = oracle.full_for_ns(rx.host_ns, 921_600).min(500 * MS);
+        out.extend(al.handle(no_ts(), rx));
+        k += 1;
+    }
+    assert!(wait >= 250 * MS, "{wait}");
+    let quiet_rx = json_at(start + 1_500 * MS, 0).1;
+    feed_vn_until(&mut al, start + 1_500 * MS, &mut out);
+    out.extend(al.handle(no_ts(), quiet_rx));
+    assert!(!al.ttmrf_line_busy());
+    // The TT-Multi-RF output of index `i` (the burst is 0 .. k - 1, the quiet one k).
+    let tt = |out: &[AlignedSample], i: u64| {
+        out.iter()
+            .find(|o| o.device == Device::Ttmrf && o.index == i)
+            .map(|o| o.aligned.time)
+    };
+    // Nothing placed yet: the host clock is not known.
+    let k = k as u64;
+    assert_eq!(tt(&out, k - 1), None);
+    feed_vn_until(&mut al, G0 + 10 * S, &mut out);
+    let busy = tt(&out, k - 1).unwrap().unwrap();
+    let quiet = tt(&out, k).unwrap().unwrap();
+    assert_eq!(busy.source, TimeSource::HostClock);
+    let extra = busy.sigma_ns.powi(2) - quiet.sigma_ns.powi(2);
+    let want = (wait as f64).powi(2) / 12.0;
+    assert!(
+        (extra - want).abs() < 0.01 * want,
+        "{} {} {wait}",
+        busy.sigma_ns,
+        quiet.sigma_ns
+    );
+}
