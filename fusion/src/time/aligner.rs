@@ -294,7 +294,7 @@ impl Aligner {
     /// output waits in the module, so its times teach no host clock, its own time may precede
     /// its arrival by as long as the line has been full (at most
     /// [`TtAlignerConfig::queue_limit_ns`]), and its host-timed samples carry that wait in
-    /// their sigma.
+    /// their sigma, or are not aligned once it cannot be bounded (`place_checked`).
     pub fn ttmrf_line_busy(&self) -> bool {
         self.tt_line_at.queue_ns > 0
     }
@@ -761,14 +761,14 @@ impl Aligner {
         );
         if !self.tt_disagreement {
             self.tt_queue_beyond_limit = false;
-            // This message waited at most `early + tol` (the cross-check's own tolerance); a
+            // This message waited at most `early_ns + tol_ns` (the cross-check's tolerance); a
             // later one, in order behind it, at most that plus the host time since.
-            let early = (view.0.saturating_sub(a.t_gps_ns)).max(0);
-            let tol = self.cfg.cross_check.tolerance_ns(a.sigma_ns, view.1) as i64;
+            let early_ns = view.0.saturating_sub(a.t_gps_ns).max(0);
+            let tol_ns = self.cfg.cross_check.tolerance_ns(a.sigma_ns, view.1) as i64;
             self.tt_queue_bounded_until_ns = rx
                 .host_ns
                 .saturating_add(self.cfg.ttmrf.queue_limit_ns)
-                .saturating_sub(early.saturating_add(tol));
+                .saturating_sub(early_ns.saturating_add(tol_ns));
             return time;
         }
         self.tt_disagreeing += 1;
