@@ -1149,8 +1149,8 @@ fn the_tt_host_clock_is_dropped_when_the_line_fills_and_learns_again_when_it_emp
     );
 }
 
-/// A TT-Multi-RF line with no time of its own (CSV, HEXd without TS24h) sending 10 % more than
-/// its line carries, 200-byte messages back to back at 921 600 baud from G0 + 8 s. A message's
+/// A TT-Multi-RF line with no time of its own (CSV, HEXd without TS24h) sending all its line
+/// carries, 200-byte messages back to back at 921 600 baud from G0 + 8 s. A message's
 /// wait is bounded by how long the line has been full (a [`LineLoad`] fed the same messages
 /// is the oracle, its own tests by hand), and the host-timed sigma covers a wait up to the
 /// 0.5 s limit: so every message is placed while that span is 500 ms or less (exactly 500 ms
@@ -1238,9 +1238,9 @@ fn a_full_line_without_times_of_its_own_is_not_aligned_once_its_wait_may_pass_th
 /// without `ts` back to back at 921 600 baud for 300 ms from G0 - 1.5 s (the line reads as
 /// full from about 80 ms in), then one more 1.2 s later on a quiet line: all wait, since the
 /// host clock is known only from the VN-200's first messages at G0. When they are placed (as
-/// soon as it is: `Locking`), the last of the
-/// burst carries the wait its line allowed then (a [`LineLoad`] fed the same messages is the
-/// oracle), uniform: its variance exceeds the quiet one's by that wait squared over 12. Before,
+/// soon as it is: `Locking`), the last of the burst carries the wait its line allowed then (a
+/// [`LineLoad`] fed the same messages is the oracle), uniform: its variance exceeds the quiet
+/// one's by that wait squared over 12. Before,
 /// it was placed as the line stood when the clock became known (quiet): no wait, the quiet
 /// sigma of 0.7 ms for a message that may have waited 375 ms.
 #[test]
