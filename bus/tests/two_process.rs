@@ -211,26 +211,49 @@ fn a_killed_subscriber_neither_blocks_the_publisher_nor_disturbs_others() {
 
     // Phase 2: SIGKILL the child (std's kill() sends SIGKILL on Unix). Its ports stay
     // registered until the dead node is cleaned up; publishing must not notice. Every alert
-    // sent while the dead subscriber is still connected fails for it and is counted. A parallel
-    // test's `Bus::new` may clean the dead node up meanwhile (see phase 3); from then on the
-    // attitude reaches the healthy subscriber alone and alerts stop failing, so the failures
-    // are counted against the rounds whose attitude still reached two subscribers (one off
-    // when the cleanup fell between a round's attitude and its alert).
+    // sent while the alert service still lists the dead subscriber fails for it and is counted.
+    // A parallel test's `Bus::new` may clean the dead node up meanwhile (see phase 3), one
+    // service after the other, so the attitude and alert publishers can see it leave several
+    // rounds apart (36 rounds apart once, with this crate built at opt-level 0, where the
+    // cleanup runs slower); each publisher is judged on its own. Per round, the alert failures
+    // grow by exactly one until the alert publisher no longer lists the dead subscriber, then by
+    // none; the attitude's recipients go from 2 to 1 once at most; and when one of the two has
+    // seen the dead subscriber leave, the other must too, within a few seconds: an alert that
+    // stopped being counted while the attitude still reaches the dead subscriber is a lost
+    // failure, not a cleanup. Without a cleanup, all N alerts fail once each.
     child.kill().unwrap();
     child.wait().unwrap();
-    let failed_alive = alerts.failed_deliveries();
-    let mut connected = 0u64;
-    for _ in 0..N {
-        if round(&mut att, &mut alerts, &mut durations) == 2 {
-            connected += 1;
+    let mut failed = alerts.failed_deliveries();
+    let (mut failing_rounds, mut connected) = (0usize, 0usize);
+    let (mut alert_gone, mut att_gone) = (false, false);
+    let started = Instant::now();
+    let mut rounds = 0;
+    while rounds < N || alert_gone != att_gone {
+        assert!(
+            rounds < N || started.elapsed() < Duration::from_secs(5),
+            "the dead subscriber left one publisher only: alerts failed for {failing_rounds} \
+             rounds, attitude reached both for {connected}"
+        );
+        let n_att = round(&mut att, &mut alerts, &mut durations);
+        let step = alerts.failed_deliveries() - failed;
+        failed += step;
+        match (alert_gone, step) {
+            (false, 1) => failing_rounds += 1,
+            (_, 0) => alert_gone = true,
+            _ => panic!("round {rounds}: {step} alert failures after {failing_rounds} failing"),
         }
+        match (att_gone, n_att) {
+            (false, 2) => connected += 1,
+            (_, 1) => att_gone = true,
+            _ => panic!("round {rounds}: attitude reached {n_att} after {connected} at two"),
+        }
+        rounds += 1;
     }
-    let mut dead = std::mem::take(&mut durations);
-    let failed_dead = alerts.failed_deliveries() - failed_alive;
-    assert!(
-        failed_dead.abs_diff(connected) <= 1,
-        "{failed_dead} alerts failed in {connected} rounds with the dead subscriber connected"
+    eprintln!(
+        "after SIGKILL: alerts failed for {failing_rounds} rounds, attitude reached both for \
+         {connected}, of {rounds}"
     );
+    let mut dead = std::mem::take(&mut durations);
 
     // Phase 3: dead-node cleanup disconnects the dead subscriber: attitude now reaches only the
     // healthy one and alert deliveries stop failing. (A parallel test's `Bus::new` may have

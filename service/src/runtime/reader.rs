@@ -407,11 +407,15 @@ mod tests {
     fn whole_messages_take_one_read_each() {
         // 30 messages of 100 bytes, 4 writes each: read as they arrive, about 4 reads a message;
         // with VMIN at 100, one chunk (the first, before VMIN is set, may be a piece alone),
-        // although the kernel hands it over in 64-byte reads.
+        // although the kernel hands it over in 64-byte reads. A writer that stalls mid-message
+        // for longer than the reader's patience (10 ms) splits that message in two: on a loaded
+        // machine that happens a few times (34 reads once, with the whole suite built at
+        // opt-level 0 running beside this test), so the bound leaves room for ten such stalls,
+        // still far below the 60 or more of reads as the pieces arrive.
         let (_, per_piece, _) = messages_in_pieces(100, 4, 30, None);
         let (_, whole, _) = messages_in_pieces(100, 4, 30, Some(100));
         assert!(per_piece >= 60, "{per_piece} reads as the pieces arrive");
-        assert!(whole <= 32, "{whole} reads for 30 whole messages");
+        assert!(whole <= 40, "{whole} reads for 30 whole messages");
     }
 
     #[test]
