@@ -410,7 +410,7 @@ mod tests {
         // although the kernel hands it over in 64-byte reads. A writer that stalls mid-message
         // for longer than the reader's patience (10 ms) splits that message in two: on a loaded
         // machine that happens a few times (34 reads once, with the whole suite built at
-        // opt-level 0 running beside this test), so the bound leaves room for ten such stalls,
+        // opt-level 0 running beside this test), so the bound leaves room for about ten stalls,
         // still far below the 60 or more of reads as the pieces arrive.
         let (_, per_piece, _) = messages_in_pieces(100, 4, 30, None);
         let (_, whole, _) = messages_in_pieces(100, 4, 30, Some(100));
