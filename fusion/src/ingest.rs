@@ -283,6 +283,21 @@ impl Ingest {
         Some(kind)
     }
 
+    /// Port `device` (wire `protocol`), when a TT-Multi-RF, has a transmit buffer of `bytes`
+    /// (`None`: not stated): the aligner bounds its full line's wait by the buffer's line time
+    /// ([`Aligner::set_ttmrf_output_buffer`]). Returns the device kind it was applied to: only
+    /// a TT-Multi-RF's line is watched, so other ports give `None`.
+    pub fn set_output_buffer(
+        &mut self,
+        device: &str,
+        protocol: &str,
+        bytes: Option<u32>,
+    ) -> Option<Device> {
+        let kind = Self::device_kind(device, protocol).filter(|k| *k == Device::Ttmrf)?;
+        self.aligner.set_ttmrf_output_buffer(bytes);
+        Some(kind)
+    }
+
     /// Port `device` (wire `protocol`) runs at `baud` bit/s, as configured or recorded (issue 18
     /// point 2): the aligner computes that port's transmission times with it. 0 keeps the
     /// built-in rate. Returns the device kind it was applied to, if any.

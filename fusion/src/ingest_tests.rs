@@ -121,6 +121,35 @@ fn read_intervals_go_to_the_device_kind_of_the_protocol() {
     }
 }
 
+/// A stated transmit buffer reaches the aligner from a TT-Multi-RF port of any output
+/// protocol, and from no other port (only the TT-Multi-RF's line is watched).
+#[test]
+fn output_buffers_go_to_the_ttmrf_only() {
+    let mut r = Ingest::new();
+    for (device, protocol) in [
+        ("bahrs", "bahrs-2.0"),
+        ("watson", ""),
+        ("vn200", "vn200-icd"),
+        ("gyro", ""),
+    ] {
+        assert_eq!(r.set_output_buffer(device, protocol, Some(512)), None);
+        assert_eq!(r.aligner().ttmrf_output_buffer_bytes(), None, "{device}");
+    }
+    for (k, (device, protocol)) in [("ttmrf", ""), ("adsb", "ttmrf-gdl90"), ("tt", "ttmrf-hex")]
+        .into_iter()
+        .enumerate()
+    {
+        let bytes = Some(1000 + k as u32);
+        assert_eq!(
+            r.set_output_buffer(device, protocol, bytes),
+            Some(Device::Ttmrf)
+        );
+        assert_eq!(r.aligner().ttmrf_output_buffer_bytes(), bytes, "{device}");
+    }
+    r.set_output_buffer("ttmrf", "", None);
+    assert_eq!(r.aligner().ttmrf_output_buffer_bytes(), None);
+}
+
 #[test]
 fn a_port_of_an_unknown_protocol_is_counted_not_decoded() {
     // Two reads of a channel whose protocol only starts like the VN-200's (before the protocol

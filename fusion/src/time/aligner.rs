@@ -26,7 +26,7 @@ use vigil_drivers::{bahrs, watson};
 use super::bahrs::{BahrsAligner, BahrsAlignerConfig};
 use super::cross_check::{CrossCheckConfig, host_view};
 use super::host::{HostClock, HostClockConfig};
-use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
+use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed, tx_ns};
 use super::line_load::LineLoad;
 use super::pps::PpsReferences;
 use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
@@ -164,11 +164,12 @@ struct Held {
 /// module's transmit queue ([`LineLoad`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 struct TtLineAt {
-    /// How long the line had been full, at most [`TtAlignerConfig::queue_limit_ns`], ns (0:
-    /// not full): the longest the message can have waited.
+    /// How long the line had been full, at most the stated buffer's line time
+    /// ([`TtAlignerConfig::output_buffer_bytes`]) and [`TtAlignerConfig::queue_limit_ns`], ns
+    /// (0: not full): the longest the message can have waited.
     queue_ns: i64,
-    /// The line had been full for longer than the limit: the wait of a message without a time
-    /// of its own may pass the limit, unless a recent time of its own bounds it
+    /// The line had been full for longer than the limit (and no stated buffer keeps the wait
+    /// within it): the wait of a message without a time of its own may pass the limit, unless a recent time of its own bounds it
     /// (`Aligner::tt_queue_bounded_until_ns`).
     beyond_limit: bool,
 }
@@ -324,16 +325,21 @@ impl Aligner {
     /// within its first 100 ms, long before five seconds of references could lock it).
     fn note_tt_line(&mut self, rx: Rx) {
         self.tt_line.add(rx.host_ns, rx.wire_len);
-        let full_ns = self
-            .tt_line
-            .full_for_ns(rx.host_ns, self.base.ttmrf.link.baud);
-        let queue_ns = full_ns.min(self.cfg.ttmrf.queue_limit_ns);
+        let baud = self.base.ttmrf.link.baud;
+        let full_ns = self.tt_line.full_for_ns(rx.host_ns, baud);
+        // A stated transmit buffer bounds the wait as well: a message waited at most for the
+        // bytes ahead of it (`TtAlignerConfig::output_buffer_bytes`).
+        let bound_ns = match self.cfg.ttmrf.output_buffer_bytes {
+            Some(bytes) => full_ns.min(tx_ns(bytes as usize, baud)),
+            None => full_ns,
+        };
+        let queue_ns = bound_ns.min(self.cfg.ttmrf.queue_limit_ns);
         if queue_ns > 0 && self.tt_line_at.queue_ns == 0 {
             self.tt_host = HostClock::new(self.cfg.host);
         }
         self.tt_line_at = TtLineAt {
             queue_ns,
-            beyond_limit: full_ns > self.cfg.ttmrf.queue_limit_ns,
+            beyond_limit: bound_ns > self.cfg.ttmrf.queue_limit_ns,
         };
         self.tt_busy_messages += u64::from(queue_ns > 0);
         // An empty line has no queue.
@@ -619,6 +625,20 @@ impl Aligner {
         self.apply_port_settings();
     }
 
+    /// The TT-Multi-RF's transmit buffer is `bytes` long (`None`: unknown, the default):
+    /// while its line is full, a message's wait is bounded by that many bytes' line time as
+    /// well as by how long the line has been full ([`TtAlignerConfig::output_buffer_bytes`]).
+    /// The other devices' lines are not watched, so they have no such setting.
+    pub fn set_ttmrf_output_buffer(&mut self, bytes: Option<u32>) {
+        self.base.ttmrf.output_buffer_bytes = bytes;
+        self.apply_port_settings();
+    }
+
+    /// The TT-Multi-RF's transmit buffer as stated, bytes (`None`: not stated).
+    pub fn ttmrf_output_buffer_bytes(&self) -> Option<u32> {
+        self.cfg.ttmrf.output_buffer_bytes
+    }
+
     /// Derives the working configuration from the base and the per-port settings.
     fn apply_port_settings(&mut self) {
         let wait = |slot: usize| -> (u64, f64) {
@@ -726,7 +746,9 @@ impl Aligner {
     /// limit in their sigma; otherwise they are [`NotAligned::LineFull`]. So a line full for
     /// more than 0.5 s that carries no time of its own is not aligned until it empties: its
     /// module's buffer, which sets the real wait (0.36 s for 4 KiB at 115 200 baud, 4.3 s at
-    /// 9600), is not documented, and a buffer assumed would be a guess.
+    /// 9600), is not documented, and a buffer assumed would be a guess. An integrator who
+    /// knows it states it ([`Self::set_ttmrf_output_buffer`]): a buffer whose line time is
+    /// within the limit bounds every wait, and the line stays placed.
     fn place_checked(
         &mut self,
         sample: &Sample,

@@ -1233,6 +1233,81 @@ fn a_full_line_without_times_of_its_own_is_not_aligned_once_its_wait_may_pass_th
     assert!(!al.ttmrf_line_busy());
 }
 
+/// As above with the module's transmit buffer stated: 4096 bytes, 4096 x 10 / 921 600 s =
+/// 44 444 444 ns of line time (by hand). A message waited at most that however long the line
+/// has been full, so every message of the 700 ms is placed (none `LineFull`), with its wait
+/// of 0 ..= min(time full, 44.4 ms) taken as uniform: once the line has been full for 44.4 ms
+/// or more, 22 222 222 ns earlier than the same message on a quiet line, and sigma^2 larger by
+/// (44 444 444 ns)^2 / 12. A `ts` 100 ms early is more than that buffer allows (plus the
+/// cross-check's 20-odd ms tolerance): the statement is contradicted, so that message and the
+/// host-timed ones after it are not aligned until a time of its own agrees again.
+#[test]
+fn a_stated_transmit_buffer_bounds_a_full_lines_wait_and_keeps_it_placed() {
+    let w: i64 = 44_444_444;
+    assert_eq!(tx_ns(4096, 921_600), w);
+    let mut al = locked_on_vn200();
+    al.set_ttmrf_output_buffer(Some(4096));
+    let mut oracle = LineLoad::default();
+    let no_ts = || Sample::TtText(Box::new(TextMessage::Json(Box::default())));
+    let at = |t: i64| json_at(t, t).1;
+    let start = G0 + 8_000 * MS;
+    let step = tx_ns(200, 921_600);
+    let (mut bounded, mut k) = (0, 0);
+    while k * step < 700 * MS {
+        let rx = at(start + k * step);
+        oracle.add(rx.host_ns, rx.wire_len);
+        let full = oracle.full_for_ns(rx.host_ns, 921_600);
+        let busy = tt_out(&mut al, (no_ts(), rx)).unwrap();
+        assert_eq!(busy.source, TimeSource::HostClock);
+        let quiet = tt_out(&mut locked_on_vn200(), (no_ts(), rx)).unwrap();
+        let wait = full.min(w);
+        assert!(
+            (quiet.t_gps_ns - busy.t_gps_ns - wait / 2).abs() <= 1,
+            "{k}: {busy:?} {quiet:?}"
+        );
+        let added = busy.sigma_ns.powi(2) - quiet.sigma_ns.powi(2);
+        assert!(
+            (added - (wait as f64).powi(2) / 12.0).abs() < 1e3,
+            "{k}: {added}"
+        );
+        bounded += usize::from(full > w);
+        k += 1;
+    }
+    assert!(al.ttmrf_line_busy());
+    assert!(bounded > 250, "{bounded} of {k}");
+    // 30 ms early is within the buffer's 44.4 ms: a queue, the `ts` stands.
+    let t = start + k * step;
+    assert_eq!(
+        tt_out(&mut al, json_at(t, t - 30 * MS)).unwrap().source,
+        TimeSource::UtcTimeOfDay
+    );
+    assert!(al.clock_disagreements().is_empty());
+    // 100 ms early is not: not aligned, and neither is the next message without a time.
+    let t = start + (k + 1) * step;
+    assert_eq!(
+        tt_out(&mut al, json_at(t, t - 100 * MS)),
+        Err(NotAligned::LineFull)
+    );
+    assert_eq!(al.clock_disagreements(), vec![Device::Ttmrf]);
+    let t = start + (k + 2) * step;
+    assert_eq!(tt_out(&mut al, (no_ts(), at(t))), Err(NotAligned::LineFull));
+    // A buffer whose line time passes the limit bounds nothing the limit does not: 65 536
+    // bytes at 921 600 baud are 711 ms, so the line behaves as with no buffer stated (the
+    // test above: not aligned from about 400 ms in).
+    let mut al = locked_on_vn200();
+    al.set_ttmrf_output_buffer(Some(65_536));
+    let mut k = 0;
+    let mut first_not = None;
+    while k * step < 700 * MS {
+        if tt_out(&mut al, (no_ts(), at(start + k * step))).is_err() {
+            first_not.get_or_insert(k * step);
+        }
+        k += 1;
+    }
+    let first = first_not.expect("a 711 ms buffer bounds nothing within the limit");
+    assert!((395 * MS..=415 * MS).contains(&first), "{first}");
+}
+
 /// A TT-Multi-RF message that waits for the host clock is placed with the wait its line
 /// allowed at its arrival, not with the line's state when the clock locks. JSON messages
 /// without `ts` back to back at 921 600 baud for 300 ms from G0 - 1.5 s (the line reads as

@@ -48,6 +48,16 @@ pub struct TtAlignerConfig {
     /// wait (`Aligner::place_checked`). Must stay under the 640 ms a [`super::line_load`]
     /// history spans, or a line full for longer would not be seen.
     pub queue_limit_ns: i64,
+    /// The module's transmit buffer, bytes, when the integrator knows it (`None`: unknown, the
+    /// default). A message that finds the buffer full is lost in the module, so one that is
+    /// sent waited at most for the bytes ahead of it: this many bytes' line time (4096 bytes:
+    /// 0.36 s at 115 200 baud). That bounds the wait of a full line's messages however long
+    /// the line has been full, so below [`Self::queue_limit_ns`] the line's host-timed samples
+    /// stay placed, with this wait in their sigma. Decision: the manual gives no buffer size,
+    /// so vigil assumes none; a figure smaller than the real buffer would pass late times off
+    /// within too small a sigma (a time of its own, JSON `ts` or TS24h, earlier than it allows
+    /// is still called a disagreement).
+    pub output_buffer_bytes: Option<u32>,
 }
 
 impl Default for TtAlignerConfig {
@@ -60,6 +70,7 @@ impl Default for TtAlignerConfig {
             },
             ts24h_sigma_ns: 1_000.0,
             queue_limit_ns: 500_000_000,
+            output_buffer_bytes: None,
         }
     }
 }
