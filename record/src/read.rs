@@ -80,6 +80,8 @@ struct ChannelInfo {
     baud: u32,
     /// Channel metadata `latency_timer_ns`; 0 if absent.
     latency_timer_ns: u64,
+    /// Channel metadata `output_buffer_bytes`; `None` if absent or unreadable.
+    output_buffer_bytes: Option<u32>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -124,6 +126,10 @@ impl ChannelInfo {
                 .get("latency_timer_ns")
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(0),
+            output_buffer_bytes: c
+                .metadata
+                .get("output_buffer_bytes")
+                .and_then(|v| v.parse().ok()),
         }
     }
 }
@@ -178,6 +184,7 @@ impl State {
             read_interval_ns: c.read_interval_ns,
             baud: c.baud,
             latency_timer_ns: c.latency_timer_ns,
+            output_buffer_bytes: c.output_buffer_bytes,
         })
     }
 
@@ -614,6 +621,9 @@ pub enum Recorded<'a> {
         /// The port's USB adapter latency timer, ns (channel metadata `latency_timer_ns`); 0
         /// when none was known (also when absent or unreadable).
         latency_timer_ns: u64,
+        /// The device's transmit buffer as the live service was told it, bytes (channel
+        /// metadata `output_buffer_bytes`); `None` when not stated (also when unreadable).
+        output_buffer_bytes: Option<u32>,
     },
     /// A truth record (JSON).
     Truth {

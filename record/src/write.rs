@@ -95,12 +95,14 @@ impl<W: Write + Seek> RawRecorder<W> {
         baud: u32,
         read_interval_ns: u64,
     ) -> Result<u16, mcap::McapError> {
-        self.add_port_with_adapter(device, protocol, baud, read_interval_ns, 0)
+        self.add_port_with_adapter(device, protocol, baud, read_interval_ns, 0, None)
     }
 
     /// As [`RawRecorder::add_port`], with the port's USB adapter latency timer, ns (0: none
     /// known), kept as channel metadata `latency_timer_ns` when not 0 so that a replay models
-    /// the adapter as the live service did (`Recorded::Raw::latency_timer_ns`).
+    /// the adapter as the live service did (`Recorded::Raw::latency_timer_ns`), and the
+    /// device's stated transmit buffer, bytes (`None`: not stated), kept as channel metadata
+    /// `output_buffer_bytes` (`Recorded::Raw::output_buffer_bytes`).
     pub fn add_port_with_adapter(
         &mut self,
         device: &str,
@@ -108,6 +110,7 @@ impl<W: Write + Seek> RawRecorder<W> {
         baud: u32,
         read_interval_ns: u64,
         latency_timer_ns: u64,
+        output_buffer_bytes: Option<u32>,
     ) -> Result<u16, mcap::McapError> {
         let mut meta = BTreeMap::from([
             ("device".to_string(), device.to_string()),
@@ -119,6 +122,9 @@ impl<W: Write + Seek> RawRecorder<W> {
         }
         if latency_timer_ns > 0 {
             meta.insert("latency_timer_ns".to_string(), latency_timer_ns.to_string());
+        }
+        if let Some(bytes) = output_buffer_bytes {
+            meta.insert("output_buffer_bytes".to_string(), bytes.to_string());
         }
         let name = if protocol.is_empty() {
             device

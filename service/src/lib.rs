@@ -166,6 +166,8 @@ impl Service {
                 p.protocol.name(),
                 p.latency_timer_ns.unwrap_or(0),
             );
+            // The TT-Multi-RF's stated transmit buffer, when given.
+            let _ = replay.set_output_buffer(&p.device, p.protocol.name(), p.output_buffer_bytes);
         }
         Ok(Self {
             ports: ports.iter().map(PortState::new).collect(),
@@ -452,6 +454,9 @@ impl Service {
             p.protocol.name(),
             p.latency_timer_ns.unwrap_or(0),
         );
+        let _ = self
+            .replay
+            .set_output_buffer(&p.device, p.protocol.name(), p.output_buffer_bytes);
         self.ports.push(PortState::new(p));
         self.ports.len() - 1
     }

@@ -175,17 +175,21 @@ fn read_intervals_are_kept_per_channel_and_read_back() {
     );
 }
 
-/// Issue 18 point 1: a port's adapter latency timer and baud are channel metadata, read back
-/// with every chunk of the channel; a port without a timer reads 0.
+/// Issue 18 point 1: a port's adapter latency timer, baud and stated transmit buffer are
+/// channel metadata, read back with every chunk of the channel; a port without a timer reads
+/// 0, one without a stated buffer `None`.
 #[test]
 fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
     use vigil_record::RawRecorder;
     let mut rec = RawRecorder::new(Cursor::new(Vec::new()), &[]).unwrap();
-    rec.add_port_with_adapter("watson", "watson-ahrs-e304", 9600, 0, 16_000_000)
+    rec.add_port_with_adapter("watson", "watson-ahrs-e304", 9600, 0, 16_000_000, None)
         .unwrap();
     rec.add_port("vn200", "vn200-icd", 921_600, 0).unwrap();
+    rec.add_port_with_adapter("ttmrf", "ttmrf-text", 115_200, 0, 0, Some(4096))
+        .unwrap();
     rec.write_raw(0, 100, b"ab").unwrap();
     rec.write_raw(1, 200, b"cd").unwrap();
+    rec.write_raw(2, 300, b"ef").unwrap();
     let bytes = rec.finish().unwrap().into_inner();
     let mut got = Vec::new();
     read_recording::<()>(&bytes, |m| {
@@ -193,10 +197,16 @@ fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
             device,
             baud,
             latency_timer_ns,
+            output_buffer_bytes,
             ..
         } = m
         {
-            got.push((device.to_string(), baud, latency_timer_ns));
+            got.push((
+                device.to_string(),
+                baud,
+                latency_timer_ns,
+                output_buffer_bytes,
+            ));
         }
         Ok(())
     })
@@ -204,8 +214,9 @@ fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
     assert_eq!(
         got,
         [
-            ("watson".to_string(), 9600, 16_000_000),
-            ("vn200".to_string(), 921_600, 0)
+            ("watson".to_string(), 9600, 16_000_000, None),
+            ("vn200".to_string(), 921_600, 0, None),
+            ("ttmrf".to_string(), 115_200, 0, Some(4096))
         ]
     );
 }

@@ -21,6 +21,7 @@ pub fn ports_of(sink: &MemorySink) -> Vec<Port> {
             setup: None,
             read_interval_ns: 0,
             latency_timer_ns: None,
+            output_buffer_bytes: None,
         })
         .collect()
 }

@@ -271,3 +271,49 @@ fn service_and_fused_replay_agree() {
     assert_eq!(live.len(), replayed.len());
     assert!(live == replayed, "the service and the replay differ");
 }
+
+/// A TT-Multi-RF sending CSV and HEXd at 115 200 baud, more than its line carries (the
+/// full-rates traffic: 300 intruders), through the service as `vigil run` feeds it, for 30 s.
+/// Without its transmit buffer stated, its samples are not aligned once the line has been full
+/// for 0.5 s, so the tracks of its first second time out (20 s) and no traffic picture after
+/// 23 s has a target; with the simulator's buffer stated on the port (`[[ports]]
+/// output_buffer_bytes`), every picture carries targets to the end. (Whether their times are
+/// right is `time_acceptance`'s test of the same line.)
+#[test]
+fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic() {
+    let mut sc = vigil_sim::Scenario::from_toml(include_str!("../data/full-rates.toml")).unwrap();
+    let tt = sc.devices.ttmrf.as_mut().unwrap();
+    tt.protocol = "csv".into();
+    tt.raw = "hexd".into();
+    tt.baud = 115_200;
+    let mut sim = Simulator::new(&sc, 3).unwrap();
+    let mut sink = MemorySink::default();
+    sim.run(30_000_000_000, &mut sink).unwrap();
+    let with_targets_after_23_s = |buffer: Option<u32>| {
+        let mut ports = ports_of(&sink);
+        for p in ports.iter_mut().filter(|p| p.device == "ttmrf") {
+            p.output_buffer_bytes = buffer;
+        }
+        let cfg = vigil_service::config::PipelineSection::default().pipeline_config();
+        let mut s = Service::new(&ports, cfg, MonitorParams::default(), 2.0).unwrap();
+        let mut out = Collected::default();
+        vigil_tests::sim_drive::drive(&mut s, &sink, &mut out, 100_000_000, |_, _| {});
+        let t23 = out.traffic.first().unwrap().header.gps_time_ns + 23_000_000_000;
+        let late: Vec<&TrafficPayload> = out
+            .traffic
+            .iter()
+            .filter(|t| t.header.gps_time_ns > t23)
+            .collect();
+        let with = late.iter().filter(|t| t.count() > 0).count();
+
+        println!(
+            "buffer {buffer:?}: {with} of {} pictures after 23 s have targets",
+            late.len()
+        );
+        (with, late.len())
+    };
+    let (without, late) = with_targets_after_23_s(None);
+    assert!(late >= 4 && without == 0, "{without} of {late}");
+    let (with, late) = with_targets_after_23_s(Some(vigil_sim::link::TX_BUFFER_BYTES as u32));
+    assert!(late >= 4 && with == late, "{with} of {late}");
+}

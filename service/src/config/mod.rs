@@ -34,6 +34,7 @@ pub const BAUD_RATES: [u32; 9] = [
     4800, 9600, 19_200, 38_400, 57_600, 115_200, 230_400, 460_800, 921_600,
 ];
 
+use vigil_drivers::protocol::Device;
 /// The wire protocol of a port: the drivers' protocol table (names, default bauds, device
 /// families, decoders), re-exported for the configuration's users.
 pub use vigil_drivers::protocol::Protocol;
@@ -114,6 +115,14 @@ pub struct PortConfig {
     /// The aligner widens that port's host-timed sigmas by it (issue 18 point 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub latency_timer_ms: Option<f64>,
+    /// TT-Multi-RF ports only: the module's transmit buffer, bytes, when known from its maker
+    /// (the manual does not give it). While the module's output fills its line, a message
+    /// waits at most this many bytes' line time, so the line's samples with no time of their
+    /// own (CSV, HEXd) stay placed with that wait in their sigma instead of being marked not
+    /// aligned once the line has been full for 0.5 s. Absent (default): not known, no bound
+    /// assumed. Too small a figure would pass late times off as right.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output_buffer_bytes: Option<u32>,
 }
 
 impl PortConfig {
@@ -125,6 +134,7 @@ impl PortConfig {
             protocol: protocol.name().to_string(),
             read_interval_ms: None,
             latency_timer_ms: None,
+            output_buffer_bytes: None,
         }
     }
 }
@@ -418,6 +428,9 @@ pub struct Port {
     /// The USB adapter latency timer, ns: configured, read from sysfs by `vigil run`, or
     /// recorded (a replay); `None`: not known, no adapter wait modelled.
     pub latency_timer_ns: Option<u64>,
+    /// The device's transmit buffer, bytes (TT-Multi-RF ports only): configured or recorded;
+    /// `None`: not known, no bound on a full line's wait assumed.
+    pub output_buffer_bytes: Option<u32>,
 }
 
 /// The service's part of the example configuration (see [`example`]).
@@ -442,7 +455,9 @@ cleanup_period_s = 1.0
 # otherwise; not for vn200-icd; the wait enters the host-timed samples' sigma);
 # latency_timer_ms: the port's USB adapter latency timer (FTDI: 1..255, 16 by default on Linux;
 # 0: none, a native UART or USB CDC device; absent: read from the FTDI driver's sysfs file when
-# the port is one); it enters the host-timed samples' sigma.
+# the port is one); it enters the host-timed samples' sigma. output_buffer_bytes (TT-Multi-RF
+# ports only, absent by default): the module's transmit buffer, bytes, if its maker states it;
+# it bounds the wait of a full line's messages, which then stay placed (see README).
 [[ports]]
 device = "bahrs"
 path = "/dev/ttyUSB0"
@@ -711,6 +726,22 @@ impl Config {
                     ));
                 }
             },
+            output_buffer_bytes: match p.output_buffer_bytes {
+                None => None,
+                Some(_) if protocol.device() != Device::Ttmrf => {
+                    return Err(invalid(
+                        key("output_buffer_bytes"),
+                        "applies to TT-Multi-RF ports only (the one line vigil watches)",
+                    ));
+                }
+                Some(0) => {
+                    return Err(invalid(
+                        key("output_buffer_bytes"),
+                        "at least 1 byte (leave it out when the buffer is not known)",
+                    ));
+                }
+                Some(b) => Some(b),
+            },
         })
     }
 
@@ -854,6 +885,34 @@ mod tests {
                 "ports[0].latency_timer_ms",
                 "{bad}"
             );
+        }
+    }
+
+    /// `output_buffer_bytes`: absent by default (no bound assumed), a positive byte count on a
+    /// TT-Multi-RF port (whatever its output protocol), refused on the other ports (their lines
+    /// are not watched) and at 0, naming the key.
+    #[test]
+    fn output_buffers_are_stated_on_ttmrf_ports_only() {
+        let one = |device: &str, protocol: &str, extra: &str| {
+            Config::parse(&format!(
+                "[[ports]]\ndevice = \"{device}\"\npath = \"/dev/x\"\nprotocol = \"{protocol}\"\n{extra}"
+            ))
+            .unwrap()
+            .validate()
+        };
+        assert_eq!(one("ttmrf", "", "").unwrap()[0].output_buffer_bytes, None);
+        for protocol in ["ttmrf-text", "ttmrf-hex", "ttmrf-gdl90"] {
+            let p = one("adsb", protocol, "output_buffer_bytes = 4096").unwrap();
+            assert_eq!(p[0].output_buffer_bytes, Some(4096), "{protocol}");
+        }
+        for (device, extra) in [
+            ("ttmrf", "output_buffer_bytes = 0"),
+            ("watson", "output_buffer_bytes = 4096"),
+            ("vn200", "output_buffer_bytes = 4096"),
+            ("bahrs", "output_buffer_bytes = 4096"),
+        ] {
+            let e = one(device, "", extra).unwrap_err();
+            assert_eq!(e.key, "ports[0].output_buffer_bytes", "{device} {extra}");
         }
     }
 

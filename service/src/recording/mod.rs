@@ -338,6 +338,7 @@ impl<W: Write + Seek> RichRecorder<W> {
         baud: u32,
         read_interval_ns: u64,
         latency_timer_ns: u64,
+        output_buffer_bytes: Option<u32>,
     ) -> Result<u16> {
         Ok(self.rec.add_port_with_adapter(
             device,
@@ -345,6 +346,7 @@ impl<W: Write + Seek> RichRecorder<W> {
             baud,
             read_interval_ns,
             latency_timer_ns,
+            output_buffer_bytes,
         )?)
     }
 

@@ -76,17 +76,19 @@ pub fn replay_aligned_with(
             read_interval_ns,
             baud,
             latency_timer_ns,
+            output_buffer_bytes,
         } = m
         else {
             return Ok(());
         };
-        // The live service's pacing, as it modelled it, and the port's recorded baud and
-        // adapter timer (a channel's metadata: set once).
+        // The live service's pacing, as it modelled it, and the port's recorded baud, adapter
+        // timer and stated transmit buffer (a channel's metadata: set once).
         if !seen.iter().any(|d| d == device) {
             seen.push(device.to_string());
             let _ = r.set_read_interval(device, protocol, read_interval_ns);
             let _ = r.set_baud(device, protocol, baud);
             let _ = r.set_latency_timer(device, protocol, latency_timer_ns);
+            let _ = r.set_output_buffer(device, protocol, output_buffer_bytes);
         }
         r.feed(device, protocol, t_host_ns, bytes, &mut f)
     })?;

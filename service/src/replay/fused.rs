@@ -52,6 +52,8 @@ pub enum Step<'a> {
         baud: u32,
         /// Its channel's adapter latency timer, ns (0: none recorded).
         latency_timer_ns: u64,
+        /// Its channel's stated transmit buffer, bytes (`None`: none recorded).
+        output_buffer_bytes: Option<u32>,
         /// Host receive time, ns.
         t_host_ns: u64,
         /// The bytes.
@@ -91,6 +93,7 @@ pub fn replay_service<R: Read>(
             read_interval_ns,
             baud,
             latency_timer_ns,
+            output_buffer_bytes,
         } = m
         else {
             return Ok(());
@@ -112,6 +115,7 @@ pub fn replay_service<R: Read>(
                         setup: None,
                         read_interval_ns,
                         latency_timer_ns: (latency_timer_ns > 0).then_some(latency_timer_ns),
+                        output_buffer_bytes,
                     })
                 });
                 if let Some(i) = port {
@@ -143,6 +147,7 @@ pub fn replay_service<R: Read>(
                 read_interval_ns,
                 baud,
                 latency_timer_ns,
+                output_buffer_bytes,
                 t_host_ns,
                 bytes,
             },

@@ -78,6 +78,7 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
             read_interval_ns,
             baud,
             latency_timer_ns,
+            output_buffer_bytes,
             ..
         } = m
             && !ports.iter().any(|p| p.device == device)
@@ -98,6 +99,7 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
                 setup: None,
                 read_interval_ns,
                 latency_timer_ns: (latency_timer_ns > 0).then_some(latency_timer_ns),
+                output_buffer_bytes,
             });
         }
         Ok(())

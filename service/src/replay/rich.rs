@@ -67,6 +67,7 @@ pub fn replay_rich(
             read_interval_ns,
             baud,
             latency_timer_ns,
+            output_buffer_bytes,
             t_host_ns,
             bytes,
         } = step
@@ -76,8 +77,14 @@ pub fn replay_rich(
                 None => {
                     // The channel's timing metadata carries over (issue 18: a replay of the
                     // re-processed file aligns as the original's did).
-                    let p =
-                        rec.add_port(device, protocol, baud, read_interval_ns, latency_timer_ns)?;
+                    let p = rec.add_port(
+                        device,
+                        protocol,
+                        baud,
+                        read_interval_ns,
+                        latency_timer_ns,
+                        output_buffer_bytes,
+                    )?;
                     ports.insert(device.to_string(), p);
                     p
                 }

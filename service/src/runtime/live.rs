@@ -220,8 +220,8 @@ fn open_recorder(config: &Config, path: &PathBuf, ports: &[Port]) -> Result<Reco
     let out = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
     let raw = RawRecorder::new(BufWriter::new(out), &[])?;
     let mut rec = RichRecorder::new(raw, config.record.channels)?;
-    // Each port's timing as the aligner models it (baud, read interval, adapter timer), so a
-    // replay aligns as this run did.
+    // Each port's timing as the aligner models it (baud, read interval, adapter timer, stated
+    // transmit buffer), so a replay aligns as this run did.
     for p in ports {
         rec.add_port(
             &p.device,
@@ -229,6 +229,7 @@ fn open_recorder(config: &Config, path: &PathBuf, ports: &[Port]) -> Result<Reco
             p.baud,
             p.read_interval_ns,
             p.latency_timer_ns.unwrap_or(0),
+            p.output_buffer_bytes,
         )?;
     }
     let toml = toml::to_string(config).context("writing the configuration as TOML")?;
