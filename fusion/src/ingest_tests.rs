@@ -148,6 +148,10 @@ fn output_buffers_go_to_the_ttmrf_only() {
     }
     r.set_output_buffer("ttmrf", "", None);
     assert_eq!(r.aligner().ttmrf_output_buffer_bytes(), None);
+    // A buffer of nothing (a damaged recording's metadata) is no statement.
+    r.set_output_buffer("ttmrf", "", Some(4096));
+    r.set_output_buffer("ttmrf", "", Some(0));
+    assert_eq!(r.aligner().ttmrf_output_buffer_bytes(), None);
 }
 
 #[test]

@@ -80,7 +80,7 @@ struct ChannelInfo {
     baud: u32,
     /// Channel metadata `latency_timer_ns`; 0 if absent.
     latency_timer_ns: u64,
-    /// Channel metadata `output_buffer_bytes`; `None` if absent or unreadable.
+    /// Channel metadata `output_buffer_bytes`; `None` if absent, unreadable or 0.
     output_buffer_bytes: Option<u32>,
 }
 
@@ -129,7 +129,8 @@ impl ChannelInfo {
             output_buffer_bytes: c
                 .metadata
                 .get("output_buffer_bytes")
-                .and_then(|v| v.parse().ok()),
+                .and_then(|v| v.parse().ok())
+                .filter(|&b: &u32| b > 0),
         }
     }
 }
@@ -622,7 +623,8 @@ pub enum Recorded<'a> {
         /// when none was known (also when absent or unreadable).
         latency_timer_ns: u64,
         /// The device's transmit buffer as the live service was told it, bytes (channel
-        /// metadata `output_buffer_bytes`); `None` when not stated (also when unreadable).
+        /// metadata `output_buffer_bytes`); `None` when not stated (also when unreadable or 0,
+        /// which no writer sends: a buffer of nothing would call a full line empty).
         output_buffer_bytes: Option<u32>,
     },
     /// A truth record (JSON).

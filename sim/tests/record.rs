@@ -177,7 +177,7 @@ fn read_intervals_are_kept_per_channel_and_read_back() {
 
 /// Issue 18 point 1: a port's adapter latency timer, baud and stated transmit buffer are
 /// channel metadata, read back with every chunk of the channel; a port without a timer reads
-/// 0, one without a stated buffer `None`.
+/// 0, one without a stated buffer `None`, and so does a buffer of 0 bytes (no statement).
 #[test]
 fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
     use vigil_record::RawRecorder;
@@ -187,9 +187,12 @@ fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
     rec.add_port("vn200", "vn200-icd", 921_600, 0).unwrap();
     rec.add_port_with_adapter("ttmrf", "ttmrf-text", 115_200, 0, 0, Some(4096))
         .unwrap();
+    rec.add_port_with_adapter("adsb", "ttmrf-gdl90", 115_200, 0, 0, Some(0))
+        .unwrap();
     rec.write_raw(0, 100, b"ab").unwrap();
     rec.write_raw(1, 200, b"cd").unwrap();
     rec.write_raw(2, 300, b"ef").unwrap();
+    rec.write_raw(3, 400, b"gh").unwrap();
     let bytes = rec.finish().unwrap().into_inner();
     let mut got = Vec::new();
     read_recording::<()>(&bytes, |m| {
@@ -216,7 +219,8 @@ fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
         [
             ("watson".to_string(), 9600, 16_000_000, None),
             ("vn200".to_string(), 921_600, 0, None),
-            ("ttmrf".to_string(), 115_200, 0, Some(4096))
+            ("ttmrf".to_string(), 115_200, 0, Some(4096)),
+            ("adsb".to_string(), 115_200, 0, None)
         ]
     );
 }

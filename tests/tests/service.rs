@@ -278,9 +278,11 @@ fn service_and_fused_replay_agree() {
 /// for 0.5 s, so the tracks of its first second time out (20 s) and no traffic picture after
 /// 23 s has a target; with the simulator's buffer stated on the port (`[[ports]]
 /// output_buffer_bytes`), every picture carries targets to the end. (Whether their times are
-/// right is `time_acceptance`'s test of the same line.)
+/// right is `time_acceptance`'s test of the same line.) A recording of the same chunks keeps
+/// the statement as channel metadata, and its replay places the line's samples as the live
+/// service does: nearly none without it, every one with it.
 #[test]
-fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic() {
+fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic_live_and_in_replay() {
     let mut sc = vigil_sim::Scenario::from_toml(include_str!("../data/full-rates.toml")).unwrap();
     let tt = sc.devices.ttmrf.as_mut().unwrap();
     tt.protocol = "csv".into();
@@ -316,4 +318,33 @@ fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic() {
     assert!(late >= 4 && without == 0, "{without} of {late}");
     let (with, late) = with_targets_after_23_s(Some(vigil_sim::link::TX_BUFFER_BYTES as u32));
     assert!(late >= 4 && with == late, "{with} of {late}");
+    // The replay of a recording of these chunks, with and without the statement.
+    let replayed = |buffer: Option<u32>| {
+        let mut rec =
+            vigil_record::RawRecorder::new(std::io::Cursor::new(Vec::new()), &[]).unwrap();
+        for p in &sink.info.as_ref().unwrap().ports {
+            let stated = if p.device == "ttmrf" { buffer } else { None };
+            rec.add_port_with_adapter(p.device, p.protocol, p.baud, 0, 0, stated)
+                .unwrap();
+        }
+        for c in &sink.chunks {
+            rec.write_raw(c.port, c.t_host_ns, &c.bytes).unwrap();
+        }
+        let mcap = rec.finish().unwrap().into_inner();
+        let (mut placed, mut all) = (0, 0);
+        vigil_service::replay::aligned::replay_aligned_with(&mcap[..], |s| {
+            if s.device == vigil_fusion::time::aligner::Device::Ttmrf {
+                all += 1;
+                placed += usize::from(s.aligned.time.is_ok());
+            }
+            Ok(())
+        })
+        .unwrap();
+        println!("replay, buffer {buffer:?}: {placed} of {all} TT-Multi-RF samples placed");
+        (placed, all)
+    };
+    let (placed, all) = replayed(None);
+    assert!(all > 5_000 && placed * 50 < all, "{placed} of {all}");
+    let (placed, all) = replayed(Some(vigil_sim::link::TX_BUFFER_BYTES as u32));
+    assert!(all > 5_000 && placed == all, "{placed} of {all}");
 }

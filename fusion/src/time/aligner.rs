@@ -168,9 +168,9 @@ struct TtLineAt {
     /// ([`TtAlignerConfig::output_buffer_bytes`]) and [`TtAlignerConfig::queue_limit_ns`], ns
     /// (0: not full): the longest the message can have waited.
     queue_ns: i64,
-    /// The line had been full for longer than the limit (and no stated buffer keeps the wait
-    /// within it): the wait of a message without a time of its own may pass the limit, unless a recent time of its own bounds it
-    /// (`Aligner::tt_queue_bounded_until_ns`).
+    /// The line had been full for longer than the limit, and no stated buffer keeps the wait
+    /// within it: the wait of a message without a time of its own may pass the limit, unless a
+    /// recent time of its own bounds it (`Aligner::tt_queue_bounded_until_ns`).
     beyond_limit: bool,
 }
 
@@ -628,9 +628,10 @@ impl Aligner {
     /// The TT-Multi-RF's transmit buffer is `bytes` long (`None`: unknown, the default):
     /// while its line is full, a message's wait is bounded by that many bytes' line time as
     /// well as by how long the line has been full ([`TtAlignerConfig::output_buffer_bytes`]).
-    /// The other devices' lines are not watched, so they have no such setting.
+    /// The other devices' lines are not watched, so they have no such setting. `Some(0)` is
+    /// taken as not stated: a buffer of nothing would call a full line empty.
     pub fn set_ttmrf_output_buffer(&mut self, bytes: Option<u32>) {
-        self.base.ttmrf.output_buffer_bytes = bytes;
+        self.base.ttmrf.output_buffer_bytes = bytes.filter(|&b| b > 0);
         self.apply_port_settings();
     }
 

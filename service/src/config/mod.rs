@@ -20,6 +20,7 @@ pub(crate) use error::invalid;
 
 use std::path::{Path, PathBuf};
 
+use vigil_drivers::protocol::Device;
 use vigil_monitor::MonitorParams;
 
 use serde::{Deserialize, Serialize};
@@ -34,7 +35,6 @@ pub const BAUD_RATES: [u32; 9] = [
     4800, 9600, 19_200, 38_400, 57_600, 115_200, 230_400, 460_800, 921_600,
 ];
 
-use vigil_drivers::protocol::Device;
 /// The wire protocol of a port: the drivers' protocol table (names, default bauds, device
 /// families, decoders), re-exported for the configuration's users.
 pub use vigil_drivers::protocol::Protocol;
