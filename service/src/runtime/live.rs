@@ -24,6 +24,7 @@ use vigil_bus::{
     AlertPayload, AttitudePayload, Bus, BusConfig, IntegrityPayload, OwnshipPayload, Payload,
     Publisher, Topic, TrafficPayload, TrafficPublisher,
 };
+use vigil_fusion::time::ttmrf::TtAlignerConfig;
 use vigil_record::RawRecorder;
 
 use crate::recording::{METADATA_RUN, RichRecorder, run_metadata};
@@ -282,6 +283,25 @@ async fn live(config: Config, mut ports: Vec<Port>, duration: Option<f64>) -> Re
                  sigma covers it (set [[ports]] latency_timer_ms to override)",
                 p.device,
                 ns / 1_000_000
+            );
+        }
+    }
+    // A stated transmit buffer changes what a full line's samples are: said once at start.
+    let limit_ms = TtAlignerConfig::default().queue_limit_ns as f64 * 1e-6;
+    for p in &ports {
+        if let Some(bytes) = p.output_buffer_bytes {
+            let ms = f64::from(bytes) * 10.0 / f64::from(p.baud.max(1)) * 1e3;
+            let what = if ms <= limit_ms {
+                "while its line is full, its samples are placed with up to that wait in their \
+                 sigma"
+            } else {
+                "beyond the queue limit, so it bounds nothing: a line full for longer than the \
+                 limit is not aligned without a time of its own"
+            };
+            info!(
+                "port {}: transmit buffer stated as {bytes} bytes ({ms:.1} ms at {} baud, \
+                 limit {limit_ms:.0} ms): {what}",
+                p.device, p.baud
             );
         }
     }
