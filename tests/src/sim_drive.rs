@@ -67,3 +67,20 @@ pub fn run_service(sc: &Scenario, seconds: i64) -> Collected {
     drive(&mut s, &sink, &mut out, 100_000_000, |_, _| {});
     out
 }
+
+/// `vigil measure`'s full-rates scenario (`tests/data/full-rates.toml`, 300 intruders) with the
+/// TT-Multi-RF sending CSV and HEXd, no time of their own, at `baud`: at 115 200 or 9600 baud
+/// more than its line carries, so its module queues and discards output.
+pub fn full_rates_csv_hexd(baud: u32) -> Scenario {
+    let mut sc = Scenario::from_toml(include_str!("../data/full-rates.toml"))
+        .expect("the full-rates scenario parses");
+    let tt = sc
+        .devices
+        .ttmrf
+        .as_mut()
+        .expect("full-rates has a TT-Multi-RF");
+    tt.protocol = "csv".into();
+    tt.raw = "hexd".into();
+    tt.baud = baud;
+    sc
+}

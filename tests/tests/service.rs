@@ -283,11 +283,7 @@ fn service_and_fused_replay_agree() {
 /// service does: nearly none without it, every one with it.
 #[test]
 fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic_live_and_in_replay() {
-    let mut sc = vigil_sim::Scenario::from_toml(include_str!("../data/full-rates.toml")).unwrap();
-    let tt = sc.devices.ttmrf.as_mut().unwrap();
-    tt.protocol = "csv".into();
-    tt.raw = "hexd".into();
-    tt.baud = 115_200;
+    let sc = vigil_tests::sim_drive::full_rates_csv_hexd(115_200);
     let mut sim = Simulator::new(&sc, 3).unwrap();
     let mut sink = MemorySink::default();
     sim.run(30_000_000_000, &mut sink).unwrap();
