@@ -147,6 +147,18 @@ struct Tap {
     events: Vec<(u64, Tapped)>,
 }
 
+/// Hands port `p`'s link settings to the aligner (through `ingest`): its read interval, its
+/// configured (or recorded) baud (issue 18 point 2), its adapter's latency timer when known
+/// (issue 18 point 1) and, on a TT-Multi-RF, its stated transmit buffer. A port of a device
+/// the setting does not apply to is left as it is.
+fn link_settings_to(ingest: &mut Ingest, p: &Port) {
+    let (device, protocol) = (p.device.as_str(), p.protocol.name());
+    let _ = ingest.set_read_interval(device, protocol, p.read_interval_ns);
+    let _ = ingest.set_baud(device, protocol, p.baud);
+    let _ = ingest.set_latency_timer(device, protocol, p.latency_timer_ns.unwrap_or(0));
+    let _ = ingest.set_output_buffer(device, protocol, p.output_buffer_bytes);
+}
+
 impl Service {
     /// A service over `ports` (index order = the port numbers of [`Service::handle_chunk`]).
     pub fn new(
@@ -157,17 +169,7 @@ impl Service {
     ) -> Result<Self> {
         let mut replay = Ingest::new();
         for p in ports {
-            let _ = replay.set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
-            // Issue 18 point 2: the configured baud reaches the aligner.
-            let _ = replay.set_baud(&p.device, p.protocol.name(), p.baud);
-            // Issue 18 point 1: and the adapter's latency timer, when known.
-            let _ = replay.set_latency_timer(
-                &p.device,
-                p.protocol.name(),
-                p.latency_timer_ns.unwrap_or(0),
-            );
-            // The TT-Multi-RF's stated transmit buffer, when given.
-            let _ = replay.set_output_buffer(&p.device, p.protocol.name(), p.output_buffer_bytes);
+            link_settings_to(&mut replay, p);
         }
         Ok(Self {
             ports: ports.iter().map(PortState::new).collect(),
@@ -444,19 +446,7 @@ impl Service {
     /// Adds a port after the start (a replay meets its ports as their channels appear) and
     /// returns its index.
     pub fn add_port(&mut self, p: &Port) -> usize {
-        let _ = self
-            .replay
-            .set_read_interval(&p.device, p.protocol.name(), p.read_interval_ns);
-        // Issue 18 point 2: the configured (or recorded) baud reaches the aligner.
-        let _ = self.replay.set_baud(&p.device, p.protocol.name(), p.baud);
-        let _ = self.replay.set_latency_timer(
-            &p.device,
-            p.protocol.name(),
-            p.latency_timer_ns.unwrap_or(0),
-        );
-        let _ = self
-            .replay
-            .set_output_buffer(&p.device, p.protocol.name(), p.output_buffer_bytes);
+        link_settings_to(&mut self.replay, p);
         self.ports.push(PortState::new(p));
         self.ports.len() - 1
     }
