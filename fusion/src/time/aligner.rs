@@ -26,7 +26,7 @@ use vigil_drivers::{bahrs, watson};
 use super::bahrs::{BahrsAligner, BahrsAlignerConfig};
 use super::cross_check::{CrossCheckConfig, host_view};
 use super::host::{HostClock, HostClockConfig};
-use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed, tx_ns};
+use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
 use super::line_load::LineLoad;
 use super::pps::PpsReferences;
 use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
@@ -329,10 +329,11 @@ impl Aligner {
         let full_ns = self.tt_line.full_for_ns(rx.host_ns, baud);
         // A stated transmit buffer bounds the wait as well: a message waited at most for the
         // bytes ahead of it (`TtAlignerConfig::output_buffer_bytes`).
-        let bound_ns = match self.cfg.ttmrf.output_buffer_bytes {
-            Some(bytes) => full_ns.min(tx_ns(bytes as usize, baud)),
-            None => full_ns,
-        };
+        let bound_ns = self
+            .cfg
+            .ttmrf
+            .buffer_wait_ns(baud)
+            .map_or(full_ns, |w| full_ns.min(w));
         let queue_ns = bound_ns.min(self.cfg.ttmrf.queue_limit_ns);
         if queue_ns > 0 && self.tt_line_at.queue_ns == 0 {
             self.tt_host = HostClock::new(self.cfg.host);

@@ -20,7 +20,7 @@ use vigil_drivers::ttmrf::raw::RxMeta;
 
 use super::gps::{LeapSeconds, NS_PER_S, resolve_time_of_day};
 use super::host::HostClock;
-use super::host_timed::{HostTimedLink, first_byte_host_ns};
+use super::host_timed::{HostTimedLink, first_byte_host_ns, tx_ns};
 use super::pps::pulse_second;
 use super::{AlignedTime, ClockStatus, NotAligned, Rx, TimeSource};
 
@@ -58,6 +58,15 @@ pub struct TtAlignerConfig {
     /// within too small a sigma (a time of its own, JSON `ts` or TS24h, earlier than it allows
     /// is still called a disagreement).
     pub output_buffer_bytes: Option<u32>,
+}
+
+impl TtAlignerConfig {
+    /// The longest a message that was sent can have waited in the stated transmit buffer, ns:
+    /// the buffer's line time at `baud` ([`Self::output_buffer_bytes`]); `None` when no buffer
+    /// is stated. It bounds a full line's wait only when within [`Self::queue_limit_ns`].
+    pub fn buffer_wait_ns(&self, baud: u32) -> Option<i64> {
+        self.output_buffer_bytes.map(|b| tx_ns(b as usize, baud))
+    }
 }
 
 impl Default for TtAlignerConfig {

@@ -287,11 +287,16 @@ async fn live(config: Config, mut ports: Vec<Port>, duration: Option<f64>) -> Re
         }
     }
     // A stated transmit buffer changes what a full line's samples are: said once at start.
-    let limit_ms = TtAlignerConfig::default().queue_limit_ns as f64 * 1e-6;
     for p in &ports {
-        if let Some(bytes) = p.output_buffer_bytes {
-            let ms = f64::from(bytes) * 10.0 / f64::from(p.baud.max(1)) * 1e3;
-            let what = if ms <= limit_ms {
+        let tt = TtAlignerConfig {
+            output_buffer_bytes: p.output_buffer_bytes,
+            ..TtAlignerConfig::default()
+        };
+        if let (Some(bytes), Some(wait_ns)) = (p.output_buffer_bytes, tt.buffer_wait_ns(p.baud)) {
+            let (ms, limit_ms) = (wait_ns as f64 * 1e-6, tt.queue_limit_ns as f64 * 1e-6);
+            // The aligner's test: the buffer bounds the wait when its line time is within the
+            // limit (`Aligner::note_tt_line`).
+            let what = if wait_ns <= tt.queue_limit_ns {
                 "while its line is full, its samples are placed with up to that wait in their \
                  sigma"
             } else {
