@@ -292,7 +292,7 @@ fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic_live_and_in_replay() {
         for p in ports.iter_mut().filter(|p| p.device == "ttmrf") {
             p.output_buffer_bytes = buffer;
         }
-        let cfg = vigil_service::config::PipelineSection::default().pipeline_config();
+        let cfg = PipelineSection::default().pipeline_config();
         let mut s = Service::new(&ports, cfg, MonitorParams::default(), 2.0).unwrap();
         let mut out = Collected::default();
         vigil_tests::sim_drive::drive(&mut s, &sink, &mut out, 100_000_000, |_, _| {});
@@ -303,7 +303,6 @@ fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic_live_and_in_replay() {
             .filter(|t| t.header.gps_time_ns > t23)
             .collect();
         let with = late.iter().filter(|t| t.count() > 0).count();
-
         println!(
             "buffer {buffer:?}: {with} of {} pictures after 23 s have targets",
             late.len()
