@@ -12,9 +12,11 @@
 //! to the simulator. Nothing here decodes a device's bytes.
 #![deny(missing_docs)]
 
+pub mod link;
 pub mod read;
 pub mod write;
 
+pub use link::PortLink;
 pub use read::{
     ReadOutcome, Recorded, read_metadata, read_metadata_from, read_recording, read_recording_from,
     recorded_span, recorded_span_from,

@@ -24,6 +24,7 @@
 use std::collections::{BTreeMap, VecDeque};
 use std::io::{self, Read};
 
+use crate::PortLink;
 use crate::write::{METADATA_NAME, TRUTH_TOPIC};
 
 /// Largest record body read into memory, bytes: a longer length is taken as damage (vigil's
@@ -75,13 +76,8 @@ struct ChannelInfo {
     kind: Kind,
     device: String,
     protocol: String,
-    read_interval_ns: u64,
-    /// Channel metadata `baud` (issue 18: the recorded baud reaches the aligner); 0 if absent.
-    baud: u32,
-    /// Channel metadata `latency_timer_ns`; 0 if absent.
-    latency_timer_ns: u64,
-    /// Channel metadata `output_buffer_bytes`; `None` if absent, unreadable or 0.
-    output_buffer_bytes: Option<u32>,
+    /// The link the channel's metadata records (issue 18: it reaches the aligner).
+    link: PortLink,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -111,26 +107,7 @@ impl ChannelInfo {
             kind,
             device,
             protocol: c.metadata.get("protocol").cloned().unwrap_or_default(),
-            read_interval_ns: c
-                .metadata
-                .get("read_interval_ns")
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(0),
-            baud: c
-                .metadata
-                .get("baud")
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(0),
-            latency_timer_ns: c
-                .metadata
-                .get("latency_timer_ns")
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(0),
-            output_buffer_bytes: c
-                .metadata
-                .get("output_buffer_bytes")
-                .and_then(|v| v.parse().ok())
-                .filter(|&b: &u32| b > 0),
+            link: PortLink::read_from(&c.metadata),
         }
     }
 }
@@ -182,10 +159,7 @@ impl State {
             protocol: &c.protocol,
             t_host_ns: p.t_host_ns,
             bytes: &self.arena[p.start..p.start + p.len],
-            read_interval_ns: c.read_interval_ns,
-            baud: c.baud,
-            latency_timer_ns: c.latency_timer_ns,
-            output_buffer_bytes: c.output_buffer_bytes,
+            link: c.link,
         })
     }
 
@@ -614,18 +588,9 @@ pub enum Recorded<'a> {
         t_host_ns: u64,
         /// The bytes.
         bytes: &'a [u8],
-        /// How often the port was read, ns (channel metadata `read_interval_ns`); 0: as its
-        /// bytes arrived (also when absent, and when unreadable).
-        read_interval_ns: u64,
-        /// Baud rate of the port (channel metadata `baud`); 0 when absent or unreadable.
-        baud: u32,
-        /// The port's USB adapter latency timer, ns (channel metadata `latency_timer_ns`); 0
-        /// when none was known (also when absent or unreadable).
-        latency_timer_ns: u64,
-        /// The device's transmit buffer as the live service was told it, bytes (channel
-        /// metadata `output_buffer_bytes`); `None` when not stated (also when unreadable or 0,
-        /// which no writer sends: a buffer of nothing would call a full line empty).
-        output_buffer_bytes: Option<u32>,
+        /// What the live service was told of the port's link (its channel's metadata: the same
+        /// for every chunk of the channel).
+        link: PortLink,
     },
     /// A truth record (JSON).
     Truth {

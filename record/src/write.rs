@@ -3,8 +3,9 @@
 //! `vigil.sim` metadata record with the run parameters.
 //!
 //! - Topics: `/<device>/raw` (message encoding `application/octet-stream`, channel metadata
-//!   `device`, `protocol`, `baud`; schema `vigil.raw.<protocol>` with the empty schema encoding:
-//!   the bytes are the device's own wire format, the device document is their schema) and
+//!   `device`, `protocol` and the port's link, [`crate::PortLink`]; schema
+//!   `vigil.raw.<protocol>` with the empty schema encoding: the bytes are the device's own wire
+//!   format, the device document is their schema) and
 //!   `/truth` (encoding `json`). [`RawRecorder::add_schema_channel`] adds JSON channels with a
 //!   JSON Schema (`vigil run`'s decoded and fused channels, issue 20).
 //! - Chunks of at most [`CHUNK_BYTES`] uncompressed, zstd-compressed (issue 20; single-threaded,
@@ -18,6 +19,8 @@ use std::io::{Seek, Write};
 
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{WriteOptions, Writer};
+
+use crate::PortLink;
 
 /// Topic of the truth channel.
 pub const TRUTH_TOPIC: &str = "/truth";
@@ -67,7 +70,7 @@ impl<W: Write + Seek> RawRecorder<W> {
 
     /// As [`RawRecorder::new`], with each port's read interval, ns (0 or absent: read as the
     /// bytes arrive), kept as channel metadata `read_interval_ns` when not 0 so that a replay
-    /// models the wait as the live service did (`Recorded::Raw::read_interval_ns`).
+    /// models the wait as the live service did (`PortLink::read_interval_ns`).
     pub fn with_read_intervals(
         w: W,
         ports: &[(&str, &str, u32)],
@@ -95,37 +98,28 @@ impl<W: Write + Seek> RawRecorder<W> {
         baud: u32,
         read_interval_ns: u64,
     ) -> Result<u16, mcap::McapError> {
-        self.add_port_with_adapter(device, protocol, baud, read_interval_ns, 0, None)
+        let link = PortLink {
+            read_interval_ns,
+            ..PortLink::baud(baud)
+        };
+        self.add_port_with_link(device, protocol, &link)
     }
 
-    /// As [`RawRecorder::add_port`], with the port's USB adapter latency timer, ns (0: none
-    /// known), kept as channel metadata `latency_timer_ns` when not 0 so that a replay models
-    /// the adapter as the live service did (`Recorded::Raw::latency_timer_ns`), and the
-    /// device's stated transmit buffer, bytes (`None`: not stated), kept as channel metadata
-    /// `output_buffer_bytes` (`Recorded::Raw::output_buffer_bytes`).
-    pub fn add_port_with_adapter(
+    /// As [`RawRecorder::add_port`], with everything the aligner was told of the port's link
+    /// (its adapter's latency timer, the device's stated transmit buffer), kept as channel
+    /// metadata so that a replay times the bytes as the live service did
+    /// (`Recorded::Raw::link`).
+    pub fn add_port_with_link(
         &mut self,
         device: &str,
         protocol: &str,
-        baud: u32,
-        read_interval_ns: u64,
-        latency_timer_ns: u64,
-        output_buffer_bytes: Option<u32>,
+        link: &PortLink,
     ) -> Result<u16, mcap::McapError> {
         let mut meta = BTreeMap::from([
             ("device".to_string(), device.to_string()),
             ("protocol".to_string(), protocol.to_string()),
-            ("baud".to_string(), baud.to_string()),
         ]);
-        if read_interval_ns > 0 {
-            meta.insert("read_interval_ns".to_string(), read_interval_ns.to_string());
-        }
-        if latency_timer_ns > 0 {
-            meta.insert("latency_timer_ns".to_string(), latency_timer_ns.to_string());
-        }
-        if let Some(bytes) = output_buffer_bytes {
-            meta.insert("output_buffer_bytes".to_string(), bytes.to_string());
-        }
+        link.write_to(&mut meta);
         let name = if protocol.is_empty() {
             device
         } else {

@@ -45,6 +45,7 @@ use crate::recording::{Tapped, identity, messages::active_set};
 use config::Port;
 use convert::PortReport;
 use vigil_fusion::ingest::Ingest;
+use vigil_record::PortLink;
 
 /// Where the service's payloads go (the bus in `vigil run`; a collector in tests).
 pub trait Outputs {
@@ -147,16 +148,16 @@ struct Tap {
     events: Vec<(u64, Tapped)>,
 }
 
-/// Hands port `p`'s link settings to the aligner (through `ingest`): its read interval, its
-/// configured (or recorded) baud (issue 18 point 2), its adapter's latency timer when known
-/// (issue 18 point 1) and, on a TT-Multi-RF, its stated transmit buffer. A port of a device
-/// the setting does not apply to is left as it is.
-fn link_settings_to(ingest: &mut Ingest, p: &Port) {
-    let (device, protocol) = (p.device.as_str(), p.protocol.name());
-    let _ = ingest.set_read_interval(device, protocol, p.read_interval_ns);
-    let _ = ingest.set_baud(device, protocol, p.baud);
-    let _ = ingest.set_latency_timer(device, protocol, p.latency_timer_ns.unwrap_or(0));
-    let _ = ingest.set_output_buffer(device, protocol, p.output_buffer_bytes);
+/// Hands a port's link to the aligner (through `ingest`): its read interval, its configured or
+/// recorded baud (issue 18 point 2), its adapter's latency timer when known (issue 18 point 1)
+/// and, on a TT-Multi-RF, its stated transmit buffer. A port of a device a setting does not
+/// apply to is left as it is. Used by the service and by `vigil replay --emit aligned`, so
+/// both align a port alike.
+pub(crate) fn link_settings_to(ingest: &mut Ingest, device: &str, protocol: &str, link: &PortLink) {
+    let _ = ingest.set_read_interval(device, protocol, link.read_interval_ns);
+    let _ = ingest.set_baud(device, protocol, link.baud);
+    let _ = ingest.set_latency_timer(device, protocol, link.latency_timer_ns);
+    let _ = ingest.set_output_buffer(device, protocol, link.output_buffer_bytes);
 }
 
 impl Service {
@@ -169,7 +170,7 @@ impl Service {
     ) -> Result<Self> {
         let mut replay = Ingest::new();
         for p in ports {
-            link_settings_to(&mut replay, p);
+            link_settings_to(&mut replay, &p.device, p.protocol.name(), &p.link());
         }
         Ok(Self {
             ports: ports.iter().map(PortState::new).collect(),
@@ -446,7 +447,7 @@ impl Service {
     /// Adds a port after the start (a replay meets its ports as their channels appear) and
     /// returns its index.
     pub fn add_port(&mut self, p: &Port) -> usize {
-        link_settings_to(&mut self.replay, p);
+        link_settings_to(&mut self.replay, &p.device, p.protocol.name(), &p.link());
         self.ports.push(PortState::new(p));
         self.ports.len() - 1
     }

@@ -157,13 +157,8 @@ fn read_intervals_are_kept_per_channel_and_read_back() {
     let bytes = rec.finish().unwrap().into_inner();
     let mut got = Vec::new();
     read_recording::<()>(&bytes, |m| {
-        if let Recorded::Raw {
-            device,
-            read_interval_ns,
-            ..
-        } = m
-        {
-            got.push((device.to_string(), read_interval_ns));
+        if let Recorded::Raw { device, link, .. } = m {
+            got.push((device.to_string(), link.read_interval_ns));
         }
         Ok(())
     })
@@ -180,47 +175,51 @@ fn read_intervals_are_kept_per_channel_and_read_back() {
 /// 0, one without a stated buffer `None`, and so does a buffer of 0 bytes (no statement).
 #[test]
 fn adapter_timers_and_bauds_are_kept_per_channel_and_read_back() {
-    use vigil_record::RawRecorder;
+    use vigil_record::{PortLink, RawRecorder};
+    let watson = PortLink {
+        latency_timer_ns: 16_000_000,
+        read_interval_ns: 2_000_000,
+        ..PortLink::baud(9600)
+    };
+    let ttmrf = PortLink {
+        output_buffer_bytes: Some(4096),
+        ..PortLink::baud(115_200)
+    };
+    let zero_buffer = PortLink {
+        output_buffer_bytes: Some(0),
+        ..PortLink::baud(115_200)
+    };
     let mut rec = RawRecorder::new(Cursor::new(Vec::new()), &[]).unwrap();
-    rec.add_port_with_adapter("watson", "watson-ahrs-e304", 9600, 0, 16_000_000, None)
+    rec.add_port_with_link("watson", "watson-ahrs-e304", &watson)
         .unwrap();
     rec.add_port("vn200", "vn200-icd", 921_600, 0).unwrap();
-    rec.add_port_with_adapter("ttmrf", "ttmrf-text", 115_200, 0, 0, Some(4096))
+    rec.add_port_with_link("ttmrf", "ttmrf-text", &ttmrf)
         .unwrap();
-    rec.add_port_with_adapter("adsb", "ttmrf-gdl90", 115_200, 0, 0, Some(0))
+    rec.add_port_with_link("adsb", "ttmrf-gdl90", &zero_buffer)
         .unwrap();
     rec.write_raw(0, 100, b"ab").unwrap();
     rec.write_raw(1, 200, b"cd").unwrap();
     rec.write_raw(2, 300, b"ef").unwrap();
     rec.write_raw(3, 400, b"gh").unwrap();
+    rec.write_raw(0, 500, b"ij").unwrap();
     let bytes = rec.finish().unwrap().into_inner();
     let mut got = Vec::new();
     read_recording::<()>(&bytes, |m| {
-        if let Recorded::Raw {
-            device,
-            baud,
-            latency_timer_ns,
-            output_buffer_bytes,
-            ..
-        } = m
-        {
-            got.push((
-                device.to_string(),
-                baud,
-                latency_timer_ns,
-                output_buffer_bytes,
-            ));
+        if let Recorded::Raw { device, link, .. } = m {
+            got.push((device.to_string(), link));
         }
         Ok(())
     })
     .unwrap();
+    let name = |d: &str| d.to_string();
     assert_eq!(
         got,
         [
-            ("watson".to_string(), 9600, 16_000_000, None),
-            ("vn200".to_string(), 921_600, 0, None),
-            ("ttmrf".to_string(), 115_200, 0, Some(4096)),
-            ("adsb".to_string(), 115_200, 0, None)
+            (name("watson"), watson),
+            (name("vn200"), PortLink::baud(921_600)),
+            (name("ttmrf"), ttmrf),
+            (name("adsb"), PortLink::baud(115_200)),
+            (name("watson"), watson),
         ]
     );
 }

@@ -319,8 +319,11 @@ fn a_stated_tt_buffer_keeps_a_saturated_csv_lines_traffic_live_and_in_replay() {
             vigil_record::RawRecorder::new(std::io::Cursor::new(Vec::new()), &[]).unwrap();
         for p in &sink.info.as_ref().unwrap().ports {
             let stated = if p.device == "ttmrf" { buffer } else { None };
-            rec.add_port_with_adapter(p.device, p.protocol, p.baud, 0, 0, stated)
-                .unwrap();
+            let link = vigil_record::PortLink {
+                output_buffer_bytes: stated,
+                ..vigil_record::PortLink::baud(p.baud)
+            };
+            rec.add_port_with_link(p.device, p.protocol, &link).unwrap();
         }
         for c in &sink.chunks {
             rec.write_raw(c.port, c.t_host_ns, &c.bytes).unwrap();

@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 
 use vigil_drivers::protocol::Device;
 use vigil_monitor::MonitorParams;
+use vigil_record::PortLink;
 
 use serde::{Deserialize, Serialize};
 use vigil_fusion::pipeline::{PipelineConfig, TrafficAltitudeKind};
@@ -431,6 +432,38 @@ pub struct Port {
     /// The device's transmit buffer, bytes (TT-Multi-RF ports only): configured or recorded;
     /// `None`: not known, no bound on a full line's wait assumed.
     pub output_buffer_bytes: Option<u32>,
+}
+
+impl Port {
+    /// A port met in a recording (a replay): the recorded link, the protocol's default baud where
+    /// the recording has none (issue 18), no serial path and no set-up.
+    pub fn recorded(device: &str, protocol: Protocol, link: &PortLink) -> Self {
+        Self {
+            device: device.to_string(),
+            path: PathBuf::new(),
+            baud: if link.baud > 0 {
+                link.baud
+            } else {
+                protocol.default_baud()
+            },
+            protocol,
+            setup: None,
+            read_interval_ns: link.read_interval_ns,
+            latency_timer_ns: (link.latency_timer_ns > 0).then_some(link.latency_timer_ns),
+            output_buffer_bytes: link.output_buffer_bytes,
+        }
+    }
+
+    /// What the aligner is told of the port's link, and what a recording keeps of it (an
+    /// unknown latency timer and a native one are both 0 there: no adapter wait either way).
+    pub fn link(&self) -> PortLink {
+        PortLink {
+            baud: self.baud,
+            read_interval_ns: self.read_interval_ns,
+            latency_timer_ns: self.latency_timer_ns.unwrap_or(0),
+            output_buffer_bytes: self.output_buffer_bytes,
+        }
+    }
 }
 
 /// The service's part of the example configuration (see [`example`]).

@@ -47,7 +47,7 @@ use serde::{Deserialize, Serialize};
 use vigil_bus::{AlertPayload, IntegrityPayload};
 use vigil_fusion::pipeline::Fused;
 use vigil_fusion::time::aligner::AlignedSample;
-use vigil_record::RawRecorder;
+use vigil_record::{PortLink, RawRecorder};
 
 use messages::ActiveAlert;
 
@@ -331,23 +331,8 @@ impl<W: Write + Seek> RichRecorder<W> {
     }
 
     /// Adds a raw port channel (a replay meets its ports as it goes); returns its port index.
-    pub fn add_port(
-        &mut self,
-        device: &str,
-        protocol: &str,
-        baud: u32,
-        read_interval_ns: u64,
-        latency_timer_ns: u64,
-        output_buffer_bytes: Option<u32>,
-    ) -> Result<u16> {
-        Ok(self.rec.add_port_with_adapter(
-            device,
-            protocol,
-            baud,
-            read_interval_ns,
-            latency_timer_ns,
-            output_buffer_bytes,
-        )?)
+    pub fn add_port(&mut self, device: &str, protocol: &str, link: &PortLink) -> Result<u16> {
+        Ok(self.rec.add_port_with_link(device, protocol, link)?)
     }
 
     /// Records one raw chunk of port `port` received at host time `t_host_ns`.

@@ -73,10 +73,7 @@ pub fn replay_aligned_with(
             protocol,
             t_host_ns,
             bytes,
-            read_interval_ns,
-            baud,
-            latency_timer_ns,
-            output_buffer_bytes,
+            link,
         } = m
         else {
             return Ok(());
@@ -85,10 +82,7 @@ pub fn replay_aligned_with(
         // timer and stated transmit buffer (a channel's metadata: set once).
         if !seen.iter().any(|d| d == device) {
             seen.push(device.to_string());
-            let _ = r.set_read_interval(device, protocol, read_interval_ns);
-            let _ = r.set_baud(device, protocol, baud);
-            let _ = r.set_latency_timer(device, protocol, latency_timer_ns);
-            let _ = r.set_output_buffer(device, protocol, output_buffer_bytes);
+            crate::link_settings_to(&mut r, device, protocol, &link);
         }
         r.feed(device, protocol, t_host_ns, bytes, &mut f)
     })?;

@@ -29,8 +29,8 @@ use serde_json::json;
 use vigil_bus::AlertPayload;
 use vigil_drivers::replay::PortSummary;
 use vigil_fusion::pipeline::Fused;
-use vigil_record::Recorded;
 use vigil_record::read_recording_from;
+use vigil_record::{PortLink, Recorded};
 
 use crate::config::{Config, Port, Protocol};
 use crate::recording::messages::{ActiveAlert, state_name};
@@ -46,14 +46,8 @@ pub enum Step<'a> {
         device: &'a str,
         /// Its channel's protocol (may be empty).
         protocol: &'a str,
-        /// Its channel's read interval, ns.
-        read_interval_ns: u64,
-        /// Its channel's baud (0: not recorded).
-        baud: u32,
-        /// Its channel's adapter latency timer, ns (0: none recorded).
-        latency_timer_ns: u64,
-        /// Its channel's stated transmit buffer, bytes (`None`: none recorded).
-        output_buffer_bytes: Option<u32>,
+        /// Its channel's link (read interval, baud, adapter timer, stated buffer).
+        link: PortLink,
         /// Host receive time, ns.
         t_host_ns: u64,
         /// The bytes.
@@ -90,10 +84,7 @@ pub fn replay_service<R: Read>(
             protocol,
             t_host_ns,
             bytes,
-            read_interval_ns,
-            baud,
-            latency_timer_ns,
-            output_buffer_bytes,
+            link,
         } = m
         else {
             return Ok(());
@@ -101,23 +92,9 @@ pub fn replay_service<R: Read>(
         let k = match devices.iter().position(|d| d.0 == device) {
             Some(k) => k,
             None => {
-                let port = Protocol::resolve(protocol, device).map(|protocol| {
-                    service.add_port(&Port {
-                        device: device.to_string(),
-                        path: Default::default(),
-                        // Issue 18: the recorded baud, else the protocol's default.
-                        baud: if baud > 0 {
-                            baud
-                        } else {
-                            protocol.default_baud()
-                        },
-                        protocol,
-                        setup: None,
-                        read_interval_ns,
-                        latency_timer_ns: (latency_timer_ns > 0).then_some(latency_timer_ns),
-                        output_buffer_bytes,
-                    })
-                });
+                // Issue 18: the recorded link, the protocol's default baud where none is.
+                let port = Protocol::resolve(protocol, device)
+                    .map(|protocol| service.add_port(&Port::recorded(device, protocol, &link)));
                 if let Some(i) = port {
                     service.handle_link(i, true, t_host_ns);
                 }
@@ -144,10 +121,7 @@ pub fn replay_service<R: Read>(
             Step::Chunk {
                 device,
                 protocol,
-                read_interval_ns,
-                baud,
-                latency_timer_ns,
-                output_buffer_bytes,
+                link,
                 t_host_ns,
                 bytes,
             },

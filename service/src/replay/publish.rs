@@ -75,10 +75,7 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
         if let Recorded::Raw {
             device,
             protocol,
-            read_interval_ns,
-            baud,
-            latency_timer_ns,
-            output_buffer_bytes,
+            link,
             ..
         } = m
             && !ports.iter().any(|p| p.device == device)
@@ -86,21 +83,8 @@ fn ports(mcap: &[u8]) -> Result<Vec<Port>> {
             let protocol = Protocol::resolve(protocol, device).ok_or_else(|| {
                 anyhow!("channel {device}: protocol {protocol:?} is not one vigil decodes")
             })?;
-            ports.push(Port {
-                device: device.to_string(),
-                path: Default::default(),
-                // The recorded baud and adapter timer (issue 18), as `vigil replay` uses them.
-                baud: if baud > 0 {
-                    baud
-                } else {
-                    protocol.default_baud()
-                },
-                protocol,
-                setup: None,
-                read_interval_ns,
-                latency_timer_ns: (latency_timer_ns > 0).then_some(latency_timer_ns),
-                output_buffer_bytes,
-            });
+            // The recorded link (issue 18), as `vigil replay` uses it.
+            ports.push(Port::recorded(device, protocol, &link));
         }
         Ok(())
     })?;

@@ -64,10 +64,7 @@ pub fn replay_rich(
         if let Step::Chunk {
             device,
             protocol,
-            read_interval_ns,
-            baud,
-            latency_timer_ns,
-            output_buffer_bytes,
+            link,
             t_host_ns,
             bytes,
         } = step
@@ -77,14 +74,7 @@ pub fn replay_rich(
                 None => {
                     // The channel's timing metadata carries over (issue 18: a replay of the
                     // re-processed file aligns as the original's did).
-                    let p = rec.add_port(
-                        device,
-                        protocol,
-                        baud,
-                        read_interval_ns,
-                        latency_timer_ns,
-                        output_buffer_bytes,
-                    )?;
+                    let p = rec.add_port(device, protocol, &link)?;
                     ports.insert(device.to_string(), p);
                     p
                 }

@@ -224,14 +224,7 @@ fn open_recorder(config: &Config, path: &PathBuf, ports: &[Port]) -> Result<Reco
     // Each port's timing as the aligner models it (baud, read interval, adapter timer, stated
     // transmit buffer), so a replay aligns as this run did.
     for p in ports {
-        rec.add_port(
-            &p.device,
-            p.protocol.name(),
-            p.baud,
-            p.read_interval_ns,
-            p.latency_timer_ns.unwrap_or(0),
-            p.output_buffer_bytes,
-        )?;
+        rec.add_port(&p.device, p.protocol.name(), &p.link())?;
     }
     let toml = toml::to_string(config).context("writing the configuration as TOML")?;
     let mut meta = run_metadata("vigil run", &toml);
