@@ -17,7 +17,9 @@
 //!
 //! Schedule (all on GPS time, whole milliseconds, so JSON `ts` is exact):
 //! - one traffic message per intruder per second, intruder `i` of `n` at `(i + 1) * 1000 /
-//!   (n + 1)` ms into each second (spread, like a receiver reporting its table in turn); JSON
+//!   (n + 1)` ms into each second (spread, like a receiver reporting its table in turn), or
+//!   with `list_at_once` all at the whole second after the GNSS output (the list sent at once,
+//!   the other reading of the manual's "sending list of aircraft every second"); JSON
 //!   sends one target per message, in the array of its link (`adsb`, `uat`, `flarm`); ASTERIX
 //!   one record per data block;
 //! - at every whole second: with `gnss = true`, the JSON `gnss` section (JSON), or NMEA `$GPGGA`
@@ -321,7 +323,10 @@ impl TtmrfModel {
         );
         for i in 0..self.n {
             let p = base + self.phase_ns(i);
-            self.queue.push((p, Event::Traffic(i)));
+            // A list sent at once: at the whole second, after `Event::Second` (the queue pops
+            // equal times in event order), in target order.
+            let at = if self.cfg.list_at_once { base } else { p };
+            self.queue.push((at, Event::Traffic(i)));
             if raw && self.links[i] == Link::Adsb1090 {
                 self.queue.push((p + 100 * MS, Event::Position(i, false)));
                 self.queue.push((p + 350 * MS, Event::Velocity(i)));

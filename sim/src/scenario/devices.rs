@@ -313,6 +313,11 @@ pub struct TtmrfConfig {
     pub gnss_velocity: bool,
     /// Whether GGA carries the geoid separation (false: mean-sea-level height only).
     pub nmea_geoid_separation: bool,
+    /// Whether the module sends its list of targets at once, every traffic message at the
+    /// whole second (after the GNSS output), in target order, so each waits on the line
+    /// behind the ones before it. The manual's "module is sending list of aircraft every
+    /// second" reads either way; false (the default) spreads them over the second.
+    pub list_at_once: bool,
 }
 
 impl Default for TtmrfConfig {
@@ -325,6 +330,7 @@ impl Default for TtmrfConfig {
             ts_rounded: false,
             gnss_velocity: true,
             nmea_geoid_separation: true,
+            list_at_once: false,
         }
     }
 }
