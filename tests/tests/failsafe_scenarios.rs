@@ -235,6 +235,19 @@ fn regression_24_msl_only_nmea_gets_the_geoid_band() {
         let h = w.ownship(s.t_gps_ns).height_m;
         let err = s.alt_geometric_m.unwrap() - h;
         assert!((err + 10.5).abs() < 20.0, "error {err} m");
+        // The RMC's track and speed reach every fix (the simulator sends GGA, then RMC, at
+        // the whole second: each GGA takes the previous epoch's RMC). Truth: north at 40 m/s,
+        // steady; RMC carries 0.1 kt and 0.1 deg.
+        let [vn, ve, _] = w.ownship(s.t_gps_ns).vel_ned_mps;
+        let speed = s.ground_speed_mps.expect("ground speed at every fix");
+        let track = s.track_deg.expect("track at every fix");
+        assert!((speed - vn.hypot(ve)).abs() < 0.5, "{speed} m/s");
+        assert!(track.min(360.0 - track) < 1.0, "{track} deg");
+        // And the position is the truth's at the solution's time (GNSS noise 2.5 m, 1 sigma):
+        // not a fix a second old (40 m behind).
+        let t = w.ownship(s.t_gps_ns);
+        let off = horizontal_distance_m(s.lat_deg, s.lon_deg, t.lat_deg, t.lon_deg);
+        assert!(off < 15.0, "{off} m from the truth");
     }
     let xs: Vec<_> = track(&run, 0x4B2407)
         .into_iter()

@@ -89,6 +89,28 @@ pub fn enu_velocity(track_deg: f64, ground_speed_mps: f64, vertical_rate_mps: f6
     )
 }
 
+/// A position moved by a ground velocity (track over ground, deg true; ground speed, m/s) for
+/// `dt_s` seconds, on the ellipsoid's local radii of curvature at the start (small steps: a
+/// second or two of an aircraft's travel). Returns (lat, lon), deg. Used for the traffic
+/// reports carried to a picture's time and for the ownship's GNSS fix carried to it.
+pub fn dead_reckon(
+    lat_deg: f64,
+    lon_deg: f64,
+    track_deg: f64,
+    gs_mps: f64,
+    dt_s: f64,
+) -> (f64, f64) {
+    let (s, c) = track_deg.to_radians().sin_cos();
+    let (north, east) = (gs_mps * c * dt_s, gs_mps * s * dt_s);
+    let lat = lat_deg.to_radians();
+    let w = (1.0 - E2 * lat.sin().powi(2)).sqrt();
+    let m = A_M * (1.0 - E2) / (w * w * w);
+    let n = A_M / w;
+    let dlat = north / m;
+    let dlon = east / (n * lat.cos().max(1e-9));
+    (lat_deg + dlat.to_degrees(), lon_deg + dlon.to_degrees())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -22,6 +22,7 @@ use super::{Ownship, PositionSource};
 use crate::attitude::angles::{to_ypr, wrap_2pi};
 use crate::attitude::record::AttitudeRecord;
 use crate::attitude::samples::{BahrsSample, Vn200Sample};
+use crate::geometry::wgs84::dead_reckon;
 use crate::units::{M_PER_NM, MPS_PER_KT};
 
 const DEG: f64 = std::f64::consts::PI / 180.0;
@@ -302,20 +303,36 @@ impl OwnshipBuilder {
                 1 => Some(10.0 / 2.0),
                 _ => None,
             });
+            // Unknown stays unknown (issue 24): no NaN, no guessed 0 climb rate. Track and
+            // speed are only used together.
+            let ground = g.track_deg.zip(g.ground_speed_mps);
+            // The fix carried to `t` along its own velocity: a 1 Hz fix is up to a second older
+            // than the step (40 m at 40 m/s). Its sigma grows by the velocity's over that age;
+            // decision: a velocity without a stated accuracy (NMEA RMC) is taken at NACv 1's,
+            // the loosest NACv bounds (10 m/s at 95 %), not as exact. Without a velocity the
+            // position stays the fix's (the solution says its velocity is unknown); without a
+            // vertical rate, so does the height.
+            let age_s = (t - g.t_gps_ns) as f64 * 1e-9;
+            let (lat_deg, lon_deg) = ground.map_or((g.lat_deg, g.lon_deg), |(trk, gs)| {
+                dead_reckon(g.lat_deg, g.lon_deg, trk, gs, age_s)
+            });
+            let climbed_m = g.vertical_rate_mps.map_or(0.0, |v| v * age_s);
+            let moved_sigma_m = match ground {
+                Some(_) => nacv_sigma.unwrap_or(10.0 / 2.0) * age_s.abs(),
+                None => 0.0,
+            };
             (
                 Ownship {
                     t_gps_ns: t,
-                    lat_deg: g.lat_deg,
-                    lon_deg: g.lon_deg,
+                    lat_deg,
+                    lon_deg,
                     alt_pressure_m: pressure,
-                    alt_geometric_m: g.alt_wgs84_m,
-                    // Unknown stays unknown (issue 24): no NaN, no guessed 0 climb rate. Track
-                    // and speed are only used together.
-                    track_deg: g.track_deg.filter(|_| g.ground_speed_mps.is_some()),
-                    ground_speed_mps: g.ground_speed_mps.filter(|_| g.track_deg.is_some()),
+                    alt_geometric_m: g.alt_wgs84_m.map(|h| h + climbed_m),
+                    track_deg: ground.map(|(trk, _)| trk),
+                    ground_speed_mps: ground.map(|(_, gs)| gs),
                     vertical_rate_mps: g.vertical_rate_mps,
                     heading_deg: None,
-                    position_sigma_m: Some(g.position_sigma_m),
+                    position_sigma_m: Some(g.position_sigma_m.hypot(moved_sigma_m)),
                     source: PositionSource::TtMultiRfGnss,
                     alt_geometric_band_m: g.alt_band_m,
                 },

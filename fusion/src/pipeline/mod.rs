@@ -466,11 +466,17 @@ impl Pipeline {
         match &n.body {
             NmeaBody::Rmc(r) => self.last_rmc = Some((t, r.clone())),
             NmeaBody::Gga(g) => {
-                // The RMC of the same epoch: sent within the same second as the GGA.
+                // The RMC of the same epoch when the module sends it first, else the one of the
+                // epoch before (GGA first, as the simulator sends them after manual 9.2.1): a
+                // track and speed at most a second old. Decision: up to 1.5 s between their
+                // placements, not 1 s: the two are sent back to back, so the previous epoch's
+                // RMC lies a second less the GGA's wait behind it before this one, and a bound
+                // of exactly one epoch dropped the velocity whenever a placement moved by a
+                // fraction of a ms.
                 let rmc = self
                     .last_rmc
                     .as_ref()
-                    .filter(|(tr, _)| (t - tr).abs() < 1_000_000_000)
+                    .filter(|(tr, _)| (t - tr).abs() < 1_500_000_000)
                     .map(|(_, r)| r);
                 let f = GnssFix::from_nmea(t, g, rmc, self.cfg.ownship.uere_m);
                 // Issue 25 point 6: the altitude as the third vertical opinion (quality 0 is

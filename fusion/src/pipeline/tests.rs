@@ -8,12 +8,13 @@ use vigil_drivers::ttmrf::text::{TextDecoder, TextMode};
 use super::*;
 use crate::magnetic::FixedDeclination;
 use crate::time::{Aligned, NotAligned, TimeSource};
+use approx::assert_relative_eq;
 
 const S: i64 = 1_000_000_000;
 const T0: i64 = 1_400_000_000 * S;
 
 /// The manual's GNSS example with one ADS-B target 0.01 deg north of it (1.11 km), same
-/// altitude, both at rest.
+/// altitude; the target reports no velocity, the GNSS its `gndSpeed`.
 const LINE: &str = concat!(
     r#"{"src":"ID-0000001","ts":69061337,"ver":1,"#,
     r#""adsb":[{"icao":"4D240E","lat":53.43854,"lon":14.55281,"altGeo":1640,"altBaro":1640}],"#,
@@ -185,9 +186,18 @@ fn the_picture_holds_the_json_target_with_its_geometry() {
         own.ownship.source,
         crate::ownship::PositionSource::TtMultiRfGnss
     );
-    assert_eq!(
-        (own.ownship.lat_deg, own.ownship.lon_deg),
-        (53.42854, 14.55281)
+    // The fix of T0 + 0.5 s carried to the step at T0 + 1 s along its `gndSpeed` (east 5.2,
+    // north 2.1 kt): 0.5402 m north and 1.3376 m east; by hand with the WGS-84 radii at
+    // 53.43 deg (M = 6 376 694.9 m, N = 6 391 951.6 m): +4.8535e-6 deg of latitude and
+    // +1.2252e-5 deg of longitude.
+    assert_relative_eq!(own.ownship.lat_deg, 53.428_544_853_5, epsilon = 1e-9);
+    assert_relative_eq!(own.ownship.lon_deg, 14.552_830_122_5, epsilon = 1e-9);
+    // Its sigma: the fix's sqrt((5.2^2 + 2.1^2) / 2) = sqrt(15.725) = 3.96548 m and NACv 2's
+    // 1.5 m/s over the 0.5 s, 0.75 m, root-sum-square: sqrt(16.2875) = 4.03578 m.
+    assert_relative_eq!(
+        own.ownship.position_sigma_m.unwrap(),
+        4.035_78,
+        epsilon = 1e-5
     );
     let pic = out
         .iter()

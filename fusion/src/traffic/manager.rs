@@ -9,7 +9,7 @@ use super::alert_filter::AlertFilterParams;
 use super::plausibility::{horizontal_distance_m, max_signal_dbm};
 use super::policy::{self, Encounter, FailSafeFlags};
 use super::track::{Fix, PlausibilityFlags, Source, TargetKey, Timed, Track, report_sigma_m};
-use crate::geometry::wgs84::A_M;
+use crate::geometry::wgs84::dead_reckon as extrapolate;
 use crate::geometry::{AircraftState, Geometry, IntruderEcef, OwnshipFrame};
 use crate::ownship::Ownship;
 use nalgebra::Vector2;
@@ -255,20 +255,6 @@ pub struct TrackManager {
     tracks: HashMap<TargetKey, Track>,
     ownship: Option<Ownship>,
     stats: TrafficStats,
-}
-
-/// Moves a position by a velocity for `dt_s` on the ellipsoid's local radii (small steps).
-fn extrapolate(lat_deg: f64, lon_deg: f64, track_deg: f64, gs_mps: f64, dt_s: f64) -> (f64, f64) {
-    let (s, c) = track_deg.to_radians().sin_cos();
-    let (north, east) = (gs_mps * c * dt_s, gs_mps * s * dt_s);
-    let lat = lat_deg.to_radians();
-    let e2 = crate::geometry::wgs84::E2;
-    let w = (1.0 - e2 * lat.sin().powi(2)).sqrt();
-    let m = A_M * (1.0 - e2) / (w * w * w);
-    let n = A_M / w;
-    let dlat = north / m;
-    let dlon = east / (n * lat.cos().max(1e-9));
-    (lat_deg + dlat.to_degrees(), lon_deg + dlon.to_degrees())
 }
 
 impl TrackManager {
