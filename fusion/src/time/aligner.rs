@@ -26,7 +26,7 @@ use vigil_drivers::{bahrs, watson};
 use super::bahrs::{BahrsAligner, BahrsAlignerConfig};
 use super::cross_check::{CrossCheckConfig, host_view};
 use super::host::{HostClock, HostClockConfig};
-use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed};
+use super::host_timed::{HostTimedLink, first_byte_host_ns, host_timed, last_byte_host_ns};
 use super::line_load::LineLoad;
 use super::pps::PpsReferences;
 use super::ttmrf::{TtAlignerConfig, json_ts, raw_meta};
@@ -150,6 +150,13 @@ const MAX_HOST_NS: i64 = 1 << 61;
 /// Largest message length accepted, bytes (far above any of these protocols' frames).
 const MAX_WIRE_LEN: usize = 1 << 20;
 
+/// How much later than its neighbour the host may stamp a byte of the TT-Multi-RF's output,
+/// beyond the port's read interval and adapter timer, until the VN-200 has shown the spread of
+/// a single read's delay, ns. Decision: 5 ms, a host that wakes within a few ms of its reads
+/// (the simulator's bursty host stamps 0-6 ms, which the VN-200 then measures); a larger
+/// figure only lengthens the runs a message may have queued behind.
+const TT_READ_SPREAD_NS: i64 = 5_000_000;
+
 struct Held {
     device: Device,
     index: u64,
@@ -164,10 +171,15 @@ struct Held {
 /// module's transmit queue ([`LineLoad`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 struct TtLineAt {
-    /// How long the line had been full, at most the stated buffer's line time
-    /// ([`TtAlignerConfig::output_buffer_bytes`]) and [`TtAlignerConfig::queue_limit_ns`], ns
-    /// (0: not full): the longest the message can have waited.
+    /// The longest the message can have waited in the module, ns (0: no wait): how long the
+    /// line had been full ([`LineLoad::full_for_ns`]) or the line time of the output that can
+    /// have been sent back to back before it ([`LineLoad::queued_for_ns`]), whichever is
+    /// longer, at most the stated buffer's line time
+    /// ([`TtAlignerConfig::output_buffer_bytes`]) and [`TtAlignerConfig::queue_limit_ns`].
     queue_ns: i64,
+    /// The line had been full ([`LineLoad::full_for_ns`]): its messages teach the host clock
+    /// nothing, and a time of its own too early for the queue is a queue past the limit.
+    full: bool,
     /// The line had been full for longer than the limit, and no stated buffer keeps the wait
     /// within it: the wait of a message without a time of its own may pass the limit, unless a
     /// recent time of its own bounds it (`Aligner::tt_queue_bounded_until_ns`).
@@ -297,7 +309,7 @@ impl Aligner {
     /// [`TtAlignerConfig::queue_limit_ns`]), and its host-timed samples carry that wait in
     /// their sigma, or are not aligned once it cannot be bounded (`place_checked`).
     pub fn ttmrf_line_busy(&self) -> bool {
-        self.tt_line_at.queue_ns > 0
+        self.tt_line_at.full
     }
 
     /// The devices whose serial line is full at host time `host_ns` (`line_full` in the
@@ -319,32 +331,62 @@ impl Aligner {
         self.tt_busy_messages
     }
 
-    /// Counts a TT-Multi-RF message on its line and notes how long the line has been full.
-    /// Decision: when it becomes full the TT's host clock is dropped, since the references it
-    /// learned just before may already have been queued (a line full from power-on is seen
-    /// within its first 100 ms, long before five seconds of references could lock it).
+    /// Counts a TT-Multi-RF message on its line and notes how long it can have waited in the
+    /// module: as long as the line has been full, or the line time of the output that can
+    /// have been sent back to back before it (a list of targets sent at once queues its later
+    /// messages long before the line counts as full).
+    /// Decision: when the line becomes full the TT's host clock is dropped, since the
+    /// references it learned just before may already have been queued (a line full from
+    /// power-on is seen within its first 100 ms, long before five seconds of references could
+    /// lock it). A short run is not full: the run's first message waited for nothing, and the
+    /// host clock's fit follows the earliest arrivals, not the queued ones.
     fn note_tt_line(&mut self, rx: Rx) {
-        self.tt_line.add(rx.host_ns, rx.wire_len);
         let baud = self.base.ttmrf.link.baud;
-        let full_ns = self.tt_line.full_for_ns(rx.host_ns, baud);
+        // Where the reads tell, the message's end rather than its read's (a read may hold the
+        // start of the next message too: a run's stamps would then be uneven by up to a read).
+        let end_ns = last_byte_host_ns(rx, baud);
+        self.tt_line.add(end_ns, rx.wire_len);
+        let full_ns = self.tt_line.full_for_ns(end_ns, baud);
+        let run_ns = self
+            .tt_line
+            .queued_for_ns(end_ns, baud, rx.wire_len, self.tt_read_slack_ns());
+        let waited_ns = full_ns.max(run_ns);
         // A stated transmit buffer bounds the wait as well: a message waited at most for the
         // bytes ahead of it (`TtAlignerConfig::output_buffer_bytes`).
         let bound_ns = self
             .cfg
             .ttmrf
             .buffer_wait_ns(baud)
-            .map_or(full_ns, |w| full_ns.min(w));
+            .map_or(waited_ns, |w| waited_ns.min(w));
         let queue_ns = bound_ns.min(self.cfg.ttmrf.queue_limit_ns);
-        if queue_ns > 0 && self.tt_line_at.queue_ns == 0 {
+        let full = full_ns > 0;
+        if full && !self.tt_line_at.full {
             self.tt_host = HostClock::new(self.cfg.host);
         }
         self.tt_line_at = TtLineAt {
             queue_ns,
+            full,
             beyond_limit: bound_ns > self.cfg.ttmrf.queue_limit_ns,
         };
-        self.tt_busy_messages += u64::from(queue_ns > 0);
+        self.tt_busy_messages += u64::from(full);
         // An empty line has no queue.
-        self.tt_queue_beyond_limit &= queue_ns > 0;
+        self.tt_queue_beyond_limit &= full;
+    }
+
+    /// The most the host may stamp one byte of the TT-Multi-RF's output later than another
+    /// beyond their spacing on the wire, ns ([`LineLoad::queued_for_ns`]): the port's read
+    /// interval, its adapter's latency timer and the spread of a single read's delay (learned
+    /// from the VN-200; [`TT_READ_SPREAD_NS`] until it is known).
+    fn tt_read_slack_ns(&self) -> i64 {
+        let slot = Device::Ttmrf.slot();
+        let spread = self
+            .host
+            .read_spread_ns()
+            .unwrap_or(TT_READ_SPREAD_NS as f64);
+        let fixed = self.read_interval_ns[slot].saturating_add(self.latency_timer_ns[slot]);
+        i64::try_from(fixed)
+            .unwrap_or(i64::MAX)
+            .saturating_add(spread.ceil() as i64)
     }
 
     /// The TT-Multi-RF's link for its host-timed samples: while its line is full, a message
@@ -800,7 +842,7 @@ impl Aligner {
             self.cfg
                 .cross_check
                 .early_beyond_queue((a.t_gps_ns, a.sigma_ns), view, line.queue_ns);
-        if line.queue_ns > 0 && early {
+        if line.full && early {
             self.tt_queue_beyond_limit = true;
             return Err(NotAligned::LineFull);
         }
@@ -821,7 +863,7 @@ impl Aligner {
     ) -> bool {
         let Ok(a) = time else { return false };
         // A full line's messages left the module late by an unknown queue: not references.
-        if self.tt_line_at.queue_ns > 0
+        if self.tt_line_at.full
             || a.source != TimeSource::UtcTimeOfDay
             || a.status != ClockStatus::Locked
             || !matches!(sample, Sample::TtText(_) | Sample::TtRaw(_))
@@ -904,6 +946,7 @@ fn bounded(rx: Rx) -> Rx {
             first_host_ns: r.first_host_ns.clamp(0, MAX_HOST_NS),
             first_bytes: r.first_bytes.min(MAX_WIRE_LEN),
             last_bytes: r.last_bytes.min(MAX_WIRE_LEN),
+            after_bytes: r.after_bytes.min(MAX_WIRE_LEN),
         }),
     }
 }

@@ -631,9 +631,10 @@ fn a_paced_ttmrf_port_takes_half_the_interval_off_its_host_timed_messages() {
         "{}",
         base.t_gps_ns - t1
     );
-    // Read every 10 ms: 5 ms later on average, 100/12 ms^2 more variance.
+    // Read every 10 ms: 5 ms later on average, 100/12 ms^2 more variance. (100 ms after the
+    // first, so the two cannot have been sent back to back.)
     al.set_read_interval(Device::Ttmrf, 10 * MS as u64);
-    let t2 = G0 + 9_510 * MS;
+    let t2 = G0 + 9_600 * MS;
     let mut r = rx(t2);
     r.host_ns += 5 * MS;
     let paced = time(&mut al, r);
@@ -1236,9 +1237,10 @@ fn a_full_line_without_times_of_its_own_is_not_aligned_once_its_wait_may_pass_th
 /// As above with the module's transmit buffer stated: 4096 bytes, 4096 x 10 / 921 600 s =
 /// 44 444 444 ns of line time (by hand). A message waited at most that however long the line
 /// has been full, so every message of the 700 ms is placed (none `LineFull`), with its wait
-/// of 0 ..= min(time full, 44.4 ms) taken as uniform: once the line has been full for 44.4 ms
+/// of 0 ..= min(its bound, 44.4 ms) taken as uniform: once the line has been busy for 44.4 ms
 /// or more, 22 222 222 ns earlier than the same message on a quiet line, and sigma^2 larger by
-/// (44 444 444 ns)^2 / 12. A `ts` 100 ms early is more than that buffer allows (plus the
+/// (44 444 444 ns)^2 / 12. Its bound is the longer of the time full and the line time of the
+/// messages before it, all sent back to back here (by hand: `k` of them for message `k`). A `ts` 100 ms early is more than that buffer allows (plus the
 /// cross-check's 20-odd ms tolerance): the statement is contradicted, so that message and the
 /// host-timed ones after it are not aligned until a time of its own agrees again.
 #[test]
@@ -1260,7 +1262,10 @@ fn a_stated_transmit_buffer_bounds_a_full_lines_wait_and_keeps_it_placed() {
         let busy = tt_out(&mut al, (no_ts(), rx)).unwrap();
         assert_eq!(busy.source, TimeSource::HostClock);
         let quiet = tt_out(&mut locked_on_vn200(), (no_ts(), rx)).unwrap();
-        let wait = full.min(w);
+        // The line time of the `k + 1` messages less this one's own (not `k * step`: each
+        // rounds down alone).
+        let run = tx_ns((k as usize + 1) * 200, 921_600) - step;
+        let wait = full.max(run).min(w);
         assert!(
             (quiet.t_gps_ns - busy.t_gps_ns - wait / 2).abs() <= 1,
             "{k}: {busy:?} {quiet:?}"

@@ -18,12 +18,16 @@
 //!   read more or less than it should. Over 100 ms that is about 10 % of a line read every
 //!   10 ms, inside the margin below 100 %; a line loaded to about 75 % may then read as full
 //!   now and then, which only widens sigmas (fail-safe).
-//! - A queue shorter than 100 ms, or one that grows past the cross-check's 20 ms margin
-//!   before the line has been full for 100 ms (output above 1.25 times the line from one
-//!   moment to the next), is not seen: the margin covers the first, the second is a
-//!   disagreement until the span is reached.
+//! - A queue shorter than that (a list of targets the device sends at once, once a second:
+//!   the manual's "sending list of aircraft every second" reads either way, and a module that
+//!   reports its table in turn queues nothing) is bounded apart, message by message, by the
+//!   output that can have been sent back to back before it ([`LineLoad::queued_for_ns`]),
+//!   from the bytes the host's reads returned and how far a read may stamp them late. The
+//!   full span stays for the line's state (`line_full`) and for the host clock's references.
 //! - History is kept for [`SLOTS`] slots of [`SLOT_NS`] (640 ms), more than the longest wait
 //!   the aligner accepts (0.5 s).
+
+use super::host_timed::tx_ns;
 
 /// Share of a line's bytes per second from which it counts as full (see the module doc).
 pub const FULL_FRACTION: f64 = 0.8;
@@ -43,6 +47,8 @@ pub const SLOTS: usize = 128;
 pub struct LineLoad {
     /// Bytes per slot, by slot index modulo [`SLOTS`].
     slots: [u32; SLOTS],
+    /// The latest host time counted into each slot, ns (meaningful where the slot has bytes).
+    latest: [i64; SLOTS],
     /// Index (host time / [`SLOT_NS`]) of the newest slot counted into, `None` before the first.
     newest: Option<i64>,
 }
@@ -51,6 +57,7 @@ impl Default for LineLoad {
     fn default() -> Self {
         Self {
             slots: [0; SLOTS],
+            latest: [i64::MIN; SLOTS],
             newest: None,
         }
     }
@@ -82,6 +89,12 @@ impl LineLoad {
         self.newest = Some(newest);
         let s = &mut self.slots[ring(newest)];
         *s = s.saturating_add(bytes);
+        let latest = &mut self.latest[ring(newest)];
+        *latest = if *s == bytes {
+            host_ns
+        } else {
+            (*latest).max(host_ns)
+        };
     }
 
     /// How long the line at `baud` bit/s has been full at host time `host_ns`, ns: the longest
@@ -106,6 +119,47 @@ impl LineLoad {
             }
         }
         longest
+    }
+
+    /// The longest a message received at `host_ns` (the read of its last byte), `own_bytes`
+    /// long and already counted, can have waited in the device behind earlier output on a
+    /// line at `baud` bit/s, ns: the line time of the bytes before it that can have been sent
+    /// back to back with it (a device that sends its list of targets once a second queues the
+    /// list's later messages behind the earlier ones, a queue far shorter than the
+    /// [`MIN_SPAN_NS`] [`Self::full_for_ns`] needs). 0 when nothing before it can have been.
+    ///
+    /// `slack_ns` is the most the host may stamp one message's end later than another's beyond
+    /// their spacing on the wire (the port's read interval, its adapter's latency timer and
+    /// the spread of a read's delay). Messages sent back to back from one stamped `h0` to this
+    /// one took at least `host_ns - h0 - slack` of line time after the first; so a run can have
+    /// begun in slot `i` only if the bytes counted from slot `i` on cover `host_ns` minus the
+    /// latest time counted into it, less the slack, and one begun before slot `i` only if they
+    /// cover `host_ns - i x slot - slack`: the scan stops at the first slot where even that
+    /// fails. Decision: a run's start is known to its slot ([`SLOT_NS`]), and every byte
+    /// counted from that slot on is taken as ahead of the message (some may predate the run):
+    /// the bound may take in output up to a slot earlier than the stamps allow, never less. Bytes the decoder skipped between messages
+    /// are not counted, so garbage inside a run can end it early (as for the load).
+    pub fn queued_for_ns(&self, host_ns: i64, baud: u32, own_bytes: usize, slack_ns: i64) -> i64 {
+        let Some(newest) = self.newest else { return 0 };
+        let now = host_ns.div_euclid(SLOT_NS).max(newest);
+        let (mut bytes, mut run) = (0usize, 0usize);
+        for k in 0..SLOTS as i64 {
+            let i = now - k;
+            let here = if i <= newest {
+                self.slots[ring(i)] as usize
+            } else {
+                0
+            };
+            bytes += here;
+            let line_ns = tx_ns(bytes, baud).saturating_add(slack_ns);
+            if here > 0 && line_ns >= host_ns.saturating_sub(self.latest[ring(i)]) {
+                run = bytes;
+            }
+            if line_ns < host_ns - i * SLOT_NS {
+                break;
+            }
+        }
+        (tx_ns(run, baud) - tx_ns(own_bytes, baud)).max(0)
     }
 }
 
@@ -193,6 +247,71 @@ mod tests {
         assert_eq!(l.full_for_ns(10 * S + 997_500_000, 921_600), 640 * MS);
         l.add(11 * S + 295 * MS, 1);
         assert_eq!(l.full_for_ns(11 * S + 295 * MS, 921_600), 0);
+    }
+
+    /// A list of ten 100-byte messages sent at once at 115 200 baud, each stamped as its last
+    /// byte arrives: 100 x 10 / 115 200 s = 8 680 555.6 ns apiece (by hand), so message `k`
+    /// waited behind `k` of them, and the bound is that, to the ns (the line was quiet before).
+    /// The same messages spread 100 ms apart waited for nothing.
+    #[test]
+    fn a_list_sent_at_once_queues_each_message_behind_the_ones_before() {
+        let one = 8_680_555.6;
+        let t0 = 50 * S + 1_234_567;
+        let mut l = LineLoad::default();
+        for k in 0..10i64 {
+            let h = t0 + ((k + 1) as f64 * one) as i64;
+            l.add(h, 100);
+            let q = l.queued_for_ns(h, 115_200, 100, MS);
+            assert!((q as f64 - k as f64 * one).abs() <= 1.0, "{k}: {q}");
+        }
+        let mut spread = LineLoad::default();
+        for k in 0..10 {
+            let h = t0 + k * 100 * MS;
+            spread.add(h, 100);
+            assert_eq!(spread.queued_for_ns(h, 115_200, 100, MS), 0, "{k}");
+        }
+    }
+
+    /// Two 100-byte messages stamped 20 ms apart at 115 200 baud (8 680 555 ns of line each,
+    /// rounded down). Back to back, the second's end left 8.68 ms after the first's, so the
+    /// host stamped it 11.32 ms later than the first beyond that: they can have been only with
+    /// at least 11.32 ms of slack (by hand). The bound knows the first stamp to its 5 ms slot
+    /// (the first is 2 ms into it, 3 ms before its end) and takes the two as possibly back to
+    /// back from 8.32 ms of slack on: never short, long by those 3 ms. Joined, the second
+    /// waited for the first: 17 361 111 - 8 680 555 ns.
+    #[test]
+    fn the_slack_decides_whether_two_messages_can_have_been_back_to_back() {
+        let t0 = 70 * S + 2 * MS;
+        let mut l = LineLoad::default();
+        l.add(t0, 100);
+        l.add(t0 + 20 * MS, 100);
+        let q = |slack_ns| l.queued_for_ns(t0 + 20 * MS, 115_200, 100, slack_ns);
+        assert_eq!(q(11_400_000), 8_680_556);
+        assert_eq!(q(8_400_000), 8_680_556);
+        assert_eq!(q(8_300_000), 0);
+        assert_eq!(q(2 * MS), 0);
+        assert_eq!(LineLoad::default().queued_for_ns(t0, 115_200, 100, MS), 0);
+    }
+
+    /// The same list of ten read every 10 ms (a paced port: each read stamps what arrived in
+    /// the 10 ms before it, 10 ms of slack): the bound is never below a message's true wait,
+    /// and above it by no more than a read's worth of line (the messages a read returns are
+    /// all taken as possibly ahead of each other, and the bytes before the run's read too).
+    #[test]
+    fn paced_reads_of_a_list_never_bound_a_wait_short() {
+        let one = 8_680_555.6;
+        let t0 = 90 * S;
+        let mut l = LineLoad::default();
+        for k in 0..10i64 {
+            let end = t0 + ((k + 1) as f64 * one) as i64;
+            // The read after the last byte, on the 10 ms grid.
+            let h = (end / (10 * MS) + 1) * 10 * MS;
+            l.add(h, 100);
+            let q = l.queued_for_ns(h, 115_200, 100, 10 * MS + MS) as f64;
+            let truth = k as f64 * one;
+            assert!(q >= truth - 1.0, "{k}: {q} < {truth}");
+            assert!(q <= truth + 10e6 + one, "{k}: {q} vs {truth}");
+        }
     }
 
     #[test]

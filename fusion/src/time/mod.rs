@@ -127,6 +127,11 @@ pub struct Reads {
     pub first_bytes: usize,
     /// The message's bytes in the read holding its last byte.
     pub last_bytes: usize,
+    /// The bytes that read returned after the message's last one (the start of the next
+    /// message, on a line that sends them back to back): they took at least their line time
+    /// after the message's end, so that read came at least that much after it
+    /// ([`host_timed::first_byte_host_ns`]).
+    pub after_bytes: usize,
 }
 
 impl Rx {

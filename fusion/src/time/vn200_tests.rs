@@ -440,6 +440,7 @@ fn output_delay_and_held_back_first_reads_in_what_the_host_clock_learns() {
                     first_host_ns: first,
                     first_bytes: 50,
                     last_bytes: 50,
+                    after_bytes: 0,
                 }),
             };
             al.handle(&common(gps, 7 * S as u64, INS_OK), rx, &mut host)
