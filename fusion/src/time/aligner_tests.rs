@@ -647,6 +647,44 @@ fn a_paced_ttmrf_port_takes_half_the_interval_off_its_host_timed_messages() {
     assert!((added_ms2 - 100.0 / 12.0).abs() < 0.05, "{added_ms2}");
 }
 
+/// Two 100-byte TT-Multi-RF messages at 115 200 baud (8 680 555 ns of line each), stamped 20 ms
+/// apart by a port read every 20 ms: back to back on the wire they would end 8.68 ms apart, and
+/// a read every 20 ms may stamp one up to 20 ms later than the other, so the second may have
+/// waited behind the first. Its wait of 0 ..= 8 680 556 ns (the two messages' line time less
+/// its own, each rounded down) is taken as uniform: it is placed 4 340 278 ns earlier than the
+/// same message with nothing before it, and its sigma^2 is larger by 8 680 556^2 / 12 (by
+/// hand). The read interval is what allows it: stamped so, the two cannot have been back to
+/// back on a port read as its bytes arrive (a read's spread, 5 ms, does not cover 11.3 ms).
+#[test]
+fn a_message_stamped_within_a_reads_reach_of_the_one_before_may_have_queued_behind_it() {
+    let no_ts = || Sample::TtText(Box::new(TextMessage::Json(Box::default())));
+    let rx = |host_ns: i64| Rx {
+        host_ns,
+        wire_len: 100,
+        reads: None,
+    };
+    let h1 = G0 + 9_500 * MS + OFF + 3 * MS;
+    let h2 = h1 + 20 * MS;
+    let aligner = |interval_ms: u64| {
+        let mut al = locked_on_vn200();
+        al.set_baud(Device::Ttmrf, 115_200);
+        al.set_read_interval(Device::Ttmrf, interval_ms * MS as u64);
+        al
+    };
+    let second_after_first = |interval_ms| {
+        let mut al = aligner(interval_ms);
+        tt_out(&mut al, (no_ts(), rx(h1))).unwrap();
+        tt_out(&mut al, (no_ts(), rx(h2))).unwrap()
+    };
+    let alone = |interval_ms| tt_out(&mut aligner(interval_ms), (no_ts(), rx(h2))).unwrap();
+    let (queued, quiet) = (second_after_first(20), alone(20));
+    assert_eq!(quiet.t_gps_ns - queued.t_gps_ns, 4_340_278);
+    let added = queued.sigma_ns.powi(2) - quiet.sigma_ns.powi(2);
+    assert!((added - 8_680_556f64.powi(2) / 12.0).abs() < 1e3, "{added}");
+    let (queued, quiet) = (second_after_first(0), alone(0));
+    assert_eq!(queued, quiet);
+}
+
 #[test]
 fn a_watson_port_at_another_baud_rate_is_timed_with_it_and_zero_keeps_it() {
     let mut al = locked_on_vn200();

@@ -213,6 +213,31 @@ mod tests {
         assert!(tx_ns(1, 0) > 0);
     }
 
+    /// A 20-byte message at 115 200 baud whose last read also returned 40 bytes of the next
+    /// one: that read came at least 40 x 10 / 115 200 s = 3 472 222 ns after the message's end,
+    /// which began 1 736 111 ns before it (by hand). Without reads, only its own length counts.
+    #[test]
+    fn the_bytes_a_read_returned_after_a_message_are_taken_off_its_arrival() {
+        let reads = Reads {
+            first_host_ns: 9_000_000,
+            first_bytes: 20,
+            last_bytes: 20,
+            after_bytes: 40,
+        };
+        let rx = Rx {
+            host_ns: 10_000_000,
+            wire_len: 20,
+            reads: Some(reads),
+        };
+        assert_eq!(last_byte_host_ns(rx, 115_200), 10_000_000 - 3_472_222);
+        assert_eq!(
+            first_byte_host_ns(rx, 115_200),
+            10_000_000 - 3_472_222 - 1_736_111
+        );
+        let unknown = Rx { reads: None, ..rx };
+        assert_eq!(first_byte_host_ns(unknown, 115_200), 10_000_000 - 1_736_111);
+    }
+
     #[test]
     fn chunk_clock_names_the_read_of_the_last_byte() {
         // Reads of 10, 5 and 20 bytes at 100, 200, 300 ns: bytes 0-9, 10-14, 15-34.

@@ -47,7 +47,7 @@ pub const SLOTS: usize = 128;
 pub struct LineLoad {
     /// Bytes per slot, by slot index modulo [`SLOTS`].
     slots: [u32; SLOTS],
-    /// The latest host time counted into each slot, ns (meaningful where the slot has bytes).
+    /// The latest host time counted into each slot, ns (`i64::MIN` for an empty one).
     latest: [i64; SLOTS],
     /// Index (host time / [`SLOT_NS`]) of the newest slot counted into, `None` before the first.
     newest: Option<i64>,
@@ -81,6 +81,7 @@ impl LineLoad {
                 // SLOTS of them: every slot).
                 for i in (n + 1)..=index.min(n + SLOTS as i64) {
                     self.slots[ring(i)] = 0;
+                    self.latest[ring(i)] = i64::MIN;
                 }
                 index
             }
@@ -90,11 +91,7 @@ impl LineLoad {
         let s = &mut self.slots[ring(newest)];
         *s = s.saturating_add(bytes);
         let latest = &mut self.latest[ring(newest)];
-        *latest = if *s == bytes {
-            host_ns
-        } else {
-            (*latest).max(host_ns)
-        };
+        *latest = (*latest).max(host_ns);
     }
 
     /// How long the line at `baud` bit/s has been full at host time `host_ns`, ns: the longest
@@ -137,8 +134,9 @@ impl LineLoad {
     /// cover `host_ns - i x slot - slack`: the scan stops at the first slot where even that
     /// fails. Decision: a run's start is known to its slot ([`SLOT_NS`]), and every byte
     /// counted from that slot on is taken as ahead of the message (some may predate the run):
-    /// the bound may take in output up to a slot earlier than the stamps allow, never less. Bytes the decoder skipped between messages
-    /// are not counted, so garbage inside a run can end it early (as for the load).
+    /// the bound may take in output up to a slot earlier than the stamps allow, never less.
+    /// Bytes the decoder skipped between messages are not counted, so garbage inside a run can
+    /// end it early (as for the load).
     pub fn queued_for_ns(&self, host_ns: i64, baud: u32, own_bytes: usize, slack_ns: i64) -> i64 {
         let Some(newest) = self.newest else { return 0 };
         let now = host_ns.div_euclid(SLOT_NS).max(newest);
@@ -152,7 +150,8 @@ impl LineLoad {
             };
             bytes += here;
             let line_ns = tx_ns(bytes, baud).saturating_add(slack_ns);
-            if here > 0 && line_ns >= host_ns.saturating_sub(self.latest[ring(i)]) {
+            // An empty slot's latest is i64::MIN: no run begins there.
+            if line_ns >= host_ns.saturating_sub(self.latest[ring(i)]) {
                 run = bytes;
             }
             if line_ns < host_ns - i * SLOT_NS {
@@ -289,6 +288,10 @@ mod tests {
         assert_eq!(q(11_400_000), 8_680_556);
         assert_eq!(q(8_400_000), 8_680_556);
         assert_eq!(q(8_300_000), 0);
+        // The boundary, to the ns: from the first's slot end (70.005 s) to the second stamp is
+        // 17 ms, which the second's 8 680 555 ns of line and 8 319 445 ns of slack just cover.
+        assert_eq!(q(8_319_445), 8_680_556);
+        assert_eq!(q(8_319_444), 0);
         assert_eq!(q(2 * MS), 0);
         assert_eq!(LineLoad::default().queued_for_ns(t0, 115_200, 100, MS), 0);
     }
