@@ -971,34 +971,40 @@ fn a_list_of_targets_sent_at_once_is_placed_within_its_sigma() {
             tt.list_at_once = true;
         })
     };
-    let cases = [
-        Case {
-            name: "TT-Multi-RF list at once, CSV and NMEA at 115200",
-            scenario: list(115_200, "off"),
-            seconds: 30,
-            setup: tt_115200,
-            extra_jitter_ns: list_jitter,
-            disagreeing: &[],
-            busy_tt_line: false,
-        },
-        Case {
-            name: "TT-Multi-RF list at once, CSV, NMEA and HEXd at 115200",
-            scenario: list(115_200, "hexd"),
-            seconds: 30,
-            setup: tt_115200,
-            extra_jitter_ns: list_jitter,
-            disagreeing: &[],
-            busy_tt_line: false,
-        },
-        Case {
-            name: "TT-Multi-RF list at once, CSV and NMEA at 921600",
-            scenario: list(921_600, "off"),
-            seconds: 30,
-            setup: none,
-            extra_jitter_ns: list_jitter_921600,
-            disagreeing: &[],
-            busy_tt_line: false,
-        },
-    ];
-    check_all(&cases);
+    let case = |name: &'static str,
+                baud: u32,
+                raw: &str,
+                setup: fn(&mut Aligner),
+                extra_jitter_ns: fn(Device) -> i64| Case {
+        name,
+        scenario: list(baud, raw),
+        seconds: 30,
+        setup,
+        extra_jitter_ns,
+        disagreeing: &[],
+        busy_tt_line: false,
+    };
+    check_all(&[
+        case(
+            "TT-Multi-RF list at once, CSV and NMEA at 115200",
+            115_200,
+            "off",
+            tt_115200,
+            list_jitter,
+        ),
+        case(
+            "TT-Multi-RF list at once, CSV, NMEA and HEXd at 115200",
+            115_200,
+            "hexd",
+            tt_115200,
+            list_jitter,
+        ),
+        case(
+            "TT-Multi-RF list at once, CSV and NMEA at 921600",
+            921_600,
+            "off",
+            none,
+            list_jitter_921600,
+        ),
+    ]);
 }
