@@ -296,6 +296,23 @@ mod tests {
         assert_eq!(LineLoad::default().queued_for_ns(t0, 115_200, 100, MS), 0);
     }
 
+    /// A 10-byte message stamped 0.5 ms into its slot, and a 100-byte one stamped 14 ms after it
+    /// at 115 200 baud (868 055 and 8 680 555 ns of line, by hand). Back to back, the second's
+    /// stamp would be at most its own line time plus the slack after the first's: with 1 ms of
+    /// slack (9.68 ms) it cannot have waited for the first, although its line time and slack do
+    /// cover the 9.5 ms since the first's slot ended (the slot alone does not decide); with 5.5
+    /// ms (14.18 ms) it can have: 9 548 611 - 8 680 555 ns.
+    #[test]
+    fn output_stamped_too_early_in_its_slot_is_not_counted_ahead() {
+        let t0 = 80 * S + 500_000;
+        let mut l = LineLoad::default();
+        l.add(t0, 10);
+        l.add(t0 + 14 * MS, 100);
+        let q = |slack_ns| l.queued_for_ns(t0 + 14 * MS, 115_200, 100, slack_ns);
+        assert_eq!(q(MS), 0);
+        assert_eq!(q(5_500_000), 868_056);
+    }
+
     /// The same list of ten read every 10 ms (a paced port: each read stamps what arrived in
     /// the 10 ms before it, 10 ms of slack): the bound is never below a message's true wait,
     /// and above it by no more than a read's worth of line (the messages a read returns are
