@@ -27,7 +27,7 @@
 //! - History is kept for [`SLOTS`] slots of [`SLOT_NS`] (640 ms), more than the longest wait
 //!   the aligner accepts (0.5 s).
 
-use super::host_timed::tx_ns;
+use super::host_timed::{BITS_PER_BYTE, tx_ns};
 
 /// Share of a line's bytes per second from which it counts as full (see the module doc).
 pub const FULL_FRACTION: f64 = 0.8;
@@ -140,6 +140,14 @@ impl LineLoad {
     pub fn queued_for_ns(&self, host_ns: i64, baud: u32, own_bytes: usize, slack_ns: i64) -> i64 {
         let Some(newest) = self.newest else { return 0 };
         let now = host_ns.div_euclid(SLOT_NS).max(newest);
+        // Whether `bytes` of line and the slack cover `span_ns`: `tx_ns(bytes, baud) + slack_ns
+        // >= span_ns`, without a division per slot (a whole number n has floor(x) >= n exactly
+        // when x >= n).
+        let per_s = i128::from(baud.max(1));
+        let covers = |bytes: usize, span_ns: i64| {
+            bytes as i128 * i128::from(BITS_PER_BYTE) * 1_000_000_000
+                >= (i128::from(span_ns) - i128::from(slack_ns)) * per_s
+        };
         let (mut bytes, mut run) = (0usize, 0usize);
         for k in 0..SLOTS as i64 {
             let i = now - k;
@@ -149,12 +157,11 @@ impl LineLoad {
                 0
             };
             bytes += here;
-            let line_ns = tx_ns(bytes, baud).saturating_add(slack_ns);
             // An empty slot's latest is i64::MIN: no run begins there.
-            if line_ns >= host_ns.saturating_sub(self.latest[ring(i)]) {
+            if covers(bytes, host_ns.saturating_sub(self.latest[ring(i)])) {
                 run = bytes;
             }
-            if line_ns < host_ns - i * SLOT_NS {
+            if !covers(bytes, host_ns - i * SLOT_NS) {
                 break;
             }
         }
