@@ -338,8 +338,11 @@ impl Aligner {
     /// Decision: when the line becomes full the TT's host clock is dropped, since the
     /// references it learned just before may already have been queued (a line full from
     /// power-on is seen within its first 100 ms, long before five seconds of references could
-    /// lock it). A short run is not full: the run's first message waited for nothing, and the
-    /// host clock's fit follows the earliest arrivals, not the queued ones.
+    /// lock it). A short run is not full, and its messages still teach the TT's host clock:
+    /// the run's first one waited for nothing, and the clock's envelope follows the earliest
+    /// arrivals. The queued ones do raise its mean excess and spread over the envelope (a JSON
+    /// list sent at once teaches it a longer link delay than an unqueued message has); not
+    /// learning from a message that may have queued is the stricter choice, not made yet.
     fn note_tt_line(&mut self, rx: Rx) {
         let baud = self.base.ttmrf.link.baud;
         // Where the reads tell, the message's end rather than its read's (a read may hold the
